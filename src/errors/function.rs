@@ -1,0 +1,431 @@
+//! Error functions: how an error parameter varies with its axis position and direction of
+//! travel. SI inside: the argument in m (linear axes) or rad (rotary axes), the value in m
+//! (translations) or rad (rotations).
+//!
+//! Each function is *linear in its coefficients* once its shape is fixed (polynomial degree,
+//! table knots, harmonic period), which is what the Jacobian of [`super::ErrorModel`] is taken
+//! with respect to. A harmonic `a·sin(2πq/P + φ)` has the coefficients
+//! `(a·cos φ, a·sin φ)`: the amplitudes of `sin(2πq/P)` and `cos(2πq/P)`.
+
+use crate::machine::Direction;
+use crate::math::Real;
+use std::f64::consts::TAU;
+
+/// How a table interpolates between its knots.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Straight lines between knots.
+    Linear,
+    /// Natural cubic spline (zero second derivative at both ends).
+    Cubic,
+}
+
+/// A measured error map: values at increasing positions. Outside the first and last knot the
+/// end value is held.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    positions: Vec<Real>,
+    values: Vec<Real>,
+    interpolation: Interpolation,
+    /// Row-major n×n: the spline's second derivatives are `weights · values` (cubic only).
+    second_derivative_weights: Vec<Real>,
+}
+
+/// Why a table was rejected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TableError {
+    /// Fewer than two knots, or positions and values of different lengths.
+    #[error(
+        "a table needs at least two knots and as many values as positions (got {positions} positions, {values} values)"
+    )]
+    Shape {
+        /// Number of positions.
+        positions: usize,
+        /// Number of values.
+        values: usize,
+    },
+    /// Positions not strictly increasing, or not finite.
+    #[error("table positions must be finite and strictly increasing (knot {0})")]
+    Order(usize),
+    /// A value is not finite.
+    #[error("table value {0} is not finite")]
+    Value(usize),
+}
+
+impl Table {
+    /// A table of `values` at strictly increasing `positions` (SI).
+    pub fn new(
+        positions: Vec<Real>,
+        values: Vec<Real>,
+        interpolation: Interpolation,
+    ) -> Result<Table, TableError> {
+        let n = positions.len();
+        if n < 2 || values.len() != n {
+            return Err(TableError::Shape {
+                positions: n,
+                values: values.len(),
+            });
+        }
+        for i in 0..n {
+            if !positions[i].is_finite() || (i > 0 && positions[i] <= positions[i - 1]) {
+                return Err(TableError::Order(i));
+            }
+            if !values[i].is_finite() {
+                return Err(TableError::Value(i));
+            }
+        }
+        let second_derivative_weights = match interpolation {
+            Interpolation::Linear => Vec::new(),
+            Interpolation::Cubic => natural_spline_weights(&positions),
+        };
+        Ok(Table {
+            positions,
+            values,
+            interpolation,
+            second_derivative_weights,
+        })
+    }
+
+    /// Knot positions (SI).
+    pub fn positions(&self) -> &[Real] {
+        &self.positions
+    }
+
+    /// Knot values (SI).
+    pub fn values(&self) -> &[Real] {
+        &self.values
+    }
+
+    /// The interpolation.
+    pub fn interpolation(&self) -> Interpolation {
+        self.interpolation
+    }
+
+    /// Interval index and local coordinate t ∈ [0, 1] of `q`, clamped to the table.
+    fn locate(&self, q: Real) -> (usize, Real) {
+        let n = self.positions.len();
+        let q = q.clamp(self.positions[0], self.positions[n - 1]);
+        let k = self.positions.partition_point(|&p| p <= q).clamp(1, n - 1) - 1;
+        let h = self.positions[k + 1] - self.positions[k];
+        (k, (q - self.positions[k]) / h)
+    }
+
+    /// Weight of knot `j`'s value in the interpolated value at `q` (the table is linear in its
+    /// values).
+    fn basis(&self, q: Real, j: usize) -> Real {
+        let (k, t) = self.locate(q);
+        let mut weight = if j == k {
+            1.0 - t
+        } else if j == k + 1 {
+            t
+        } else {
+            0.0
+        };
+        if self.interpolation == Interpolation::Cubic {
+            let n = self.positions.len();
+            let h = self.positions[k + 1] - self.positions[k];
+            let s = 1.0 - t;
+            let w = &self.second_derivative_weights;
+            weight += h * h / 6.0
+                * ((s * s * s - s) * w[k * n + j] + (t * t * t - t) * w[(k + 1) * n + j]);
+        }
+        weight
+    }
+
+    fn value(&self, q: Real) -> Real {
+        (0..self.values.len())
+            .map(|j| self.basis(q, j) * self.values[j])
+            .sum()
+    }
+}
+
+/// Row-major matrix W with M = W·y for the second derivatives M of the natural cubic spline
+/// through (x, y): each column solves the tridiagonal system for one unit vector of values.
+fn natural_spline_weights(x: &[Real]) -> Vec<Real> {
+    let n = x.len();
+    let mut weights = vec![0.0; n * n];
+    if n < 3 {
+        return weights; // two knots: the spline is the straight line
+    }
+    let h: Vec<Real> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    for column in 0..n {
+        // Interior equations i = 1..n-2:
+        // h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 ((y[i+1]-y[i])/h[i] - (y[i]-y[i-1])/h[i-1])
+        let y = |i: usize| if i == column { 1.0 } else { 0.0 };
+        let m = n - 2;
+        let mut diagonal = vec![0.0; m];
+        let mut rhs = vec![0.0; m];
+        for r in 0..m {
+            let i = r + 1;
+            diagonal[r] = 2.0 * (h[i - 1] + h[i]);
+            rhs[r] = 6.0 * ((y(i + 1) - y(i)) / h[i] - (y(i) - y(i - 1)) / h[i - 1]);
+        }
+        // Thomas algorithm; sub-diagonal of row r is h[r], super-diagonal h[r+1].
+        for r in 1..m {
+            let factor = h[r] / diagonal[r - 1];
+            diagonal[r] -= factor * h[r];
+            rhs[r] -= factor * rhs[r - 1];
+        }
+        let mut solution = vec![0.0; m];
+        for r in (0..m).rev() {
+            let upper = if r + 1 < m {
+                h[r + 1] * solution[r + 1]
+            } else {
+                0.0
+            };
+            solution[r] = (rhs[r] - upper) / diagonal[r];
+        }
+        for r in 0..m {
+            weights[(r + 1) * n + column] = solution[r];
+        }
+    }
+    weights
+}
+
+/// How one error parameter depends on its axis position `q` and direction of travel.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ErrorFunction {
+    /// A constant value.
+    Constant(Real),
+    /// `Σ c_k q^k`, coefficients from degree 0 up.
+    Polynomial(Vec<Real>),
+    /// Interpolated measured values.
+    Table(Table),
+    /// Cyclic error `amplitude · sin(2π q / period + phase)` (phase in rad).
+    Harmonic {
+        /// Period (m or rad), > 0.
+        period: Real,
+        /// Amplitude (m or rad).
+        amplitude: Real,
+        /// Phase (rad).
+        phase: Real,
+    },
+    /// Lost motion (backlash) of size `value`: the axis lags the command by half of it against
+    /// its direction of travel, i.e. `−sign(direction) · value / 2`.
+    Reversal(Real),
+    /// The sum of several functions.
+    Sum(Vec<ErrorFunction>),
+}
+
+impl ErrorFunction {
+    /// The value at position `q` (SI) while travelling in `direction`.
+    pub fn value(&self, q: Real, direction: Direction) -> Real {
+        match self {
+            ErrorFunction::Constant(c) => *c,
+            ErrorFunction::Polynomial(coefficients) => {
+                coefficients.iter().rev().fold(0.0, |acc, c| acc * q + c)
+            }
+            ErrorFunction::Table(table) => table.value(q),
+            ErrorFunction::Harmonic {
+                period,
+                amplitude,
+                phase,
+            } => amplitude * (TAU * q / period + phase).sin(),
+            ErrorFunction::Reversal(value) => -direction.sign() * value / 2.0,
+            ErrorFunction::Sum(terms) => terms.iter().map(|term| term.value(q, direction)).sum(),
+        }
+    }
+
+    /// Whether the value depends on neither position nor direction.
+    pub fn is_constant(&self) -> bool {
+        match self {
+            ErrorFunction::Constant(_) => true,
+            ErrorFunction::Polynomial(c) => c.len() <= 1,
+            ErrorFunction::Sum(terms) => terms.iter().all(ErrorFunction::is_constant),
+            _ => false,
+        }
+    }
+
+    /// Number of linear coefficients.
+    pub fn coefficient_count(&self) -> usize {
+        match self {
+            ErrorFunction::Constant(_) | ErrorFunction::Reversal(_) => 1,
+            ErrorFunction::Polynomial(c) => c.len(),
+            ErrorFunction::Table(table) => table.values.len(),
+            ErrorFunction::Harmonic { .. } => 2,
+            ErrorFunction::Sum(terms) => terms.iter().map(ErrorFunction::coefficient_count).sum(),
+        }
+    }
+
+    /// Appends the linear coefficients (SI).
+    pub fn coefficients(&self, out: &mut Vec<Real>) {
+        match self {
+            ErrorFunction::Constant(c) | ErrorFunction::Reversal(c) => out.push(*c),
+            ErrorFunction::Polynomial(c) => out.extend_from_slice(c),
+            ErrorFunction::Table(table) => out.extend_from_slice(&table.values),
+            ErrorFunction::Harmonic {
+                amplitude, phase, ..
+            } => {
+                out.push(amplitude * phase.cos());
+                out.push(amplitude * phase.sin());
+            }
+            ErrorFunction::Sum(terms) => terms.iter().for_each(|term| term.coefficients(out)),
+        }
+    }
+
+    /// Sets the linear coefficients from the front of `coefficients`; returns how many it used.
+    pub fn set_coefficients(&mut self, coefficients: &[Real]) -> usize {
+        match self {
+            ErrorFunction::Constant(c) | ErrorFunction::Reversal(c) => {
+                *c = coefficients[0];
+                1
+            }
+            ErrorFunction::Polynomial(c) => {
+                let n = c.len();
+                c.copy_from_slice(&coefficients[..n]);
+                n
+            }
+            ErrorFunction::Table(table) => {
+                let n = table.values.len();
+                table.values.copy_from_slice(&coefficients[..n]);
+                n
+            }
+            ErrorFunction::Harmonic {
+                amplitude, phase, ..
+            } => {
+                let (sin_part, cos_part) = (coefficients[0], coefficients[1]);
+                *amplitude = sin_part.hypot(cos_part);
+                *phase = cos_part.atan2(sin_part);
+                2
+            }
+            ErrorFunction::Sum(terms) => terms.iter_mut().fold(0, |used, term| {
+                used + term.set_coefficients(&coefficients[used..])
+            }),
+        }
+    }
+
+    /// Appends the derivative of the value with respect to each linear coefficient at `q`.
+    pub fn basis(&self, q: Real, direction: Direction, out: &mut Vec<Real>) {
+        match self {
+            ErrorFunction::Constant(_) => out.push(1.0),
+            ErrorFunction::Reversal(_) => out.push(-direction.sign() / 2.0),
+            ErrorFunction::Polynomial(c) => {
+                let mut power = 1.0;
+                for _ in 0..c.len() {
+                    out.push(power);
+                    power *= q;
+                }
+            }
+            ErrorFunction::Table(table) => {
+                out.extend((0..table.values.len()).map(|j| table.basis(q, j)))
+            }
+            ErrorFunction::Harmonic { period, .. } => {
+                let angle = TAU * q / period;
+                out.push(angle.sin());
+                out.push(angle.cos());
+            }
+            ErrorFunction::Sum(terms) => {
+                terms.iter().for_each(|term| term.basis(q, direction, out))
+            }
+        }
+    }
+
+    /// A short label per linear coefficient, e.g. `polynomial[2]`, `harmonic.sin`.
+    pub fn coefficient_labels(&self, prefix: &str, out: &mut Vec<String>) {
+        match self {
+            ErrorFunction::Constant(_) => out.push(format!("{prefix}constant")),
+            ErrorFunction::Reversal(_) => out.push(format!("{prefix}reversal")),
+            ErrorFunction::Polynomial(c) => {
+                out.extend((0..c.len()).map(|k| format!("{prefix}polynomial[{k}]")))
+            }
+            ErrorFunction::Table(table) => {
+                out.extend((0..table.values.len()).map(|k| format!("{prefix}table[{k}]")))
+            }
+            ErrorFunction::Harmonic { .. } => {
+                out.push(format!("{prefix}harmonic.sin"));
+                out.push(format!("{prefix}harmonic.cos"));
+            }
+            ErrorFunction::Sum(terms) => {
+                for (i, term) in terms.iter().enumerate() {
+                    term.coefficient_labels(&format!("{prefix}{i}."), out);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const UP: Direction = Direction::Positive;
+
+    #[test]
+    fn polynomial_is_evaluated_by_degree() {
+        // 1 + 2q + 3q² at q = 2 → 1 + 4 + 12 = 17.
+        assert_eq!(
+            ErrorFunction::Polynomial(vec![1.0, 2.0, 3.0]).value(2.0, UP),
+            17.0
+        );
+    }
+
+    #[test]
+    fn reversal_lags_against_travel() {
+        let f = ErrorFunction::Reversal(4e-6);
+        assert_eq!(f.value(0.1, Direction::Positive), -2e-6);
+        assert_eq!(f.value(0.1, Direction::Negative), 2e-6);
+    }
+
+    #[test]
+    fn linear_table_interpolates_and_holds_ends() {
+        let t = ErrorFunction::Table(
+            Table::new(
+                vec![0.0, 1.0, 3.0],
+                vec![0.0, 2.0, 6.0],
+                Interpolation::Linear,
+            )
+            .unwrap(),
+        );
+        assert!((t.value(0.5, UP) - 1.0).abs() < 1e-15);
+        assert!((t.value(2.0, UP) - 4.0).abs() < 1e-15);
+        assert_eq!(t.value(-1.0, UP), 0.0);
+        assert_eq!(t.value(5.0, UP), 6.0);
+    }
+
+    #[test]
+    fn cubic_table_reproduces_a_straight_line_and_passes_through_knots() {
+        // A natural spline through collinear points is that line (all M = 0).
+        let line = Table::new(
+            vec![0.0, 0.2, 0.5, 1.0],
+            vec![1.0, 1.4, 2.0, 3.0],
+            Interpolation::Cubic,
+        )
+        .unwrap();
+        let f = ErrorFunction::Table(line);
+        for q in [0.05, 0.33, 0.77] {
+            assert!((f.value(q, UP) - (1.0 + 2.0 * q)).abs() < 1e-14);
+        }
+        let wiggle = Table::new(
+            vec![0.0, 1.0, 2.0, 3.0],
+            vec![0.0, 1.0, 0.0, 1.0],
+            Interpolation::Cubic,
+        )
+        .unwrap();
+        let g = ErrorFunction::Table(wiggle);
+        for (q, v) in [(0.0, 0.0), (1.0, 1.0), (2.0, 0.0), (3.0, 1.0)] {
+            assert!((g.value(q, UP) - v).abs() < 1e-14);
+        }
+        // Hand solution for equal spacing h = 1, natural ends: 4 M1 + M2 = -12, M1 + 4 M2 = 12
+        // → M1 = -4, M2 = 4; at q = 0.5: 0.5·0 + 0.5·1 + (1/6)(0.125 - 0.5)(M0 + M1)
+        // = 0.5 + (1/6)(-0.375)(-4) = 0.75.
+        assert!((g.value(0.5, UP) - 0.75).abs() < 1e-14);
+    }
+
+    #[test]
+    fn harmonic_coefficients_round_trip() {
+        let mut f = ErrorFunction::Harmonic {
+            period: 0.01,
+            amplitude: 2e-6,
+            phase: 0.7,
+        };
+        let mut c = Vec::new();
+        f.coefficients(&mut c);
+        let before = f.value(0.0123, UP);
+        f.set_coefficients(&c);
+        assert!((f.value(0.0123, UP) - before).abs() < 1e-20);
+        let mut b = Vec::new();
+        f.basis(0.0123, UP, &mut b);
+        let linear: Real = b.iter().zip(&c).map(|(x, y)| x * y).sum();
+        assert!((linear - before).abs() < 1e-20);
+    }
+}

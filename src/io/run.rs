@@ -1,0 +1,149 @@
+//! `mtwin run`: compute what a scenario asks for, then write every output file whole.
+
+use super::scenario::Scenario;
+use crate::errors::{Lu2012Error, ParameterName};
+use crate::machine::Side;
+use crate::math::sha256_hex;
+use crate::twin::volumetric_map;
+use serde_json::{Value, json};
+use std::path::Path;
+
+/// Why a run failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RunError {
+    /// The evaluation model does not fit the machine.
+    #[error(transparent)]
+    Model(#[from] Lu2012Error),
+    /// An output could not be written.
+    #[error("{path}: cannot write: {message}")]
+    Write {
+        /// The file or folder.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+}
+
+/// The files of one run, in memory, in the order they are listed in the manifest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutput {
+    /// `(file name, bytes)`; `manifest.json` last.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// Rows of the volumetric map.
+    pub volumetric_rows: usize,
+}
+
+/// Computes every output of `scenario` in memory: `volumetric.csv`, `truth.json` and
+/// `manifest.json`. Nothing here depends on the clock, the thread count or the path the
+/// scenario was given by, so the same scenario and seed give the same bytes.
+pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+    let mut volumetric_rows = 0;
+    if let Some(spec) = &scenario.volumetric {
+        let map = volumetric_map(&scenario.twin, &spec.grid, spec.model)?;
+        volumetric_rows = map.rows.len();
+        let mut bytes = Vec::new();
+        map.write_csv(&mut bytes)
+            .expect("writing to memory cannot fail");
+        files.push(("volumetric.csv".into(), bytes));
+    }
+    files.push(("truth.json".into(), to_json_bytes(&truth(scenario))));
+
+    let listed: Vec<Value> = files
+        .iter()
+        .map(|(name, bytes)| json!({ "name": name, "bytes": bytes.len(), "sha256": sha256_hex(bytes) }))
+        .collect();
+    let manifest = json!({
+        "mtwin_version": env!("CARGO_PKG_VERSION"),
+        "scenario": { "file": file_name(&scenario.file), "sha256": scenario.sha256 },
+        "machine": {
+            "name": scenario.twin.machine.name(),
+            "file": file_name(&scenario.machine_file),
+            "sha256": scenario.machine_sha256,
+        },
+        "seed": scenario.seed,
+        "volumetric_model": scenario.volumetric.as_ref().map(|v| v.model.name()),
+        "files": listed,
+    });
+    files.push(("manifest.json".into(), to_json_bytes(&manifest)));
+    Ok(RunOutput {
+        files,
+        volumetric_rows,
+    })
+}
+
+/// Writes the files into `dir` (created if needed). Each file is written under a temporary
+/// name and renamed when complete, so a reader never sees half a file.
+pub fn write_outputs(output: &RunOutput, dir: &Path) -> Result<(), RunError> {
+    let fail = |path: &Path, e: std::io::Error| RunError::Write {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    std::fs::create_dir_all(dir).map_err(|e| fail(dir, e))?;
+    for (name, bytes) in &output.files {
+        let temporary = dir.join(format!(".{name}.partial"));
+        let target = dir.join(name);
+        std::fs::write(&temporary, bytes).map_err(|e| fail(&temporary, e))?;
+        std::fs::rename(&temporary, &target).map_err(|e| fail(&target, e))?;
+    }
+    Ok(())
+}
+
+/// Every injected parameter, as written (file units), with where it acts, plus the linear
+/// coefficients in SI in the order of the Jacobian.
+fn truth(scenario: &Scenario) -> Value {
+    let machine = &scenario.twin.machine;
+    let mut errors = serde_json::Map::new();
+    for parameter in scenario.twin.errors.parameters() {
+        let name = parameter.name;
+        let (kind, axis) = match name {
+            ParameterName::Component { axis, .. } => ("component", Some(axis)),
+            ParameterName::Location { axis, .. } if axis.is_linear() => ("squareness", Some(axis)),
+            ParameterName::Location { axis, .. } => ("location", Some(axis)),
+            ParameterName::Tool { .. } => ("tool", None),
+        };
+        let side = axis
+            .and_then(|a| machine.axis(a))
+            .map_or(Side::Tool, |info| info.side);
+        errors.insert(
+            name.to_string(),
+            json!({
+                "kind": kind,
+                "axis": axis.map(|a| a.to_string()),
+                "axis_side": if side == Side::Tool { "tool" } else { "workpiece" },
+                "unit": name.file_unit(),
+                "terms": scenario.error_specs.get(&name.to_string()),
+            }),
+        );
+    }
+    let coefficients: Vec<Value> = scenario
+        .twin
+        .errors
+        .coefficient_labels()
+        .into_iter()
+        .zip(scenario.twin.errors.coefficients())
+        .map(|(label, value)| json!({ "label": label, "value_si": value }))
+        .collect();
+    json!({
+        "machine": machine.name(),
+        "seed": scenario.seed,
+        "convention": "deviation = actual - nominal; each parameter is a motion of the tool relative to the workpiece, \
+                       in the frame of its axis (ISO 230-1 names)",
+        "errors": errors,
+        "coefficients_si": coefficients,
+    })
+}
+
+fn to_json_bytes(value: &Value) -> Vec<u8> {
+    let mut bytes = serde_json::to_vec_pretty(value).expect("JSON values serialise");
+    bytes.push(b'\n');
+    bytes
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}

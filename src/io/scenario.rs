@@ -1,0 +1,720 @@
+//! Scenario files: TOML, versioned (`schema = 1`), unknown keys rejected, every error naming
+//! the file, the line and the key.
+//!
+//! ```toml
+//! schema = 1
+//! description = "what this scenario is for"
+//! machine = "../models/vmc3.urdf"   # relative to this file
+//! seed = 1
+//!
+//! [errors.EXX]                      # ISO 230-1 name; µm for translations, µrad for rotations
+//! polynomial_um = [0.0, 0.010]      # c0 + c1·x (x in mm; mm or deg as the axis is)
+//! reversal_um = 2.0                 # lost motion
+//! harmonic = [{ period_mm = 10.0, amplitude_um = 0.4, phase_deg = 0.0 }]
+//!
+//! [errors.ECX]
+//! table = { positions_mm = [0, 380, 760], values_urad = [0, 8, 3], interpolation = "cubic" }
+//!
+//! [errors.EC0Y]
+//! constant_urad = 25.0
+//!
+//! [volumetric]                      # what to compute: the volumetric error map
+//! model = "chain"                   # or "lu2012" (3-axis only)
+//! x_mm = { from = 0.0, to = 760.0, count = 5 }   # default: the full travel, 5 points
+//! ```
+//!
+//! The terms given for one parameter are summed. Rotary grid axes default to 5 points over
+//! their travel, or 0, 90, 180, 270° for a continuous axis.
+
+use crate::errors::{
+    ErrorFunction, ErrorModel, ErrorParameter, Interpolation, ParameterName, Table,
+};
+use crate::machine::{Axis, Machine, axis_unit_to_si};
+use crate::math::{RAD_PER_URAD, Real, sha256_hex};
+use crate::twin::{EvaluationModel, GridAxis, Twin};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// The scenario schema this version reads.
+pub const SCHEMA_VERSION: i64 = 1;
+
+/// What went wrong with a scenario; the message names the file, line and key.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{}: {message}", .line.map(|l| format!(":{l}")).unwrap_or_default())]
+pub struct ScenarioError {
+    file: String,
+    line: Option<usize>,
+    kind: ScenarioErrorKind,
+    message: String,
+}
+
+impl ScenarioError {
+    /// Which check failed.
+    pub fn kind(&self) -> ScenarioErrorKind {
+        self.kind
+    }
+
+    /// The 1-based line the error is at, when it has one.
+    pub fn line(&self) -> Option<usize> {
+        self.line
+    }
+}
+
+/// The checks a scenario must pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ScenarioErrorKind {
+    /// The file could not be read.
+    Io,
+    /// Not valid TOML, or a value of the wrong type or a missing key.
+    Syntax,
+    /// A key the schema does not know.
+    UnknownKey,
+    /// A missing or unsupported `schema` version.
+    Schema,
+    /// The machine model could not be loaded.
+    Machine,
+    /// An error parameter name that is not ISO 230-1 or not on this machine.
+    Parameter,
+    /// A value in the wrong unit for its parameter or axis.
+    Units,
+    /// An impossible value (not finite, a table out of order, a non-positive period, …).
+    Value,
+    /// A grid outside the travel or for an axis the machine lacks.
+    Grid,
+    /// An evaluation model that does not exist or does not fit the machine.
+    Model,
+    /// The scenario asks for nothing to compute.
+    Nothing,
+}
+
+/// The terms of one error parameter, in file units (the `[errors.NAME]` table).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ErrorSpec {
+    /// Constant (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub constant_um: Option<Real>,
+    /// Constant (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub constant_urad: Option<Real>,
+    /// Polynomial coefficients from degree 0, in µm per (mm or deg)^k.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polynomial_um: Option<Vec<Real>>,
+    /// Polynomial coefficients from degree 0, in µrad per (mm or deg)^k.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polynomial_urad: Option<Vec<Real>>,
+    /// Lost motion (the axis lags the command by half of it against its direction of travel).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reversal_um: Option<Real>,
+    /// Angular lost motion.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reversal_urad: Option<Real>,
+    /// Cyclic errors.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub harmonic: Vec<HarmonicSpec>,
+    /// A measured map.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub table: Option<TableSpec>,
+}
+
+/// `amplitude · sin(360° · q / period + phase)`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HarmonicSpec {
+    /// Period along a linear axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_mm: Option<Real>,
+    /// Period about a rotary axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_deg: Option<Real>,
+    /// Amplitude (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_um: Option<Real>,
+    /// Amplitude (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_urad: Option<Real>,
+    /// Phase at q = 0.
+    #[serde(default)]
+    pub phase_deg: Real,
+}
+
+/// Values at knots, interpolated linearly or by a natural cubic spline; end values held
+/// outside.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableSpec {
+    /// Knots along a linear axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub positions_mm: Option<Vec<Real>>,
+    /// Knots about a rotary axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub positions_deg: Option<Vec<Real>>,
+    /// Values (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub values_um: Option<Vec<Real>>,
+    /// Values (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub values_urad: Option<Vec<Real>>,
+    /// `linear` (default) or `cubic`.
+    #[serde(default)]
+    pub interpolation: InterpolationSpec,
+}
+
+/// Table interpolation as written in files.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InterpolationSpec {
+    /// Straight lines.
+    #[default]
+    Linear,
+    /// Natural cubic spline.
+    Cubic,
+}
+
+#[derive(Deserialize)]
+struct SchemaOnly {
+    schema: Option<Spanned<toml::Value>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    /// Checked before this struct is read.
+    #[serde(rename = "schema")]
+    _schema: i64,
+    #[serde(default)]
+    description: Option<String>,
+    machine: Spanned<String>,
+    seed: u64,
+    #[serde(default)]
+    errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+    volumetric: Option<Spanned<RawVolumetric>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawVolumetric {
+    model: Option<Spanned<String>>,
+    x_mm: Option<Spanned<RawRange>>,
+    y_mm: Option<Spanned<RawRange>>,
+    z_mm: Option<Spanned<RawRange>>,
+    a_deg: Option<Spanned<RawRange>>,
+    b_deg: Option<Spanned<RawRange>>,
+    c_deg: Option<Spanned<RawRange>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRange {
+    from: Real,
+    to: Real,
+    count: usize,
+}
+
+/// The volumetric map a scenario asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumetricSpec {
+    /// Chain (truth) or the Lu (2012) summed model.
+    pub model: EvaluationModel,
+    /// The grid, outermost axis first (rotary axes, then X, Y, Z).
+    pub grid: Vec<GridAxis>,
+}
+
+/// A loaded and validated scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    /// The scenario file.
+    pub file: PathBuf,
+    /// SHA-256 of its bytes.
+    pub sha256: String,
+    /// Free text.
+    pub description: Option<String>,
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// The machine model file.
+    pub machine_file: PathBuf,
+    /// SHA-256 of the machine model file.
+    pub machine_sha256: String,
+    /// Machine and injected errors.
+    pub twin: Twin,
+    /// The injected errors as written (file units), by name.
+    pub error_specs: BTreeMap<String, ErrorSpec>,
+    /// The volumetric map to compute, if asked for.
+    pub volumetric: Option<VolumetricSpec>,
+}
+
+struct Context<'a> {
+    file: String,
+    text: &'a str,
+}
+
+impl Context<'_> {
+    fn error(
+        &self,
+        span: Option<std::ops::Range<usize>>,
+        kind: ScenarioErrorKind,
+        message: impl fmt::Display,
+    ) -> ScenarioError {
+        ScenarioError {
+            file: self.file.clone(),
+            line: span.map(|s| {
+                self.text[..s.start.min(self.text.len())]
+                    .matches('\n')
+                    .count()
+                    + 1
+            }),
+            kind,
+            message: message.to_string(),
+        }
+    }
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file, its machine and its errors, without running it.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+            file: file.clone(),
+            line: None,
+            kind: ScenarioErrorKind::Io,
+            message: format!("cannot read the scenario: {e}"),
+        })?;
+        let context = Context { file, text: &text };
+        let toml_error = |e: toml::de::Error| {
+            let kind = if e.message().contains("unknown field") {
+                ScenarioErrorKind::UnknownKey
+            } else {
+                ScenarioErrorKind::Syntax
+            };
+            context.error(e.span(), kind, e.message().trim())
+        };
+
+        let schema: SchemaOnly = toml::from_str(&text).map_err(toml_error)?;
+        match schema.schema {
+            None => {
+                return Err(context.error(
+                    None,
+                    ScenarioErrorKind::Schema,
+                    format!("schema: missing; expected `schema = {SCHEMA_VERSION}` at the top"),
+                ));
+            }
+            Some(value) if value.get_ref().as_integer() != Some(SCHEMA_VERSION) => {
+                return Err(context.error(
+                    Some(value.span()),
+                    ScenarioErrorKind::Schema,
+                    format!(
+                        "schema: {} is not supported; this mtwin reads schema {SCHEMA_VERSION}",
+                        value.get_ref()
+                    ),
+                ));
+            }
+            Some(_) => {}
+        }
+        let raw: RawScenario = toml::from_str(&text).map_err(toml_error)?;
+
+        let machine_file = path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(raw.machine.get_ref());
+        let machine_text = std::fs::read(&machine_file).map_err(|e| {
+            context.error(
+                Some(raw.machine.span()),
+                ScenarioErrorKind::Machine,
+                format!("machine: cannot read {}: {e}", machine_file.display()),
+            )
+        })?;
+        let machine = Machine::from_urdf_file(&machine_file).map_err(|e| {
+            context.error(
+                Some(raw.machine.span()),
+                ScenarioErrorKind::Machine,
+                format!("machine: {e}"),
+            )
+        })?;
+
+        let mut parameters = Vec::new();
+        let mut error_specs = BTreeMap::new();
+        for (name, spec) in &raw.errors {
+            let at = Some(name.span());
+            let parameter: ParameterName = name.get_ref().parse().map_err(|message| {
+                context.error(
+                    at.clone(),
+                    ScenarioErrorKind::Parameter,
+                    format!("errors.{message}"),
+                )
+            })?;
+            let argument = parameter
+                .axis()
+                .filter(|_| matches!(parameter, ParameterName::Component { .. }));
+            if let Some(axis) = parameter.axis().filter(|axis| !machine.has_axis(*axis)) {
+                return Err(context.error(
+                    at,
+                    ScenarioErrorKind::Parameter,
+                    format!(
+                        "errors.{parameter}: machine \"{}\" has no axis {axis}",
+                        machine.name()
+                    ),
+                ));
+            }
+            if *spec.get_ref() == ErrorSpec::default() {
+                let unit = parameter.file_unit();
+                return Err(context.error(
+                    Some(spec.span()),
+                    ScenarioErrorKind::Value,
+                    format!(
+                        "errors.{parameter}: no term given; expected one or more of constant_{unit}, \
+                         polynomial_{unit}, reversal_{unit}, harmonic, table"
+                    ),
+                ));
+            }
+            let function = spec_to_function(spec.get_ref(), parameter, argument).map_err(
+                |(kind, message)| {
+                    context.error(
+                        Some(spec.span()),
+                        kind,
+                        format!("errors.{parameter}.{message}"),
+                    )
+                },
+            )?;
+            if argument.is_none() && !function.is_constant() {
+                return Err(context.error(
+                    Some(spec.span()),
+                    ScenarioErrorKind::Value,
+                    format!("errors.{parameter}: location, squareness and tool errors are constants; use constant_{}", parameter.file_unit()),
+                ));
+            }
+            parameters.push(ErrorParameter {
+                name: parameter,
+                function,
+            });
+            error_specs.insert(parameter.to_string(), spec.get_ref().clone());
+        }
+        let errors = ErrorModel::new(&machine, parameters).map_err(|e| {
+            context.error(None, ScenarioErrorKind::Parameter, format!("errors: {e}"))
+        })?;
+
+        let volumetric = raw
+            .volumetric
+            .as_ref()
+            .map(|v| volumetric_spec(&context, &machine, v))
+            .transpose()?;
+        if volumetric.is_none() {
+            return Err(context.error(
+                None,
+                ScenarioErrorKind::Nothing,
+                "nothing to compute: add a [volumetric] section",
+            ));
+        }
+
+        Ok(Scenario {
+            file: path.to_path_buf(),
+            sha256: sha256_hex(text.as_bytes()),
+            description: raw.description,
+            seed: raw.seed,
+            machine_sha256: sha256_hex(&machine_text),
+            machine_file,
+            twin: Twin { machine, errors },
+            error_specs,
+            volumetric,
+        })
+    }
+}
+
+fn volumetric_spec(
+    context: &Context<'_>,
+    machine: &Machine,
+    raw: &Spanned<RawVolumetric>,
+) -> Result<VolumetricSpec, ScenarioError> {
+    let v = raw.get_ref();
+    let model = match &v.model {
+        None => EvaluationModel::Chain,
+        Some(name) => match name.get_ref().as_str() {
+            "chain" => EvaluationModel::Chain,
+            "lu2012" if machine.rotary_axes().next().is_some() => {
+                return Err(context.error(
+                    Some(name.span()),
+                    ScenarioErrorKind::Model,
+                    "volumetric.model: \"lu2012\" is the 21-component 3-axis model; this machine has rotary axes",
+                ));
+            }
+            "lu2012" => EvaluationModel::Lu2012,
+            other => {
+                return Err(context.error(
+                    Some(name.span()),
+                    ScenarioErrorKind::Model,
+                    format!("volumetric.model: \"{other}\" is not a model; expected \"chain\" or \"lu2012\""),
+                ));
+            }
+        },
+    };
+    let given = [
+        (Axis::A, "a_deg", &v.a_deg),
+        (Axis::B, "b_deg", &v.b_deg),
+        (Axis::C, "c_deg", &v.c_deg),
+        (Axis::X, "x_mm", &v.x_mm),
+        (Axis::Y, "y_mm", &v.y_mm),
+        (Axis::Z, "z_mm", &v.z_mm),
+    ];
+    let mut grid = Vec::new();
+    for (axis, key, range) in given {
+        let info = machine.axis(axis);
+        let range = match (info, range) {
+            (None, None) => continue,
+            (None, Some(range)) => {
+                return Err(context.error(
+                    Some(range.span()),
+                    ScenarioErrorKind::Grid,
+                    format!(
+                        "volumetric.{key}: machine \"{}\" has no axis {axis}",
+                        machine.name()
+                    ),
+                ));
+            }
+            (Some(info), None) => default_range(info.limits),
+            (Some(info), Some(spanned)) => {
+                let RawRange { from, to, count } = *spanned.get_ref();
+                let fail = |message: String| {
+                    context.error(
+                        Some(spanned.span()),
+                        ScenarioErrorKind::Grid,
+                        format!("volumetric.{key}: {message}"),
+                    )
+                };
+                if !(from.is_finite() && to.is_finite()) {
+                    return Err(fail("from and to must be finite numbers".into()));
+                }
+                if count == 0 {
+                    return Err(fail("count must be at least 1".into()));
+                }
+                let scale = axis_unit_to_si(axis);
+                if let Some((lower, upper)) = info.limits {
+                    let tolerance = 1e-9 * (1.0 + lower.abs().max(upper.abs()));
+                    for value in [from, to] {
+                        if value * scale < lower - tolerance || value * scale > upper + tolerance {
+                            return Err(fail(format!(
+                                "{value} is outside the travel of {axis} ({} .. {} {})",
+                                lower / scale,
+                                upper / scale,
+                                &key[2..]
+                            )));
+                        }
+                    }
+                }
+                (from * scale, to * scale, count)
+            }
+        };
+        let (from, to, count) = range;
+        let values = (0..count)
+            .map(|i| {
+                if count == 1 {
+                    from
+                } else {
+                    from + (to - from) * i as Real / (count - 1) as Real
+                }
+            })
+            .collect();
+        grid.push(GridAxis { axis, values });
+    }
+    Ok(VolumetricSpec { model, grid })
+}
+
+/// The full travel with 5 points; 0, 90, 180, 270° for a continuous axis.
+fn default_range(limits: Option<(Real, Real)>) -> (Real, Real, usize) {
+    match limits {
+        Some((lower, upper)) => (lower, upper, 5),
+        None => (0.0, 270.0 * crate::math::RAD_PER_DEG, 4),
+    }
+}
+
+type SpecError = (ScenarioErrorKind, String);
+
+/// Turns the terms of `[errors.NAME]` into a function (SI), checking units and values.
+/// `argument` is the axis whose position the function takes (component errors only).
+fn spec_to_function(
+    spec: &ErrorSpec,
+    name: ParameterName,
+    argument: Option<Axis>,
+) -> Result<ErrorFunction, SpecError> {
+    let translation = name.motion().is_translation();
+    let (value_unit, other_unit) = if translation {
+        ("um", "urad")
+    } else {
+        ("urad", "um")
+    };
+    let position_unit = match argument {
+        Some(axis) if !axis.is_linear() => "deg",
+        _ => "mm",
+    };
+    let position_scale = argument.map_or(crate::math::M_PER_MM, axis_unit_to_si);
+    let value_scale = RAD_PER_URAD; // µm → m and µrad → rad are the same factor
+    let units = |key: &str| -> SpecError {
+        let kind = if translation {
+            "a translation"
+        } else {
+            "a rotation"
+        };
+        (
+            ScenarioErrorKind::Units,
+            format!(
+                "{key}_{other_unit}: {name} is {kind}; give it in {value_unit} ({key}_{value_unit})"
+            ),
+        )
+    };
+    let finite = |key: &str, values: &[Real]| -> Result<(), SpecError> {
+        match values.iter().position(|v| !v.is_finite()) {
+            Some(i) => Err((
+                ScenarioErrorKind::Value,
+                format!("{key}: value {} is not a finite number", i + 1),
+            )),
+            None => Ok(()),
+        }
+    };
+    let pick = |key: &str,
+                wanted: &Option<Real>,
+                other: &Option<Real>|
+     -> Result<Option<Real>, SpecError> {
+        if other.is_some() {
+            return Err(units(key));
+        }
+        if let Some(v) = wanted {
+            finite(&format!("{key}_{value_unit}"), &[*v])?;
+        }
+        Ok(*wanted)
+    };
+    let (constant, constant_other) = if translation {
+        (&spec.constant_um, &spec.constant_urad)
+    } else {
+        (&spec.constant_urad, &spec.constant_um)
+    };
+    let (reversal, reversal_other) = if translation {
+        (&spec.reversal_um, &spec.reversal_urad)
+    } else {
+        (&spec.reversal_urad, &spec.reversal_um)
+    };
+    let (polynomial, polynomial_other) = if translation {
+        (&spec.polynomial_um, &spec.polynomial_urad)
+    } else {
+        (&spec.polynomial_urad, &spec.polynomial_um)
+    };
+
+    let mut terms = Vec::new();
+    if let Some(c) = pick("constant", constant, constant_other)? {
+        terms.push(ErrorFunction::Constant(c * value_scale));
+    }
+    if polynomial_other.is_some() {
+        return Err(units("polynomial"));
+    }
+    if let Some(coefficients) = polynomial {
+        finite(&format!("polynomial_{value_unit}"), coefficients)?;
+        if coefficients.is_empty() {
+            return Err((
+                ScenarioErrorKind::Value,
+                format!("polynomial_{value_unit}: give at least one coefficient"),
+            ));
+        }
+        let si = coefficients
+            .iter()
+            .enumerate()
+            .map(|(k, c)| c * value_scale / position_scale.powi(k as i32))
+            .collect();
+        terms.push(ErrorFunction::Polynomial(si));
+    }
+    if let Some(r) = pick("reversal", reversal, reversal_other)? {
+        terms.push(ErrorFunction::Reversal(r * value_scale));
+    }
+    for (i, h) in spec.harmonic.iter().enumerate() {
+        let key = format!("harmonic[{i}]");
+        let (period, period_other) = if position_unit == "mm" {
+            (h.period_mm, h.period_deg)
+        } else {
+            (h.period_deg, h.period_mm)
+        };
+        let other_position_unit = if position_unit == "mm" { "deg" } else { "mm" };
+        if period_other.is_some() {
+            return Err((
+                ScenarioErrorKind::Units,
+                format!(
+                    "{key}.period_{other_position_unit}: the axis is measured in {position_unit}; give period_{position_unit}"
+                ),
+            ));
+        }
+        let period = period.ok_or((
+            ScenarioErrorKind::Value,
+            format!("{key}: period_{position_unit} is required"),
+        ))?;
+        let (amplitude, amplitude_other) = if translation {
+            (h.amplitude_um, h.amplitude_urad)
+        } else {
+            (h.amplitude_urad, h.amplitude_um)
+        };
+        if amplitude_other.is_some() {
+            return Err(units(&format!("{key}.amplitude")));
+        }
+        let amplitude = amplitude.ok_or((
+            ScenarioErrorKind::Value,
+            format!("{key}: amplitude_{value_unit} is required"),
+        ))?;
+        finite(&key, &[period, amplitude, h.phase_deg])?;
+        if period <= 0.0 {
+            return Err((
+                ScenarioErrorKind::Value,
+                format!("{key}.period_{position_unit}: must be positive, got {period}"),
+            ));
+        }
+        terms.push(ErrorFunction::Harmonic {
+            period: period * position_scale,
+            amplitude: amplitude * value_scale,
+            phase: h.phase_deg * crate::math::RAD_PER_DEG,
+        });
+    }
+    if let Some(t) = &spec.table {
+        let (positions, positions_other) = if position_unit == "mm" {
+            (&t.positions_mm, &t.positions_deg)
+        } else {
+            (&t.positions_deg, &t.positions_mm)
+        };
+        if positions_other.is_some() {
+            return Err((
+                ScenarioErrorKind::Units,
+                format!(
+                    "table: the axis is measured in {position_unit}; give positions_{position_unit}"
+                ),
+            ));
+        }
+        let (values, values_other) = if translation {
+            (&t.values_um, &t.values_urad)
+        } else {
+            (&t.values_urad, &t.values_um)
+        };
+        if values_other.is_some() {
+            return Err(units("table.values"));
+        }
+        let positions = positions.as_ref().ok_or((
+            ScenarioErrorKind::Value,
+            format!("table: positions_{position_unit} is required"),
+        ))?;
+        let values = values.as_ref().ok_or((
+            ScenarioErrorKind::Value,
+            format!("table: values_{value_unit} is required"),
+        ))?;
+        let interpolation = match t.interpolation {
+            InterpolationSpec::Linear => Interpolation::Linear,
+            InterpolationSpec::Cubic => Interpolation::Cubic,
+        };
+        let table = Table::new(
+            positions.iter().map(|p| p * position_scale).collect(),
+            values.iter().map(|v| v * value_scale).collect(),
+            interpolation,
+        )
+        .map_err(|e| (ScenarioErrorKind::Value, format!("table: {e}")))?;
+        terms.push(ErrorFunction::Table(table));
+    }
+    match terms.len() {
+        1 => Ok(terms.pop().expect("one term")),
+        _ => Ok(ErrorFunction::Sum(terms)),
+    }
+}

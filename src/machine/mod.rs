@@ -1,0 +1,321 @@
+//! Machines: a URDF tree turned into an immutable, validated [`Machine`] with a reusable
+//! [`Workspace`] for kinematics (the model/data split of Pinocchio).
+//!
+//! # Conventions
+//!
+//! - The tree has one root (the bed) and two branches: one ends in the link `tool` (the tool
+//!   centre point, z axis along the tool axis pointing from the tip into the spindle), the other
+//!   in the link `workpiece` (the workpiece/table reference). The quantity everything is about is
+//!   [`Machine::workpiece_from_tool`].
+//! - Moving joints are named after their ISO axis letter: prismatic `X`, `Y`, `Z`; revolute or
+//!   continuous `A`, `B`, `C`; the spindle `S` (continuous, on the tool branch).
+//! - A joint moves along (or about) the x axis of its joint frame for `X`/`A`, y for `Y`/`B`,
+//!   z for `Z`/`C`/`S`. ISO 841: a positive command moves the *tool relative to the workpiece*
+//!   in the positive direction, so a joint on the tool branch has axis `+x`/`+y`/`+z` and a joint
+//!   on the workpiece branch (which moves the table the other way) has `-x`/`-y`/`-z`.
+//! - Axis values are SI: m for `X`, `Y`, `Z`; rad for `A`, `B`, `C`, `S`.
+//!
+//! Supported configurations: three linear axes `X`, `Y`, `Z`, with either no rotary axis or two
+//! of `A`, `B`, `C` (table-table, head-table or head-head 5-axis), plus the spindle `S`.
+
+mod inverse;
+mod kinematics;
+mod urdf;
+
+pub use inverse::{InverseKinematicsError, TiltBranch, ToolTarget};
+pub use kinematics::Workspace;
+pub use urdf::{MachineError, MachineErrorKind};
+
+use crate::math::{Pose, Real, Vector};
+use std::fmt;
+use std::ops::{Index, IndexMut};
+
+/// An ISO 841 axis letter (and the spindle `S`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Axis {
+    /// Linear X.
+    X,
+    /// Linear Y.
+    Y,
+    /// Linear Z.
+    Z,
+    /// Rotary about X.
+    A,
+    /// Rotary about Y.
+    B,
+    /// Rotary about Z.
+    C,
+    /// The spindle (rotary about the tool axis).
+    S,
+}
+
+impl Axis {
+    /// All axes in ISO order (also the storage order of [`AxisValues`]).
+    pub const ALL: [Axis; 7] = [
+        Axis::X,
+        Axis::Y,
+        Axis::Z,
+        Axis::A,
+        Axis::B,
+        Axis::C,
+        Axis::S,
+    ];
+
+    /// The axis with this letter.
+    pub fn from_letter(letter: char) -> Option<Axis> {
+        Axis::ALL.into_iter().find(|axis| axis.letter() == letter)
+    }
+
+    /// The ISO letter.
+    pub fn letter(self) -> char {
+        match self {
+            Axis::X => 'X',
+            Axis::Y => 'Y',
+            Axis::Z => 'Z',
+            Axis::A => 'A',
+            Axis::B => 'B',
+            Axis::C => 'C',
+            Axis::S => 'S',
+        }
+    }
+
+    /// Storage index in [`AxisValues`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Whether the axis translates (X, Y, Z) rather than rotates.
+    pub fn is_linear(self) -> bool {
+        matches!(self, Axis::X | Axis::Y | Axis::Z)
+    }
+
+    /// The coordinate direction (0 = x, 1 = y, 2 = z) the axis moves along or about.
+    pub fn coordinate(self) -> usize {
+        match self {
+            Axis::X | Axis::A => 0,
+            Axis::Y | Axis::B => 1,
+            Axis::Z | Axis::C | Axis::S => 2,
+        }
+    }
+
+    /// The unit vector of [`Axis::coordinate`].
+    pub fn unit(self) -> Vector {
+        Vector::AXES[self.coordinate()]
+    }
+}
+
+impl fmt::Display for Axis {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.letter())
+    }
+}
+
+/// One value per axis letter (SI: m or rad), whatever axes the machine has; the values of axes
+/// a machine lacks are ignored.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisValues(pub [Real; 7]);
+
+impl AxisValues {
+    /// All axes at zero.
+    pub const ZERO: AxisValues = AxisValues([0.0; 7]);
+
+    /// Linear axes from millimetres, rotary axes from degrees.
+    pub fn from_file_units(values: &[(Axis, Real)]) -> AxisValues {
+        let mut out = AxisValues::ZERO;
+        for &(axis, value) in values {
+            out[axis] = value * axis_unit_to_si(axis);
+        }
+        out
+    }
+}
+
+/// The factor from file units (mm for linear axes, degrees for rotary ones) to SI.
+pub fn axis_unit_to_si(axis: Axis) -> Real {
+    if axis.is_linear() {
+        crate::math::M_PER_MM
+    } else {
+        crate::math::RAD_PER_DEG
+    }
+}
+
+impl Index<Axis> for AxisValues {
+    type Output = Real;
+    fn index(&self, axis: Axis) -> &Real {
+        &self.0[axis.index()]
+    }
+}
+
+impl IndexMut<Axis> for AxisValues {
+    fn index_mut(&mut self, axis: Axis) -> &mut Real {
+        &mut self.0[axis.index()]
+    }
+}
+
+/// Direction of travel of an axis, which direction-dependent errors (lost motion) depend on.
+/// An axis at rest keeps the direction of its last move.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Last moved towards larger values.
+    #[default]
+    Positive,
+    /// Last moved towards smaller values.
+    Negative,
+}
+
+impl Direction {
+    /// +1 or −1.
+    pub fn sign(self) -> Real {
+        match self {
+            Direction::Positive => 1.0,
+            Direction::Negative => -1.0,
+        }
+    }
+}
+
+/// What the error model needs to know of the machine at one instant: axis positions (SI) and
+/// each axis's direction of travel.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MachineState {
+    /// Commanded axis positions (m, rad).
+    pub position: AxisValues,
+    /// Direction of travel per axis, indexed like [`AxisValues`].
+    pub direction: [Direction; 7],
+}
+
+impl MachineState {
+    /// A state at these positions, every axis having last moved in the positive direction.
+    pub fn at(position: AxisValues) -> MachineState {
+        MachineState {
+            position,
+            direction: [Direction::Positive; 7],
+        }
+    }
+
+    /// The direction of travel of one axis.
+    pub fn direction(&self, axis: Axis) -> Direction {
+        self.direction[axis.index()]
+    }
+}
+
+/// Which branch of the tree an axis sits on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// Between the bed and the tool: moves the tool.
+    Tool,
+    /// Between the bed and the workpiece: moves the workpiece.
+    Workpiece,
+}
+
+/// A moving axis of a machine.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisInfo {
+    /// Its letter.
+    pub axis: Axis,
+    /// Which branch it moves.
+    pub side: Side,
+    /// Travel limits (m or rad); `None` for continuous joints.
+    pub limits: Option<(Real, Real)>,
+    /// Index of its error slot (see [`Machine::slot_count`]).
+    pub slot: usize,
+}
+
+/// One moving joint of a branch, with the fixed transforms before it folded in.
+#[derive(Clone, Debug)]
+pub(crate) struct ChainJoint {
+    /// `previous_from_joint`: from the previous moving joint's child frame (or the bed) to this
+    /// joint's frame.
+    pub origin: Pose,
+    pub axis: Axis,
+    /// The joint axis in its joint frame: `±Axis::unit`.
+    pub unit: Vector,
+    pub slot: usize,
+}
+
+/// A path of joints from the bed to the tool or the workpiece.
+#[derive(Clone, Debug)]
+pub(crate) struct Branch {
+    pub joints: Vec<ChainJoint>,
+    /// From the last moving joint's child frame to the end link (`tool` or `workpiece`).
+    pub end: Pose,
+}
+
+/// A validated, immutable machine: share it across threads; keep per-evaluation scratch in a
+/// [`Workspace`].
+///
+/// Errors enter the chain at *slots*: one per moving axis (in the order of [`Machine::axes`])
+/// and one at the tool tip ([`Machine::tool_slot`]). See [`crate::errors`] for what is applied
+/// there.
+#[derive(Clone, Debug)]
+pub struct Machine {
+    name: String,
+    axes: Vec<AxisInfo>,
+    tool_branch: Branch,
+    work_branch: Branch,
+}
+
+impl Machine {
+    /// The URDF robot name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The moving axes in ISO order (X, Y, Z, A, B, C, S).
+    pub fn axes(&self) -> &[AxisInfo] {
+        &self.axes
+    }
+
+    /// The axis with this letter, if the machine has it.
+    pub fn axis(&self, axis: Axis) -> Option<&AxisInfo> {
+        self.axes.iter().find(|info| info.axis == axis)
+    }
+
+    /// Whether the machine has this axis.
+    pub fn has_axis(&self, axis: Axis) -> bool {
+        self.axis(axis).is_some()
+    }
+
+    /// The rotary axes (A, B, C) the machine has, in ISO order; the spindle is not among them.
+    pub fn rotary_axes(&self) -> impl Iterator<Item = &AxisInfo> {
+        self.axes
+            .iter()
+            .filter(|info| matches!(info.axis, Axis::A | Axis::B | Axis::C))
+    }
+
+    /// Number of error slots: one per moving axis plus the tool tip.
+    pub fn slot_count(&self) -> usize {
+        self.axes.len() + 1
+    }
+
+    /// The slot of the tool tip (tool length and offset errors).
+    pub fn tool_slot(&self) -> usize {
+        self.axes.len()
+    }
+
+    /// The side a slot belongs to (the tool slot is on the tool side).
+    pub fn slot_side(&self, slot: usize) -> Side {
+        self.axes.get(slot).map_or(Side::Tool, |info| info.side)
+    }
+
+    /// Nominal tool pose seen from the workpiece at these axis values.
+    ///
+    /// Convenience for one-off use; loops should keep a [`Workspace`] and call
+    /// [`Workspace::workpiece_from_tool`].
+    pub fn workpiece_from_tool(&self, position: &AxisValues) -> Pose {
+        Workspace::new(self).workpiece_from_tool(self, position, None)
+    }
+
+    /// Whether every axis value lies within its travel limits; the first axis outside them,
+    /// with its value and limits, otherwise.
+    pub fn check_limits(&self, position: &AxisValues) -> Result<(), (Axis, Real, (Real, Real))> {
+        for info in &self.axes {
+            if let Some((lower, upper)) = info.limits {
+                let value = position[info.axis];
+                let tolerance = 1e-12 * (1.0 + lower.abs().max(upper.abs()));
+                if value < lower - tolerance || value > upper + tolerance {
+                    return Err((info.axis, value, (lower, upper)));
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,506 @@
+//! URDF → [`Machine`]: parsing (urdf-rs), then validation of the tree, the axis names and
+//! directions and the supported configurations.
+
+use super::{Axis, AxisInfo, Branch, ChainJoint, Machine, Side};
+use crate::math::{Pose, Real, Vector, rotation_from_rpy};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+use urdf_rs::JointType;
+
+/// Why a machine model was rejected. Its message names the file, the line where it can be
+/// found, the element and what was expected; [`MachineError::kind`] tells which check failed.
+#[derive(Debug, thiserror::Error)]
+#[error("{}{}: {kind}", .file, .line.map(|l| format!(":{l}")).unwrap_or_default())]
+pub struct MachineError {
+    file: String,
+    line: Option<usize>,
+    kind: MachineErrorKind,
+}
+
+impl MachineError {
+    /// Which check failed.
+    pub fn kind(&self) -> &MachineErrorKind {
+        &self.kind
+    }
+}
+
+/// The checks a machine model must pass.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum MachineErrorKind {
+    /// The file could not be read.
+    Io(String),
+    /// Not well-formed URDF XML.
+    Xml(String),
+    /// No link named `tool` or `workpiece`.
+    MissingEndLink(&'static str),
+    /// A joint names a parent or child link that does not exist.
+    UnknownLink {
+        /// The joint.
+        joint: String,
+        /// The missing link.
+        link: String,
+    },
+    /// A link is the child of two joints: the structure is a closed loop, not a tree.
+    ClosedLoop {
+        /// The link with two parents.
+        link: String,
+    },
+    /// More than one link (or none, which means a cycle) has no parent.
+    Roots(Vec<String>),
+    /// A joint type mtwin cannot model (floating, planar, spherical) or a mimic joint.
+    UnsupportedJoint {
+        /// The joint.
+        joint: String,
+        /// Its type.
+        joint_type: String,
+    },
+    /// A moving joint is not named after an axis letter (X, Y, Z, A, B, C, S).
+    AxisName {
+        /// The joint.
+        joint: String,
+    },
+    /// Two joints carry the same axis letter.
+    DuplicateAxis(Axis),
+    /// The joint type does not suit the letter (prismatic X/Y/Z; revolute or continuous A/B/C;
+    /// continuous S).
+    AxisType {
+        /// The axis.
+        axis: Axis,
+        /// Its URDF type.
+        joint_type: String,
+    },
+    /// The joint axis vector is not the one the letter and the side require.
+    AxisDirection {
+        /// The axis.
+        axis: Axis,
+        /// What the file says.
+        found: [Real; 3],
+        /// What was expected.
+        expected: [Real; 3],
+    },
+    /// A prismatic or revolute joint without a usable `<limit lower upper>`.
+    Limits {
+        /// The axis.
+        axis: Axis,
+    },
+    /// A moving joint that moves neither the tool nor the workpiece.
+    OffBranch {
+        /// The axis.
+        axis: Axis,
+    },
+    /// The spindle is not on the tool branch.
+    SpindleSide,
+    /// A non-finite number in an origin or axis.
+    NotFinite {
+        /// The joint.
+        joint: String,
+    },
+    /// The set of axes is not a supported machine.
+    Configuration(String),
+}
+
+impl fmt::Display for MachineErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use MachineErrorKind::*;
+        match self {
+            Io(message) => write!(f, "cannot read the file: {message}"),
+            Xml(message) => write!(f, "not a valid URDF document: {message}"),
+            MissingEndLink(name) => write!(
+                f,
+                "no link named \"{name}\": a machine needs a `tool` link (tool centre point) and a `workpiece` link"
+            ),
+            UnknownLink { joint, link } => {
+                write!(
+                    f,
+                    "joint \"{joint}\" refers to link \"{link}\", which is not defined"
+                )
+            }
+            ClosedLoop { link } => write!(
+                f,
+                "link \"{link}\" is the child of two joints: the model is a closed loop, expected a tree"
+            ),
+            Roots(roots) if roots.is_empty() => {
+                write!(
+                    f,
+                    "every link has a parent: the joints form a cycle, expected a tree with one root (the bed)"
+                )
+            }
+            Roots(roots) => write!(
+                f,
+                "links {} have no parent: expected one root (the bed)",
+                roots
+                    .iter()
+                    .map(|r| format!("\"{r}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            UnsupportedJoint { joint, joint_type } => write!(
+                f,
+                "joint \"{joint}\" is {joint_type}: expected fixed, prismatic, revolute or continuous (no mimic)"
+            ),
+            AxisName { joint } => write!(
+                f,
+                "moving joint \"{joint}\" must be named after its axis letter: X, Y, Z, A, B, C or S (spindle)"
+            ),
+            DuplicateAxis(axis) => write!(f, "two joints are named \"{axis}\""),
+            AxisType { axis, joint_type } => write!(
+                f,
+                "joint \"{axis}\" is {joint_type}: expected {}",
+                match axis {
+                    Axis::X | Axis::Y | Axis::Z => "prismatic",
+                    Axis::S => "continuous",
+                    _ => "revolute or continuous",
+                }
+            ),
+            AxisDirection {
+                axis,
+                found,
+                expected,
+            } => write!(
+                f,
+                "joint \"{axis}\" has axis ({} {} {}): expected ({} {} {}) (it moves along its frame's {} axis, \
+                 and ISO 841 makes a positive command move the tool in + relative to the workpiece, so a joint \
+                 on the workpiece branch points the other way)",
+                found[0],
+                found[1],
+                found[2],
+                expected[0],
+                expected[1],
+                expected[2],
+                ["x", "y", "z"][axis.coordinate()]
+            ),
+            Limits { axis } => write!(
+                f,
+                "joint \"{axis}\" needs <limit lower=\"..\" upper=\"..\"/> with finite lower < upper (m or rad)"
+            ),
+            OffBranch { axis } => write!(
+                f,
+                "joint \"{axis}\" moves neither the tool nor the workpiece (it is on no path from the root to them)"
+            ),
+            SpindleSide => write!(
+                f,
+                "joint \"S\" (the spindle) must be on the path from the root to `tool`"
+            ),
+            NotFinite { joint } => write!(
+                f,
+                "joint \"{joint}\" has a non-finite number in its origin or axis"
+            ),
+            Configuration(message) => write!(f, "unsupported machine: {message}"),
+        }
+    }
+}
+
+impl Machine {
+    /// Loads and validates a URDF file.
+    pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<Machine, MachineError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| MachineError {
+            file: file.clone(),
+            line: None,
+            kind: MachineErrorKind::Io(e.to_string()),
+        })?;
+        Machine::from_urdf_str(&text, &file)
+    }
+
+    /// Loads and validates URDF text; `file` names it in error messages.
+    pub fn from_urdf_str(text: &str, file: &str) -> Result<Machine, MachineError> {
+        let fail = |element: Option<&str>, kind: MachineErrorKind| MachineError {
+            file: file.to_string(),
+            line: element.and_then(|name| line_of_element(text, name)),
+            kind,
+        };
+        let robot = urdf_rs::read_from_string(text)
+            .map_err(|e| fail(None, MachineErrorKind::Xml(e.to_string())))?;
+
+        let link_names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
+        for end in ["tool", "workpiece"] {
+            if !link_names.contains(&end) {
+                return Err(fail(None, MachineErrorKind::MissingEndLink(end)));
+            }
+        }
+
+        // Tree: every link has at most one parent joint; exactly one root.
+        let mut parent_joint: BTreeMap<&str, usize> = BTreeMap::new();
+        for (index, joint) in robot.joints.iter().enumerate() {
+            for link in [&joint.parent.link, &joint.child.link] {
+                if !link_names.contains(&link.as_str()) {
+                    return Err(fail(
+                        Some(&joint.name),
+                        MachineErrorKind::UnknownLink {
+                            joint: joint.name.clone(),
+                            link: link.clone(),
+                        },
+                    ));
+                }
+            }
+            if parent_joint
+                .insert(joint.child.link.as_str(), index)
+                .is_some()
+            {
+                return Err(fail(
+                    Some(&joint.name),
+                    MachineErrorKind::ClosedLoop {
+                        link: joint.child.link.clone(),
+                    },
+                ));
+            }
+        }
+        let roots: Vec<String> = link_names
+            .iter()
+            .filter(|l| !parent_joint.contains_key(*l))
+            .map(|l| l.to_string())
+            .collect();
+        if roots.len() != 1 {
+            return Err(fail(None, MachineErrorKind::Roots(roots)));
+        }
+
+        // Joint checks, independent of the branch.
+        let mut seen_axes: Vec<Axis> = Vec::new();
+        for joint in &robot.joints {
+            let finite = joint
+                .origin
+                .xyz
+                .0
+                .iter()
+                .chain(&joint.origin.rpy.0)
+                .chain(&joint.axis.xyz.0)
+                .all(|v| v.is_finite());
+            if !finite {
+                return Err(fail(
+                    Some(&joint.name),
+                    MachineErrorKind::NotFinite {
+                        joint: joint.name.clone(),
+                    },
+                ));
+            }
+            let type_name = format!("{:?}", joint.joint_type).to_lowercase();
+            let unsupported = matches!(
+                joint.joint_type,
+                JointType::Floating | JointType::Planar | JointType::Spherical
+            );
+            if unsupported || joint.mimic.is_some() {
+                let joint_type = if unsupported {
+                    type_name
+                } else {
+                    "a mimic joint".to_string()
+                };
+                return Err(fail(
+                    Some(&joint.name),
+                    MachineErrorKind::UnsupportedJoint {
+                        joint: joint.name.clone(),
+                        joint_type,
+                    },
+                ));
+            }
+            if joint.joint_type == JointType::Fixed {
+                continue;
+            }
+            let axis = single_letter(&joint.name).ok_or_else(|| {
+                fail(
+                    Some(&joint.name),
+                    MachineErrorKind::AxisName {
+                        joint: joint.name.clone(),
+                    },
+                )
+            })?;
+            if seen_axes.contains(&axis) {
+                return Err(fail(
+                    Some(&joint.name),
+                    MachineErrorKind::DuplicateAxis(axis),
+                ));
+            }
+            seen_axes.push(axis);
+            let type_ok = match axis {
+                Axis::X | Axis::Y | Axis::Z => joint.joint_type == JointType::Prismatic,
+                Axis::S => joint.joint_type == JointType::Continuous,
+                _ => matches!(
+                    joint.joint_type,
+                    JointType::Revolute | JointType::Continuous
+                ),
+            };
+            if !type_ok {
+                return Err(fail(
+                    Some(&joint.name),
+                    MachineErrorKind::AxisType {
+                        axis,
+                        joint_type: type_name,
+                    },
+                ));
+            }
+        }
+
+        // Branches: walk up from each end link to the root.
+        let path_to = |end: &str| -> Vec<usize> {
+            let mut path = Vec::new();
+            let mut link = end;
+            while let Some(&index) = parent_joint.get(link) {
+                path.push(index);
+                link = robot.joints[index].parent.link.as_str();
+            }
+            path.reverse();
+            path
+        };
+        let tool_path = path_to("tool");
+        let work_path = path_to("workpiece");
+
+        let mut axes: Vec<AxisInfo> = Vec::new();
+        for joint in robot
+            .joints
+            .iter()
+            .filter(|j| j.joint_type != JointType::Fixed)
+        {
+            let axis = single_letter(&joint.name).expect("checked above");
+            let index = robot
+                .joints
+                .iter()
+                .position(|j| j.name == joint.name)
+                .expect("present");
+            let on_tool = tool_path.contains(&index);
+            let on_work = work_path.contains(&index);
+            let side = match (on_tool, on_work) {
+                (true, false) => Side::Tool,
+                (false, true) => Side::Workpiece,
+                // A joint on both paths moves tool and workpiece together and so nothing between them.
+                _ => {
+                    return Err(fail(
+                        Some(&joint.name),
+                        MachineErrorKind::OffBranch { axis },
+                    ));
+                }
+            };
+            if axis == Axis::S && side != Side::Tool {
+                return Err(fail(Some(&joint.name), MachineErrorKind::SpindleSide));
+            }
+            let found = joint.axis.xyz.0;
+            let sign = if side == Side::Tool { 1.0 } else { -1.0 };
+            let wanted = axis.unit() * sign;
+            let acceptable = if axis == Axis::S {
+                vec![wanted, -wanted]
+            } else {
+                vec![wanted]
+            };
+            let found_vector = Vector::from_array(found);
+            if !acceptable
+                .iter()
+                .any(|w| (found_vector - *w).length() < 1e-12)
+            {
+                return Err(fail(
+                    Some(&joint.name),
+                    MachineErrorKind::AxisDirection {
+                        axis,
+                        found,
+                        expected: wanted.to_array(),
+                    },
+                ));
+            }
+            let limits = if joint.joint_type == JointType::Continuous {
+                None
+            } else {
+                let (lower, upper) = (joint.limit.lower, joint.limit.upper);
+                if !(lower.is_finite() && upper.is_finite() && lower < upper) {
+                    return Err(fail(Some(&joint.name), MachineErrorKind::Limits { axis }));
+                }
+                Some((lower, upper))
+            };
+            axes.push(AxisInfo {
+                axis,
+                side,
+                limits,
+                slot: 0,
+            });
+        }
+        axes.sort_by_key(|info| info.axis);
+        for (slot, info) in axes.iter_mut().enumerate() {
+            info.slot = slot;
+        }
+        check_configuration(&axes)
+            .map_err(|message| fail(None, MachineErrorKind::Configuration(message)))?;
+
+        let branch = |path: &[usize]| -> Branch {
+            let mut joints = Vec::new();
+            let mut pending = Pose::IDENTITY;
+            for &index in path {
+                let joint = &robot.joints[index];
+                let origin = Pose::from_mat3_translation(
+                    rotation_from_rpy(joint.origin.rpy.0),
+                    Vector::from_array(joint.origin.xyz.0),
+                );
+                pending = pending * origin;
+                if joint.joint_type != JointType::Fixed {
+                    let axis = single_letter(&joint.name).expect("checked above");
+                    let slot = axes
+                        .iter()
+                        .position(|info| info.axis == axis)
+                        .expect("listed");
+                    joints.push(ChainJoint {
+                        origin: pending,
+                        axis,
+                        unit: Vector::from_array(joint.axis.xyz.0),
+                        slot,
+                    });
+                    pending = Pose::IDENTITY;
+                }
+            }
+            Branch {
+                joints,
+                end: pending,
+            }
+        };
+        Ok(Machine {
+            name: robot.name.clone(),
+            tool_branch: branch(&tool_path),
+            work_branch: branch(&work_path),
+            axes,
+        })
+    }
+}
+
+/// Exactly X, Y, Z; none or two of A, B, C; at most one spindle.
+fn check_configuration(axes: &[AxisInfo]) -> Result<(), String> {
+    let has = |axis: Axis| axes.iter().any(|info| info.axis == axis);
+    let missing: Vec<String> = [Axis::X, Axis::Y, Axis::Z]
+        .into_iter()
+        .filter(|a| !has(*a))
+        .map(|a| a.to_string())
+        .collect();
+    if !missing.is_empty() {
+        return Err(format!(
+            "linear axes {} are missing: mtwin models 3-axis and 5-axis machines with X, Y and Z",
+            missing.join(", ")
+        ));
+    }
+    let rotary = [Axis::A, Axis::B, Axis::C]
+        .into_iter()
+        .filter(|a| has(*a))
+        .count();
+    if rotary == 1 || rotary == 3 {
+        return Err(format!(
+            "{rotary} rotary axes: expected none (3-axis) or two of A, B, C (5-axis)"
+        ));
+    }
+    Ok(())
+}
+
+/// The axis named by a one-letter joint name.
+fn single_letter(name: &str) -> Option<Axis> {
+    let mut chars = name.chars();
+    match (chars.next(), chars.next()) {
+        (Some(letter), None) => Axis::from_letter(letter),
+        _ => None,
+    }
+}
+
+/// The 1-based line of `<joint name="NAME"` (or of a link of that name) in the source text.
+fn line_of_element(text: &str, name: &str) -> Option<usize> {
+    let needle_double = format!("name=\"{name}\"");
+    let needle_single = format!("name='{name}'");
+    text.lines()
+        .position(|line| {
+            (line.contains("<joint") || line.contains("<link"))
+                && (line.contains(&needle_double) || line.contains(&needle_single))
+        })
+        .map(|index| index + 1)
+}

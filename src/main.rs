@@ -1,0 +1,116 @@
+//! `mtwin`: the command line of the machine-tool twin (a thin layer over the library).
+
+use anyhow::{Result, bail};
+use clap::{Parser, Subcommand};
+use mtwin::io::{Scenario, run_scenario, write_outputs};
+use mtwin::machine::{Machine, Side};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// A digital twin of a machine tool for metrology.
+#[derive(Parser)]
+#[command(version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a scenario: writes volumetric.csv, truth.json and manifest.json into --out.
+    Run {
+        /// The scenario (TOML).
+        scenario: PathBuf,
+        /// Output folder (created if needed; files in it with the same names are replaced).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
+    /// Validate a scenario (.toml) or a machine model (.urdf) without running it.
+    Check {
+        /// The file.
+        file: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    match execute(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn execute(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Run { scenario, out } => {
+            let scenario = Scenario::load(&scenario)?;
+            let output = run_scenario(&scenario)?;
+            write_outputs(&output, &out)?;
+            for (name, bytes) in &output.files {
+                println!("{}  ({} bytes)", out.join(name).display(), bytes.len());
+            }
+            println!(
+                "{} grid points, seed {}",
+                output.volumetric_rows, scenario.seed
+            );
+            Ok(())
+        }
+        Command::Check { file } => check(&file),
+    }
+}
+
+fn check(file: &Path) -> Result<()> {
+    match file.extension().and_then(|e| e.to_str()) {
+        Some("urdf") => {
+            let machine = Machine::from_urdf_file(file)?;
+            println!("{}: ok, machine \"{}\"", file.display(), machine.name());
+            describe(&machine);
+        }
+        Some("toml") => {
+            let scenario = Scenario::load(file)?;
+            let machine = &scenario.twin.machine;
+            println!(
+                "{}: ok, machine \"{}\" ({}), {} error parameters, seed {}",
+                file.display(),
+                machine.name(),
+                scenario.machine_file.display(),
+                scenario.twin.errors.parameters().len(),
+                scenario.seed
+            );
+            if let Some(v) = &scenario.volumetric {
+                let points: usize = v.grid.iter().map(|g| g.values.len()).product();
+                println!(
+                    "  volumetric map: {} model, {points} grid points",
+                    v.model.name()
+                );
+            }
+        }
+        _ => bail!(
+            "{}: expected a scenario (.toml) or a machine model (.urdf)",
+            file.display()
+        ),
+    }
+    Ok(())
+}
+
+fn describe(machine: &Machine) {
+    for info in machine.axes() {
+        let side = if info.side == Side::Tool {
+            "tool"
+        } else {
+            "workpiece"
+        };
+        let travel = match info.limits {
+            Some((lower, upper)) if info.axis.is_linear() => {
+                format!("{:.1} .. {:.1} mm", lower * 1e3, upper * 1e3)
+            }
+            Some((lower, upper)) => {
+                format!("{:.1} .. {:.1} deg", lower.to_degrees(), upper.to_degrees())
+            }
+            None => "continuous".to_string(),
+        };
+        println!("  {}  {side:<9}  {travel}", info.axis);
+    }
+}
