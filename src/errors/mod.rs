@@ -20,20 +20,28 @@
 //!
 //! # Sign and frame
 //!
-//! Every parameter is a motion of the **tool relative to the workpiece** (the ISO 230-1 view,
-//! which is what a laser, ball-bar or probe sees), so its sign does not depend on which branch
-//! the axis moves: `EXX = +2 µm` at X = 100 mm means the tool ends up 2 µm further along +X
-//! relative to the workpiece, whether X moves the head or the table (on the workpiece branch
-//! the chain applies the inverse motion to the table). Commanded positive motion is itself
-//! tool-relative (ISO 841, see [`crate::machine`]), so for the positioning errors this reads
-//! "axis X reached X + EXX".
+//! **Component, tool and zero-position errors** are motions of the **tool relative to the
+//! workpiece** (the view of a laser, ball-bar or probe), so their sign does not depend on which
+//! branch the axis moves: `EXX = +2 µm` at X = 100 mm means the tool ends up 2 µm further along
+//! +X relative to the workpiece, whether X moves the head or the table (on the workpiece branch
+//! the chain applies the inverse motion to the table). Commanded motion is itself
+//! tool-relative (ISO 841, see [`crate::machine`]), so for positioning errors this reads "axis
+//! X reached X + EXX", and `EC0C` reads "C reached C + EC0C".
+//!
+//! **Location errors** describe the **axis line itself**, actual − nominal, in the frame of the
+//! axis's fixed side: `EX0C = +5 µm` means the C axis line lies 5 µm towards +X of where the
+//! model puts it, whichever branch C is on. As in ISO 230-1, what the axis carries is at its
+//! nominal place when the axis is at zero: a location error shows only as the axis moves.
+//! Turning by `R` about a line displaced by `δ` moves a point by `(I − R)·δ`, so on a rotary
+//! table `EX0C` shifts the tool relative to the workpiece by 0 at C = 0 and by 2·EX0C at 180°.
+//! A squareness error `ε` about direction `e_m` tilts a linear axis's line of travel, adding
+//! `(Exp(ε e_m) − I)·u·q ≈ (e_m × u)·ε·q` (zero at q = 0): `EC0Y` adds `δx = −EC0Y·y`, so
+//! `EC0Y > 0` opens the angle between +X and +Y travel beyond 90°.
 //!
 //! # Where each error enters the chain
 //!
-//! Each axis owns one **slot**: a small rigid motion `Trans(δ) · Exp(ε)` (δ, ε the sums of the
-//! parameters acting there, [`crate::math::small_motion`]) inserted in the chain at the
-//! **slot frame**: the joint frame with the orientation of the axis's fixed side and the origin
-//! at the moving part's reference point, i.e.
+//! Each axis owns one **slot** in the chain, at the **slot frame**: the joint frame with the
+//! orientation of the axis's fixed side and the origin at the moving part's reference point:
 //!
 //! - linear axis: `origin · Trans(q·u) · [slot] · …` (after the translation: angular errors turn
 //!   about the carriage's current reference point, so Abbe offsets are the distance from there
@@ -41,12 +49,11 @@
 //! - rotary axis: `origin · [slot] · Rot(u, q) · …` (before the rotation: `EXC` stays along the
 //!   fixed X of the axis whatever the angle, as ISO 230-7 measures it).
 //!
-//! The slot motion is applied as is on the tool branch and inverted on the workpiece branch.
-//! At the slot, `δ = (E X·, E Y·, E Z·) + location + squareness`, `ε = (E A·, E B·, E C·) +
-//! location`. A squareness `ε_s` about direction `e_m` of linear axis `a` with travel direction
-//! `u_a` adds the translation `(e_m × u_a) · q_a` (zero at q = 0): `EC0Y` adds
-//! `δx = −EC0Y · y`, so `EC0Y > 0` opens the angle between +X and +Y travel beyond 90°.
-//! The tool slot sits at the `tool` frame, after the whole tool branch.
+//! The slot motion is `line · Trans(δ) · Exp(ε)` (see [`crate::math::small_motion`]), `δ`, `ε`
+//! summing the component (`E X·` … `E C·`), zero-position and tool errors acting there and
+//! `line` the exact effect of the location errors (see [`ErrorModel::workpiece_from_tool`]).
+//! It is applied as is on the tool branch and inverted on the workpiece branch. The tool slot
+//! sits at the `tool` frame, after the whole tool branch.
 
 mod function;
 mod lu2012;
@@ -54,7 +61,7 @@ mod lu2012;
 pub use function::{ErrorFunction, Interpolation, Table, TableError};
 pub use lu2012::{Lu2012Error, lu2012_deviation};
 
-use crate::machine::{Axis, Machine, MachineState, Workspace};
+use crate::machine::{Axis, Direction, Machine, MachineState, Side, Workspace};
 use crate::math::{Pose, Real, Vector, rigid_inverse, small_motion};
 use std::fmt;
 use std::str::FromStr;
@@ -279,14 +286,25 @@ pub enum ErrorModelError {
     },
 }
 
+/// What a parameter does at its slot.
+#[derive(Clone, Copy, Debug)]
+enum Action {
+    /// Adds its function of the axis position to one component of the slot's relative twist.
+    Component(Axis),
+    /// Adds a constant to one component of the slot's relative twist (tool errors and the
+    /// zero-position errors EA0A, EB0B, EC0C).
+    Constant,
+    /// Orientation of a linear axis's line of travel (squareness).
+    Squareness(Axis),
+    /// Position or orientation of a rotary axis line.
+    RotaryLocation(Axis),
+}
+
 /// Where a parameter acts.
 #[derive(Clone, Copy, Debug)]
 struct Binding {
     slot: usize,
-    /// Its position argument (`None`: constant).
-    argument: Option<Axis>,
-    /// Squareness: the translation per unit parameter per unit travel, `e_m × u_a`.
-    squareness: Option<(Axis, Vector)>,
+    action: Action,
 }
 
 /// The tool-in-workpiece deviation: actual − nominal, in the workpiece frame.
@@ -353,37 +371,24 @@ impl ErrorModel {
             let binding = match name {
                 ParameterName::Tool { .. } => Binding {
                     slot: machine.tool_slot(),
-                    argument: None,
-                    squareness: None,
+                    action: Action::Constant,
                 },
                 ParameterName::Component { axis, .. } | ParameterName::Location { axis, .. } => {
-                    let info = machine
+                    let slot = machine
                         .axis(axis)
-                        .ok_or(ErrorModelError::MissingAxis { name, axis })?;
-                    match name {
-                        ParameterName::Component { .. } => Binding {
-                            slot: info.slot,
-                            argument: Some(axis),
-                            squareness: None,
-                        },
-                        _ if axis.is_linear() => {
-                            let direction =
-                                Vector::AXES[name.motion().index() - 3].cross(axis.unit());
-                            Binding {
-                                slot: info.slot,
-                                argument: None,
-                                squareness: Some((axis, direction)),
-                            }
-                        }
-                        _ => Binding {
-                            slot: info.slot,
-                            argument: None,
-                            squareness: None,
-                        },
-                    }
+                        .ok_or(ErrorModelError::MissingAxis { name, axis })?
+                        .slot;
+                    let action = match name {
+                        ParameterName::Component { .. } => Action::Component(axis),
+                        _ if axis.is_linear() => Action::Squareness(axis),
+                        _ if name.motion().index() == axis.coordinate() + 3 => Action::Constant,
+                        _ => Action::RotaryLocation(axis),
+                    };
+                    Binding { slot, action }
                 }
             };
-            if binding.argument.is_none() && !parameter.function.is_constant() {
+            if !matches!(binding.action, Action::Component(_)) && !parameter.function.is_constant()
+            {
                 return Err(ErrorModelError::NotConstant(name));
             }
             bindings.push(binding);
@@ -414,51 +419,89 @@ impl ErrorModel {
         self.parameters.iter().find(|p| p.name == name)
     }
 
-    /// Sums the parameters into one twist `(δx, δy, δz, εx, εy, εz)` per slot (SI).
-    pub fn slot_twists(&self, state: &MachineState, twists: &mut [[Real; 6]]) {
-        assert_eq!(twists.len(), self.slot_count, "one twist per slot");
-        twists.iter_mut().for_each(|t| *t = [0.0; 6]);
+    /// Sums the parameters acting at each slot (SI): `relative[slot]`, the twist
+    /// `(δx, δy, δz, εx, εy, εz)` of the tool relative to the workpiece from component, tool and
+    /// zero-position errors; `line[slot]`, the location of the axis line (translation and
+    /// rotation for a rotary axis, rotation only for a linear one).
+    pub fn slot_twists(
+        &self,
+        state: &MachineState,
+        relative: &mut [[Real; 6]],
+        line: &mut [[Real; 6]],
+    ) {
+        assert_eq!(relative.len(), self.slot_count, "one twist per slot");
+        assert_eq!(line.len(), self.slot_count, "one line location per slot");
+        relative
+            .iter_mut()
+            .chain(line.iter_mut())
+            .for_each(|t| *t = [0.0; 6]);
         for (parameter, binding) in self.parameters.iter().zip(&self.bindings) {
-            let twist = &mut twists[binding.slot];
-            match (binding.argument, binding.squareness) {
-                (_, Some((axis, direction))) => {
-                    let value = parameter
-                        .function
-                        .value(0.0, crate::machine::Direction::Positive);
-                    let translation = direction * (value * state.position[axis]);
-                    twist[0] += translation.x;
-                    twist[1] += translation.y;
-                    twist[2] += translation.z;
-                }
-                (Some(axis), None) => {
-                    twist[parameter.name.motion().index()] += parameter
+            let component = parameter.name.motion().index();
+            match binding.action {
+                Action::Component(axis) => {
+                    relative[binding.slot][component] += parameter
                         .function
                         .value(state.position[axis], state.direction(axis));
                 }
-                (None, None) => {
-                    twist[parameter.name.motion().index()] += parameter
-                        .function
-                        .value(0.0, crate::machine::Direction::Positive);
+                Action::Constant => {
+                    relative[binding.slot][component] += constant(&parameter.function)
+                }
+                Action::Squareness(_) | Action::RotaryLocation(_) => {
+                    line[binding.slot][component] += constant(&parameter.function);
                 }
             }
         }
     }
 
     /// The actual tool pose seen from the workpiece: the exact chain with every slot motion.
+    ///
+    /// At each slot the motion is `line · relative`: `relative = Trans(δ) · Exp(ε)` from
+    /// [`ErrorModel::slot_twists`], and `line` the effect of the axis line's location, exactly:
+    /// a linear axis at `q` travelling along `Exp(ε_line) · u` instead of `u` adds the translation
+    /// `(Exp(ε_line) − I) · u · q`; a rotary axis turning by `R = Rot(axis, q)` about the line
+    /// `L = Trans(δ_line) · Exp(ε_line)` instead of its nominal line moves what it carries by
+    /// `L · R · L⁻¹ · R⁻¹` (as seen on the tool side; inverted on the workpiece side, because
+    /// the line is physical while the slot motion is tool-relative).
     pub fn workpiece_from_tool(
         &self,
         machine: &Machine,
         workspace: &mut Workspace,
         state: &MachineState,
     ) -> Pose {
-        let mut twists = std::mem::take(&mut workspace.slot_twists);
+        let mut relative = std::mem::take(&mut workspace.slot_twists);
+        let mut line = std::mem::take(&mut workspace.slot_lines);
         let mut motions = std::mem::take(&mut workspace.slot_motions);
-        self.slot_twists(state, &mut twists);
-        for (motion, t) in motions.iter_mut().zip(&twists) {
+        self.slot_twists(state, &mut relative, &mut line);
+        for (slot, motion) in motions.iter_mut().enumerate() {
+            let t = relative[slot];
             *motion = small_motion(Vector::new(t[0], t[1], t[2]), Vector::new(t[3], t[4], t[5]));
+            let l = line[slot];
+            if l == [0.0; 6] {
+                continue;
+            }
+            let info = &machine.axes()[slot];
+            let q = state.position[info.axis];
+            let line_motion = if info.axis.is_linear() {
+                let direction = info.axis.unit();
+                let tilted =
+                    small_motion(Vector::ZERO, Vector::new(l[3], l[4], l[5])).matrix3 * direction;
+                Pose::from_translation((tilted - direction) * q)
+            } else {
+                let line_pose =
+                    small_motion(Vector::new(l[0], l[1], l[2]), Vector::new(l[3], l[4], l[5]));
+                let rotation = Pose::from_mat3(glam::DMat3::from_axis_angle(info.joint_axis, q));
+                let carried =
+                    line_pose * rotation * rigid_inverse(&line_pose) * rigid_inverse(&rotation);
+                match info.side {
+                    Side::Tool => carried,
+                    Side::Workpiece => rigid_inverse(&carried),
+                }
+            };
+            *motion = line_motion * *motion;
         }
         let pose = workspace.workpiece_from_tool(machine, &state.position, Some(&motions));
-        workspace.slot_twists = twists;
+        workspace.slot_twists = relative;
+        workspace.slot_lines = line;
         workspace.slot_motions = motions;
         pose
     }
@@ -565,7 +608,9 @@ impl ErrorModel {
     /// coefficient, linearised about zero error at `state`: `columns[c][row]`.
     ///
     /// `Deviation ≈ Σ_c columns[c] · coefficient_c` to first order in the errors; the
-    /// difference from the exact chain is second order.
+    /// difference from the exact chain is second order. To first order a squareness `ε` of a
+    /// linear axis adds the relative twist `(ε × u·q, 0)`, and a rotary axis line `ξ = (δ, ε)`
+    /// adds `±(ξ − Ad_R ξ) = ±(δ − Rδ, ε − Rε)` (+ on the tool side, − on the workpiece side).
     pub fn jacobian(
         &self,
         machine: &Machine,
@@ -584,28 +629,59 @@ impl ErrorModel {
         let mut column = 0;
         for (parameter, binding) in self.parameters.iter().zip(&self.bindings) {
             basis.clear();
-            let q = binding.argument.map_or(0.0, |axis| state.position[axis]);
-            let direction = binding
-                .argument
-                .map_or(crate::machine::Direction::Positive, |axis| {
-                    state.direction(axis)
-                });
-            parameter.function.basis(q, direction, &mut basis);
+            let component = parameter.name.motion().index();
+            // The relative twist per unit of the parameter.
+            let mut unit_twist = [0.0; 6];
+            match binding.action {
+                Action::Component(axis) => {
+                    unit_twist[component] = 1.0;
+                    parameter.function.basis(
+                        state.position[axis],
+                        state.direction(axis),
+                        &mut basis,
+                    );
+                }
+                Action::Constant => {
+                    unit_twist[component] = 1.0;
+                    parameter
+                        .function
+                        .basis(0.0, Direction::Positive, &mut basis);
+                }
+                Action::Squareness(axis) => {
+                    let translation =
+                        Vector::AXES[component - 3].cross(axis.unit()) * state.position[axis];
+                    unit_twist[..3].copy_from_slice(&translation.to_array());
+                    parameter
+                        .function
+                        .basis(0.0, Direction::Positive, &mut basis);
+                }
+                Action::RotaryLocation(axis) => {
+                    let info = &machine.axes()[binding.slot];
+                    let rotation =
+                        glam::DMat3::from_axis_angle(info.joint_axis, state.position[axis]);
+                    let side = if info.side == Side::Tool { 1.0 } else { -1.0 };
+                    let e = Vector::AXES[component % 3];
+                    let moved = (e - rotation * e) * side;
+                    let offset = if component < 3 { 0 } else { 3 };
+                    unit_twist[offset..offset + 3].copy_from_slice(&moved.to_array());
+                    parameter
+                        .function
+                        .basis(0.0, Direction::Positive, &mut basis);
+                }
+            }
             let s = &sensitivities[binding.slot];
             for &b in &basis {
-                let mut twist = [0.0; 6];
-                match binding.squareness {
-                    Some((axis, direction)) => {
-                        let t = direction * (b * state.position[axis]);
-                        twist[..3].copy_from_slice(&t.to_array());
-                    }
-                    None => twist[parameter.name.motion().index()] = b,
-                }
                 for row in 0..5 {
-                    columns[column][row] = (0..6).map(|k| s[row][k] * twist[k]).sum();
+                    columns[column][row] =
+                        b * (0..6).map(|k| s[row][k] * unit_twist[k]).sum::<Real>();
                 }
                 column += 1;
             }
         }
     }
+}
+
+/// The value of a constant function.
+fn constant(function: &ErrorFunction) -> Real {
+    function.value(0.0, Direction::Positive)
 }

@@ -13,8 +13,10 @@ pub struct Workspace {
     pub(crate) slot_motions: Vec<Pose>,
     /// `world_from_slot` frames from the last evaluation.
     pub(crate) world_from_slot: Vec<Pose>,
-    /// Error twists per slot (δx, δy, δz, εx, εy, εz), filled by the error model.
+    /// Relative error twists per slot (δx, δy, δz, εx, εy, εz), filled by the error model.
     pub(crate) slot_twists: Vec<[f64; 6]>,
+    /// Axis-line locations per slot, filled by the error model.
+    pub(crate) slot_lines: Vec<[f64; 6]>,
 }
 
 impl Workspace {
@@ -25,6 +27,7 @@ impl Workspace {
             slot_motions: vec![Pose::IDENTITY; slots],
             world_from_slot: vec![Pose::IDENTITY; slots],
             slot_twists: vec![[0.0; 6]; slots],
+            slot_lines: vec![[0.0; 6]; slots],
         }
     }
 

@@ -215,6 +215,8 @@ pub struct AxisInfo {
     pub side: Side,
     /// Travel limits (m or rad); `None` for continuous joints.
     pub limits: Option<(Real, Real)>,
+    /// The URDF joint axis in its joint frame: `±` the unit vector of the letter.
+    pub joint_axis: Vector,
     /// Index of its error slot (see [`Machine::slot_count`]).
     pub slot: usize,
 }

@@ -374,25 +374,32 @@ impl Machine {
             if axis == Axis::S && side != Side::Tool {
                 return Err(fail(Some(&joint.name), MachineErrorKind::SpindleSide));
             }
+            // Along its own frame's letter axis (either sign), and at the home pose along the
+            // bed's letter axis with the ISO 841 sign of its side.
             let found = joint.axis.xyz.0;
-            let sign = if side == Side::Tool { 1.0 } else { -1.0 };
-            let wanted = axis.unit() * sign;
-            let acceptable = if axis == Axis::S {
-                vec![wanted, -wanted]
-            } else {
-                vec![wanted]
-            };
             let found_vector = Vector::from_array(found);
-            if !acceptable
-                .iter()
-                .any(|w| (found_vector - *w).length() < 1e-12)
-            {
+            let sign = if side == Side::Tool { 1.0 } else { -1.0 };
+            let world_from_joint = home_rotation(
+                &robot.joints,
+                if on_tool { &tool_path } else { &work_path },
+                index,
+            );
+            let expected_local = world_from_joint.transpose() * (axis.unit() * sign);
+            let along_letter = (found_vector.abs() - axis.unit()).length() < 1e-12;
+            let sign_ok = (found_vector - expected_local).length() < 1e-9
+                || (axis == Axis::S && (found_vector + expected_local).length() < 1e-9);
+            if !(along_letter && sign_ok) {
+                let expected = if along_letter {
+                    expected_local
+                } else {
+                    axis.unit() * sign
+                };
                 return Err(fail(
                     Some(&joint.name),
                     MachineErrorKind::AxisDirection {
                         axis,
                         found,
-                        expected: wanted.to_array(),
+                        expected: expected.round().to_array(),
                     },
                 ));
             }
@@ -409,6 +416,7 @@ impl Machine {
                 axis,
                 side,
                 limits,
+                joint_axis: found_vector,
                 slot: 0,
             });
         }
@@ -456,6 +464,19 @@ impl Machine {
             axes,
         })
     }
+}
+
+/// The rotation `world_from_joint` of joint `index` at the home pose (every axis at zero),
+/// `path` being the joints from the root to it.
+fn home_rotation(joints: &[urdf_rs::Joint], path: &[usize], index: usize) -> crate::math::Rotation {
+    let mut rotation = crate::math::Rotation::IDENTITY;
+    for &i in path {
+        rotation *= rotation_from_rpy(joints[i].origin.rpy.0);
+        if i == index {
+            break;
+        }
+    }
+    rotation
 }
 
 /// Exactly X, Y, Z; none or two of A, B, C; at most one spindle.
