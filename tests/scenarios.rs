@@ -1,0 +1,126 @@
+//! Every bundled scenario runs end to end; outputs are byte-identical from run to run and
+//! whatever path the scenario is given by; truth.json holds every injected parameter; a row of
+//! the vmc3 map against a hand computation.
+
+use mtwin::io::{Scenario, run_scenario, write_outputs};
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+
+fn scenario_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios")
+        .join(name)
+}
+
+fn file<'a>(output: &'a mtwin::io::RunOutput, name: &str) -> &'a [u8] {
+    &output.files.iter().find(|(n, _)| n == name).unwrap().1
+}
+
+#[test]
+fn every_bundled_scenario_runs_with_the_grid_it_asks_for() {
+    // Grid sizes counted by hand from the [volumetric] sections.
+    let expected = [
+        ("vmc3_volumetric.toml", 9 * 5 * 5),
+        ("trunnion5_volumetric.toml", 3 * 3 * 3 * 5 * 8),
+        ("headtable5_volumetric.toml", 3 * 3 * 3 * 5 * 4),
+    ];
+    let on_disk: BTreeSet<String> = std::fs::read_dir(scenario_path(""))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    let listed: BTreeSet<String> = expected.iter().map(|(n, _)| n.to_string()).collect();
+    assert_eq!(
+        on_disk, listed,
+        "every bundled scenario is run by this test"
+    );
+    for (name, rows) in expected {
+        let output = run_scenario(&Scenario::load(scenario_path(name)).unwrap()).unwrap();
+        assert_eq!(output.volumetric_rows, rows, "{name}");
+        let csv = String::from_utf8(file(&output, "volumetric.csv").to_vec()).unwrap();
+        assert_eq!(csv.lines().count(), rows + 1, "{name}: header + rows");
+        let names: Vec<&str> = output.files.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["volumetric.csv", "truth.json", "manifest.json"]);
+    }
+}
+
+#[test]
+fn the_same_scenario_gives_byte_identical_files() {
+    let absolute = scenario_path("trunnion5_volumetric.toml");
+    let relative = PathBuf::from("scenarios/trunnion5_volumetric.toml"); // tests run in the crate root
+    let dirs = [tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap()];
+    for (path, dir) in [&absolute, &relative].into_iter().zip(&dirs) {
+        let output = run_scenario(&Scenario::load(path).unwrap()).unwrap();
+        write_outputs(&output, dir.path()).unwrap();
+    }
+    for name in ["volumetric.csv", "truth.json", "manifest.json"] {
+        let a = std::fs::read(dirs[0].path().join(name)).unwrap();
+        let b = std::fs::read(dirs[1].path().join(name)).unwrap();
+        assert!(!a.is_empty() && a == b, "{name} differs between runs");
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(dirs[0].path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n.to_string_lossy().starts_with('.'))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+}
+
+#[test]
+fn truth_lists_every_injected_parameter_as_written() {
+    let path = scenario_path("trunnion5_volumetric.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let scenario_toml: toml::Value = toml::from_str(&text).unwrap();
+    let injected: BTreeSet<String> = scenario_toml["errors"]
+        .as_table()
+        .unwrap()
+        .keys()
+        .cloned()
+        .collect();
+    let output = run_scenario(&Scenario::load(&path).unwrap()).unwrap();
+    let truth: serde_json::Value = serde_json::from_slice(file(&output, "truth.json")).unwrap();
+    let recorded: BTreeSet<String> = truth["errors"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .cloned()
+        .collect();
+    assert_eq!(recorded, injected);
+    // Values as written, in file units.
+    assert_eq!(truth["errors"]["EX0C"]["terms"]["constant_um"], 9.0);
+    assert_eq!(truth["errors"]["EX0C"]["kind"], "location");
+    assert_eq!(
+        truth["errors"]["ECC"]["terms"]["harmonic"][1]["period_deg"],
+        180.0
+    );
+    assert_eq!(truth["errors"]["EC0Y"]["kind"], "squareness");
+    assert_eq!(truth["seed"], 1);
+}
+
+#[test]
+fn first_row_of_the_vmc3_map_matches_a_hand_computation() {
+    // At X = Y = Z = 0, moving +, with the errors of vmc3_volumetric.toml (arms from the URDF
+    // header: X carriage → tip (-0.38, -0.205, 0.20) m, Y carriage → tip (-0.38, -0.205, 0.35),
+    // Z head → tip (0, 0.35, -0.30)):
+    //   dx = EXX(0) [-1.5 lost motion + 0.4·sin 30°] + ECX(0)·0.205 + ECY·0.205 - EBZ(0)·0.30
+    //      = -1.3 + 2·0.205 + 3·0.205 - 1.5·0.30             = -0.725 µm
+    //   dy = ECX(0)·(-0.38) + ECY·(-0.38) + EYY(0) [-1.0 lost motion] = -0.76 - 1.14 - 1.0 = -2.9 µm
+    //   dz = EZT                                                  = -5.0 µm
+    // (squareness and the position-dependent terms are zero at the axis zeros). First order:
+    // the neglected terms are below 1 pm; the file rounds to 1 pm.
+    let output =
+        run_scenario(&Scenario::load(scenario_path("vmc3_volumetric.toml")).unwrap()).unwrap();
+    let csv = String::from_utf8(file(&output, "volumetric.csv").to_vec()).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "x_mm,y_mm,z_mm,dx_um,dy_um,dz_um");
+    let row: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let expected = [0.0, 0.0, 0.0, -0.725, -2.9, -5.0];
+    for (got, want) in row.iter().zip(expected) {
+        assert!((got - want).abs() < 2e-6, "{row:?} vs {expected:?}");
+    }
+}
