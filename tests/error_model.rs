@@ -430,7 +430,7 @@ fn rich_model(machine: &Machine, scale: Real) -> ErrorModel {
             function: ErrorFunction::Table(
                 Table::new(
                     vec![0.0, 0.2, 0.4, 0.8],
-                    vec![0.0, 2.0 * um, 1.0 * um, -1.0 * um],
+                    vec![0.0, 2.0 * um, 1.0 * um, -um],
                     Interpolation::Cubic,
                 )
                 .unwrap(),

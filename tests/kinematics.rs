@@ -116,7 +116,7 @@ fn urdf_rpy_and_origin_follow_the_fixed_axis_convention() {
     // A fixed joint with rpy = (r, p, y) is Rz(y)·Ry(p)·Rx(r), written out here element by
     // element; its xyz is a translation in the parent frame; a prismatic joint moves along
     // its axis in its own frame.
-    let (r, p, yaw) = (0.3, -0.5, 1.2);
+    let (r, p, yaw): (f64, f64, f64) = (0.3, -0.5, 1.2);
     let urdf = format!(
         r#"<robot name="rpy">
   <link name="bed"/><link name="x"/><link name="y"/><link name="z"/><link name="tool"/><link name="workpiece"/>
@@ -128,9 +128,9 @@ fn urdf_rpy_and_origin_follow_the_fixed_axis_convention() {
 </robot>"#
     );
     let machine = Machine::from_urdf_str(&urdf, "rpy.urdf").unwrap();
-    let (sr, cr) = (r as f64).sin_cos();
-    let (sp, cp) = (p as f64).sin_cos();
-    let (sy, cy) = (yaw as f64).sin_cos();
+    let (sr, cr) = r.sin_cos();
+    let (sp, cp) = p.sin_cos();
+    let (sy, cy) = yaw.sin_cos();
     let expected = [
         [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
         [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],

@@ -597,8 +597,8 @@ impl ErrorModel {
                     (e.cross(lever), e.cross(k))
                 };
                 let column = [dp.x, dp.y, dp.z, dk.dot(i_axis), dk.dot(j_axis)];
-                for row in 0..5 {
-                    sensitivity[row][component] = column[row];
+                for (row, value) in sensitivity.iter_mut().zip(column) {
+                    row[component] = value;
                 }
             }
         }

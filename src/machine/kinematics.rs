@@ -110,7 +110,7 @@ fn walk(
 ) -> Pose {
     let mut world_from_frame = Pose::IDENTITY;
     for joint in &branch.joints {
-        world_from_frame = world_from_frame * joint.origin;
+        world_from_frame *= joint.origin;
         let value = position[joint.axis];
         if joint.axis.is_linear() {
             world_from_frame.translation += world_from_frame.matrix3 * (joint.unit * value);

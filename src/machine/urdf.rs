@@ -436,7 +436,7 @@ impl Machine {
                     rotation_from_rpy(joint.origin.rpy.0),
                     Vector::from_array(joint.origin.xyz.0),
                 );
-                pending = pending * origin;
+                pending *= origin;
                 if joint.joint_type != JointType::Fixed {
                     let axis = single_letter(&joint.name).expect("checked above");
                     let slot = axes
