@@ -623,9 +623,9 @@ impl ErrorModel {
             self.coefficient_count(),
             "one column per coefficient"
         );
-        let mut sensitivities = vec![[[0.0; 6]; 5]; self.slot_count];
+        let mut sensitivities = std::mem::take(&mut workspace.slot_sensitivities);
+        let mut basis = std::mem::take(&mut workspace.basis);
         self.slot_sensitivities(machine, workspace, state, &mut sensitivities);
-        let mut basis = Vec::new();
         let mut column = 0;
         for (parameter, binding) in self.parameters.iter().zip(&self.bindings) {
             basis.clear();
@@ -678,6 +678,8 @@ impl ErrorModel {
                 column += 1;
             }
         }
+        workspace.slot_sensitivities = sensitivities;
+        workspace.basis = basis;
     }
 }
 

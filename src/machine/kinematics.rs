@@ -17,6 +17,10 @@ pub struct Workspace {
     pub(crate) slot_twists: Vec<[f64; 6]>,
     /// Axis-line locations per slot, filled by the error model.
     pub(crate) slot_lines: Vec<[f64; 6]>,
+    /// Sensitivity of the deviation to each slot's twist (Jacobian scratch).
+    pub(crate) slot_sensitivities: Vec<[[f64; 6]; 5]>,
+    /// Basis values of one error function (Jacobian scratch).
+    pub(crate) basis: Vec<f64>,
 }
 
 impl Workspace {
@@ -28,6 +32,8 @@ impl Workspace {
             world_from_slot: vec![Pose::IDENTITY; slots],
             slot_twists: vec![[0.0; 6]; slots],
             slot_lines: vec![[0.0; 6]; slots],
+            slot_sensitivities: vec![[[0.0; 6]; 5]; slots],
+            basis: Vec::new(),
         }
     }
 
