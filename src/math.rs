@@ -104,12 +104,14 @@ mod tests {
     #[test]
     fn small_motion_is_first_order_skew() {
         // R ≈ I + [ε]×: the off-diagonal terms equal the rotation vector components to
-        // within ε² (here 1e-12 rad²).
+        // within the second-order term εᵢεⱼ/2 ≤ |ε|²/2 = 7e-12.
         let e = Vector::new(1e-6, -2e-6, 3e-6);
         let m = small_motion(Vector::ZERO, e).matrix3;
-        assert!((m.y_axis.z - e.x).abs() < 1e-12); // R[2][1] = εx
-        assert!((m.z_axis.x - e.y).abs() < 1e-12); // R[0][2] = εy
-        assert!((m.x_axis.y - e.z).abs() < 1e-12); // R[1][0] = εz
+        assert!((m.y_axis.z - e.x).abs() < 1e-11); // R[2][1] = εx
+        assert!((m.z_axis.x - e.y).abs() < 1e-11); // R[0][2] = εy
+        assert!((m.x_axis.y - e.z).abs() < 1e-11); // R[1][0] = εz
+        // and the skew part is antisymmetric to first order
+        assert!((m.z_axis.y + e.x).abs() < 1e-11); // R[1][2] = -εx
     }
 
     #[test]

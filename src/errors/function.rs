@@ -44,11 +44,11 @@ pub enum TableError {
         /// Number of values.
         values: usize,
     },
-    /// Positions not strictly increasing, or not finite.
-    #[error("table positions must be finite and strictly increasing (knot {0})")]
+    /// Positions not strictly increasing, or not finite (index from 0; displayed from 1).
+    #[error("positions must be finite and strictly increasing (knot {} breaks it)", .0 + 1)]
     Order(usize),
-    /// A value is not finite.
-    #[error("table value {0} is not finite")]
+    /// A value is not finite (index from 0; displayed from 1).
+    #[error("value {} is not finite", .0 + 1)]
     Value(usize),
 }
 

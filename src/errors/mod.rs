@@ -170,9 +170,9 @@ impl ParameterName {
     /// location errors are the squareness errors EC0Y, EB0Z, EA0Z.
     fn check(self) -> Result<(), String> {
         match self {
-            ParameterName::Tool { motion } if !motion.is_translation() => Err(format!(
-                "{self}: tool errors are translations EXT, EYT, EZT"
-            )),
+            ParameterName::Tool { motion } if !motion.is_translation() => {
+                Err("tool errors are translations: EXT, EYT, EZT".to_string())
+            }
             ParameterName::Location { motion, axis } if axis.is_linear() => {
                 let squareness = matches!(
                     (motion, axis),
@@ -181,22 +181,21 @@ impl ParameterName {
                 if squareness {
                     Ok(())
                 } else {
-                    Err(format!(
-                        "{self}: the location errors of linear axes are the squareness errors EC0Y, EB0Z and EA0Z \
-                         (X is the reference direction and X-Y the reference plane)"
-                    ))
+                    Err("the location errors of linear axes are the squareness errors EC0Y, EB0Z and EA0Z \
+                         (X is the reference direction and X-Y the reference plane)".to_string())
                 }
             }
             ParameterName::Location { motion, axis }
                 if motion.is_translation() && motion.index() == axis.coordinate() =>
             {
-                Err(format!(
-                    "{self}: the position of a rotary axis along itself is not a location error"
-                ))
+                Err(
+                    "the position of a rotary axis along itself is not a location error"
+                        .to_string(),
+                )
             }
-            ParameterName::Location { axis: Axis::S, .. } => Err(format!(
-                "{self}: the spindle has component errors (error motions), not location errors"
-            )),
+            ParameterName::Location { axis: Axis::S, .. } => Err(
+                "the spindle has component errors (error motions), not location errors".to_string(),
+            ),
             _ => Ok(()),
         }
     }
@@ -221,10 +220,9 @@ impl FromStr for ParameterName {
 
     fn from_str(text: &str) -> Result<ParameterName, String> {
         let unknown = || {
-            format!(
-                "\"{text}\" is not an error parameter: expected a component error such as EXX or ECC, \
+            "not an error parameter: expected a component error such as EXX or ECC, \
                  a location error such as EX0C or EC0Y, or a tool error EXT, EYT, EZT"
-            )
+                .to_string()
         };
         let chars: Vec<char> = text.chars().collect();
         let name = match chars[..] {
@@ -268,8 +266,8 @@ pub enum ErrorModelError {
         axis: Axis,
     },
     /// The name is not a parameter.
-    #[error("{0}")]
-    InvalidName(String),
+    #[error("{0}: {1}")]
+    InvalidName(ParameterName, String),
     /// Location, squareness and tool errors are constants.
     #[error("{0}: location, squareness and tool errors are constants")]
     NotConstant(ParameterName),
@@ -367,7 +365,8 @@ impl ErrorModel {
         let mut bindings = Vec::with_capacity(parameters.len());
         for parameter in &parameters {
             let name = parameter.name;
-            name.check().map_err(ErrorModelError::InvalidName)?;
+            name.check()
+                .map_err(|message| ErrorModelError::InvalidName(name, message))?;
             let binding = match name {
                 ParameterName::Tool { .. } => Binding {
                     slot: machine.tool_slot(),

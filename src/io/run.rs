@@ -73,19 +73,27 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
     })
 }
 
-/// Writes the files into `dir` (created if needed). Each file is written under a temporary
-/// name and renamed when complete, so a reader never sees half a file.
+/// Writes the files into `dir` (created if needed). All are first written under temporary
+/// names and only then renamed, so a failure while writing leaves none of the new files (and
+/// removes the temporary ones), and a reader never sees half a file.
 pub fn write_outputs(output: &RunOutput, dir: &Path) -> Result<(), RunError> {
     let fail = |path: &Path, e: std::io::Error| RunError::Write {
         path: path.display().to_string(),
         message: e.to_string(),
     };
     std::fs::create_dir_all(dir).map_err(|e| fail(dir, e))?;
-    for (name, bytes) in &output.files {
-        let temporary = dir.join(format!(".{name}.partial"));
+    let temporary = |name: &str| dir.join(format!(".{name}.partial"));
+    for (index, (name, bytes)) in output.files.iter().enumerate() {
+        if let Err(e) = std::fs::write(temporary(name), bytes) {
+            for (written, _) in &output.files[..=index] {
+                let _ = std::fs::remove_file(temporary(written)); // best effort: already failing
+            }
+            return Err(fail(&temporary(name), e));
+        }
+    }
+    for (name, _) in &output.files {
         let target = dir.join(name);
-        std::fs::write(&temporary, bytes).map_err(|e| fail(&temporary, e))?;
-        std::fs::rename(&temporary, &target).map_err(|e| fail(&target, e))?;
+        std::fs::rename(temporary(name), &target).map_err(|e| fail(&target, e))?;
     }
     Ok(())
 }

@@ -27,7 +27,7 @@
 //! their travel, or 0, 90, 180, 270° for a continuous axis.
 
 use crate::errors::{
-    ErrorFunction, ErrorModel, ErrorParameter, Interpolation, ParameterName, Table,
+    ErrorFunction, ErrorModel, ErrorParameter, Interpolation, ParameterName, Table, TableError,
 };
 use crate::machine::{Axis, Machine, axis_unit_to_si};
 use crate::math::{RAD_PER_URAD, Real, sha256_hex};
@@ -273,6 +273,41 @@ impl Context<'_> {
     }
 }
 
+impl Context<'_> {
+    /// The 1-based line of `key` (a path inside a table such as `table.positions_mm` or
+    /// `harmonic[1].period_mm`; its last field is searched for) in the table that starts at byte
+    /// `table_start`: the table's own lines, up to the next `[header]`.
+    fn key_line(&self, table_start: usize, key: &str) -> Option<usize> {
+        let field = key.rsplit('.').next()?.split('[').next()?;
+        let occurrence: usize = key
+            .split_once("harmonic[")
+            .and_then(|(_, rest)| rest.split(']').next()?.parse().ok())
+            .unwrap_or(0);
+        let first_line = self.text[..table_start.min(self.text.len())]
+            .matches('\n')
+            .count();
+        let mut seen = 0;
+        for (index, line) in self.text.lines().enumerate().skip(first_line) {
+            let trimmed = line.trim_start();
+            if index > first_line && trimmed.starts_with('[') && !trimmed.contains('=') {
+                break; // the next table
+            }
+            for (position, _) in line.match_indices(field) {
+                let before = line[..position].chars().next_back();
+                let after = line[position + field.len()..].trim_start();
+                let starts_key = before.is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
+                if starts_key && after.starts_with('=') {
+                    if seen == occurrence {
+                        return Some(index + 1);
+                    }
+                    seen += 1;
+                }
+            }
+        }
+        None
+    }
+}
+
 impl Scenario {
     /// Reads and validates a scenario file, its machine and its errors, without running it.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
@@ -285,15 +320,38 @@ impl Scenario {
             message: format!("cannot read the scenario: {e}"),
         })?;
         let context = Context { file, text: &text };
-        let toml_error = |e: toml::de::Error| {
-            let kind = if e.message().contains("unknown field") {
+        let toml_error = |mut e: toml::de::Error| {
+            let message = e.message().trim().to_string();
+            let kind = if message.starts_with("unknown field") {
                 ScenarioErrorKind::UnknownKey
             } else {
                 ScenarioErrorKind::Syntax
             };
-            context.error(e.span(), kind, e.message().trim())
+            let span = e.span();
+            // The key path is private to the error but printed when it has no input to quote.
+            e.set_input(None);
+            let rendered = e.to_string();
+            let mut path = rendered
+                .lines()
+                .find_map(|l| l.strip_prefix("in `").and_then(|l| l.strip_suffix('`')))
+                .unwrap_or_default()
+                .to_string();
+            if kind == ScenarioErrorKind::UnknownKey
+                && let Some(field) = message.split('`').nth(1)
+            {
+                path = if path.is_empty() {
+                    field.to_string()
+                } else {
+                    format!("{path}.{field}")
+                };
+            }
+            let message = if path.is_empty() {
+                message
+            } else {
+                format!("{path}: {message}")
+            };
+            context.error(span, kind, message)
         };
-
         let schema: SchemaOnly = toml::from_str(&text).map_err(toml_error)?;
         match schema.schema {
             None => {
@@ -344,7 +402,7 @@ impl Scenario {
                 context.error(
                     at.clone(),
                     ScenarioErrorKind::Parameter,
-                    format!("errors.{message}"),
+                    format!("errors.{}: {message}", name.get_ref()),
                 )
             })?;
             let argument = parameter
@@ -371,20 +429,26 @@ impl Scenario {
                     ),
                 ));
             }
-            let function = spec_to_function(spec.get_ref(), parameter, argument).map_err(
-                |(kind, message)| {
-                    context.error(
-                        Some(spec.span()),
-                        kind,
-                        format!("errors.{parameter}.{message}"),
-                    )
-                },
-            )?;
-            if argument.is_none() && !function.is_constant() {
-                return Err(context.error(
+            let key_error = |kind, key: &str, message: String| {
+                let line = context.key_line(spec.span().start, key);
+                let mut error = context.error(
                     Some(spec.span()),
+                    kind,
+                    format!("errors.{parameter}.{key}: {message}"),
+                );
+                error.line = line.or(error.line);
+                error
+            };
+            let function = spec_to_function(spec.get_ref(), parameter, argument)
+                .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
+            if argument.is_none() && !function.is_constant() {
+                return Err(key_error(
                     ScenarioErrorKind::Value,
-                    format!("errors.{parameter}: location, squareness and tool errors are constants; use constant_{}", parameter.file_unit()),
+                    varying_key(spec.get_ref()),
+                    format!(
+                        "location, squareness and tool errors are constants; use constant_{}",
+                        parameter.file_unit()
+                    ),
                 ));
             }
             parameters.push(ErrorParameter {
@@ -530,7 +594,9 @@ fn default_range(limits: Option<(Real, Real)>) -> (Real, Real, usize) {
     }
 }
 
-type SpecError = (ScenarioErrorKind, String);
+/// What is wrong with one key of an `[errors.NAME]` table: the kind, the key's path inside the
+/// table (e.g. `table.positions_deg`) and the message.
+type SpecError = (ScenarioErrorKind, String, String);
 
 /// Turns the terms of `[errors.NAME]` into a function (SI), checking units and values.
 /// `argument` is the axis whose position the function takes (component errors only).
@@ -539,82 +605,82 @@ fn spec_to_function(
     name: ParameterName,
     argument: Option<Axis>,
 ) -> Result<ErrorFunction, SpecError> {
+    use ScenarioErrorKind::{Units, Value};
     let translation = name.motion().is_translation();
     let (value_unit, other_unit) = if translation {
         ("um", "urad")
     } else {
         ("urad", "um")
     };
-    let position_unit = match argument {
-        Some(axis) if !axis.is_linear() => "deg",
-        _ => "mm",
+    let (position_unit, other_position_unit) = match argument {
+        Some(axis) if !axis.is_linear() => ("deg", "mm"),
+        _ => ("mm", "deg"),
     };
     let position_scale = argument.map_or(crate::math::M_PER_MM, axis_unit_to_si);
     let value_scale = RAD_PER_URAD; // µm → m and µrad → rad are the same factor
-    let units = |key: &str| -> SpecError {
-        let kind = if translation {
+    fn fail<T>(kind: ScenarioErrorKind, key: String, message: String) -> Result<T, SpecError> {
+        Err((kind, key, message))
+    }
+    let wrong_value_unit = |key: &str| -> SpecError {
+        let what = if translation {
             "a translation"
         } else {
             "a rotation"
         };
         (
-            ScenarioErrorKind::Units,
-            format!(
-                "{key}_{other_unit}: {name} is {kind}; give it in {value_unit} ({key}_{value_unit})"
-            ),
+            Units,
+            format!("{key}_{other_unit}"),
+            format!("{name} is {what}; give it in {value_unit} as {key}_{value_unit}"),
         )
     };
-    let finite = |key: &str, values: &[Real]| -> Result<(), SpecError> {
+    let wrong_position_unit = |key: &str| -> SpecError {
+        (
+            Units,
+            format!("{key}_{other_position_unit}"),
+            format!("the axis is measured in {position_unit}; give {key}_{position_unit}"),
+        )
+    };
+    let finite = |key: String, values: &[Real]| -> Result<(), SpecError> {
         match values.iter().position(|v| !v.is_finite()) {
-            Some(i) => Err((
-                ScenarioErrorKind::Value,
-                format!("{key}: value {} is not a finite number", i + 1),
-            )),
+            Some(i) if values.len() > 1 => fail(
+                Value,
+                key,
+                format!("value {} is not a finite number", i + 1),
+            ),
+            Some(_) => fail(Value, key, "not a finite number".into()),
             None => Ok(()),
         }
     };
-    let pick = |key: &str,
-                wanted: &Option<Real>,
-                other: &Option<Real>|
-     -> Result<Option<Real>, SpecError> {
-        if other.is_some() {
-            return Err(units(key));
+    let by_unit = |um: &Option<Real>, urad: &Option<Real>| {
+        if translation {
+            (*um, *urad)
+        } else {
+            (*urad, *um)
         }
-        if let Some(v) = wanted {
-            finite(&format!("{key}_{value_unit}"), &[*v])?;
-        }
-        Ok(*wanted)
     };
-    let (constant, constant_other) = if translation {
-        (&spec.constant_um, &spec.constant_urad)
-    } else {
-        (&spec.constant_urad, &spec.constant_um)
-    };
-    let (reversal, reversal_other) = if translation {
-        (&spec.reversal_um, &spec.reversal_urad)
-    } else {
-        (&spec.reversal_urad, &spec.reversal_um)
-    };
+
+    let mut terms = Vec::new();
+    let (constant, constant_other) = by_unit(&spec.constant_um, &spec.constant_urad);
+    if constant_other.is_some() {
+        return Err(wrong_value_unit("constant"));
+    }
+    if let Some(c) = constant {
+        finite(format!("constant_{value_unit}"), &[c])?;
+        terms.push(ErrorFunction::Constant(c * value_scale));
+    }
     let (polynomial, polynomial_other) = if translation {
         (&spec.polynomial_um, &spec.polynomial_urad)
     } else {
         (&spec.polynomial_urad, &spec.polynomial_um)
     };
-
-    let mut terms = Vec::new();
-    if let Some(c) = pick("constant", constant, constant_other)? {
-        terms.push(ErrorFunction::Constant(c * value_scale));
-    }
     if polynomial_other.is_some() {
-        return Err(units("polynomial"));
+        return Err(wrong_value_unit("polynomial"));
     }
     if let Some(coefficients) = polynomial {
-        finite(&format!("polynomial_{value_unit}"), coefficients)?;
+        let key = format!("polynomial_{value_unit}");
+        finite(key.clone(), coefficients)?;
         if coefficients.is_empty() {
-            return Err((
-                ScenarioErrorKind::Value,
-                format!("polynomial_{value_unit}: give at least one coefficient"),
-            ));
+            return fail(Value, key, "give at least one coefficient".into());
         }
         let si = coefficients
             .iter()
@@ -623,47 +689,43 @@ fn spec_to_function(
             .collect();
         terms.push(ErrorFunction::Polynomial(si));
     }
-    if let Some(r) = pick("reversal", reversal, reversal_other)? {
+    let (reversal, reversal_other) = by_unit(&spec.reversal_um, &spec.reversal_urad);
+    if reversal_other.is_some() {
+        return Err(wrong_value_unit("reversal"));
+    }
+    if let Some(r) = reversal {
+        finite(format!("reversal_{value_unit}"), &[r])?;
         terms.push(ErrorFunction::Reversal(r * value_scale));
     }
     for (i, h) in spec.harmonic.iter().enumerate() {
-        let key = format!("harmonic[{i}]");
+        let key = |field: &str| format!("harmonic[{i}].{field}");
         let (period, period_other) = if position_unit == "mm" {
             (h.period_mm, h.period_deg)
         } else {
             (h.period_deg, h.period_mm)
         };
-        let other_position_unit = if position_unit == "mm" { "deg" } else { "mm" };
         if period_other.is_some() {
-            return Err((
-                ScenarioErrorKind::Units,
-                format!(
-                    "{key}.period_{other_position_unit}: the axis is measured in {position_unit}; give period_{position_unit}"
-                ),
-            ));
+            let (kind, field, message) = wrong_position_unit("period");
+            return fail(kind, key(&field), message);
         }
-        let period = period.ok_or((
-            ScenarioErrorKind::Value,
-            format!("{key}: period_{position_unit} is required"),
-        ))?;
-        let (amplitude, amplitude_other) = if translation {
-            (h.amplitude_um, h.amplitude_urad)
-        } else {
-            (h.amplitude_urad, h.amplitude_um)
-        };
+        let (amplitude, amplitude_other) = by_unit(&h.amplitude_um, &h.amplitude_urad);
         if amplitude_other.is_some() {
-            return Err(units(&format!("{key}.amplitude")));
+            let (kind, field, message) = wrong_value_unit("amplitude");
+            return fail(kind, key(&field), message);
         }
-        let amplitude = amplitude.ok_or((
-            ScenarioErrorKind::Value,
-            format!("{key}: amplitude_{value_unit} is required"),
-        ))?;
-        finite(&key, &[period, amplitude, h.phase_deg])?;
+        let period_key = key(&format!("period_{position_unit}"));
+        let Some(period) = period else {
+            return fail(Value, period_key, "required".into());
+        };
+        let amplitude_key = key(&format!("amplitude_{value_unit}"));
+        let Some(amplitude) = amplitude else {
+            return fail(Value, amplitude_key, "required".into());
+        };
+        finite(period_key.clone(), &[period])?;
+        finite(amplitude_key, &[amplitude])?;
+        finite(key("phase_deg"), &[h.phase_deg])?;
         if period <= 0.0 {
-            return Err((
-                ScenarioErrorKind::Value,
-                format!("{key}.period_{position_unit}: must be positive, got {period}"),
-            ));
+            return fail(Value, period_key, format!("must be positive, got {period}"));
         }
         terms.push(ErrorFunction::Harmonic {
             period: period * position_scale,
@@ -672,18 +734,15 @@ fn spec_to_function(
         });
     }
     if let Some(t) = &spec.table {
+        let key = |field: &str| format!("table.{field}");
         let (positions, positions_other) = if position_unit == "mm" {
             (&t.positions_mm, &t.positions_deg)
         } else {
             (&t.positions_deg, &t.positions_mm)
         };
         if positions_other.is_some() {
-            return Err((
-                ScenarioErrorKind::Units,
-                format!(
-                    "table: the axis is measured in {position_unit}; give positions_{position_unit}"
-                ),
-            ));
+            let (kind, field, message) = wrong_position_unit("positions");
+            return fail(kind, key(&field), message);
         }
         let (values, values_other) = if translation {
             (&t.values_um, &t.values_urad)
@@ -691,16 +750,19 @@ fn spec_to_function(
             (&t.values_urad, &t.values_um)
         };
         if values_other.is_some() {
-            return Err(units("table.values"));
+            let (kind, field, message) = wrong_value_unit("values");
+            return fail(kind, key(&field), message);
         }
-        let positions = positions.as_ref().ok_or((
-            ScenarioErrorKind::Value,
-            format!("table: positions_{position_unit} is required"),
-        ))?;
-        let values = values.as_ref().ok_or((
-            ScenarioErrorKind::Value,
-            format!("table: values_{value_unit} is required"),
-        ))?;
+        let positions_key = key(&format!("positions_{position_unit}"));
+        let values_key = key(&format!("values_{value_unit}"));
+        let Some(positions) = positions else {
+            return fail(Value, positions_key, "required".into());
+        };
+        let Some(values) = values else {
+            return fail(Value, values_key, "required".into());
+        };
+        finite(positions_key.clone(), positions)?;
+        finite(values_key.clone(), values)?;
         let interpolation = match t.interpolation {
             InterpolationSpec::Linear => Interpolation::Linear,
             InterpolationSpec::Cubic => Interpolation::Cubic,
@@ -709,12 +771,40 @@ fn spec_to_function(
             positions.iter().map(|p| p * position_scale).collect(),
             values.iter().map(|v| v * value_scale).collect(),
             interpolation,
-        )
-        .map_err(|e| (ScenarioErrorKind::Value, format!("table: {e}")))?;
-        terms.push(ErrorFunction::Table(table));
+        );
+        match table {
+            Ok(table) => terms.push(ErrorFunction::Table(table)),
+            Err(e @ TableError::Shape { .. }) => return fail(Value, key("values"), e.to_string()),
+            Err(e @ TableError::Order(_)) => return fail(Value, positions_key, e.to_string()),
+            Err(e @ TableError::Value(_)) => return fail(Value, values_key, e.to_string()),
+        }
     }
     match terms.len() {
         1 => Ok(terms.pop().expect("one term")),
         _ => Ok(ErrorFunction::Sum(terms)),
     }
+}
+
+/// The first key of a spec that makes it vary with position or direction (to name it when a
+/// constant is required).
+fn varying_key(spec: &ErrorSpec) -> &'static str {
+    let candidates: [(&'static str, bool); 7] = [
+        (
+            "polynomial_um",
+            spec.polynomial_um.as_ref().is_some_and(|c| c.len() > 1),
+        ),
+        (
+            "polynomial_urad",
+            spec.polynomial_urad.as_ref().is_some_and(|c| c.len() > 1),
+        ),
+        ("reversal_um", spec.reversal_um.is_some()),
+        ("reversal_urad", spec.reversal_urad.is_some()),
+        ("harmonic", !spec.harmonic.is_empty()),
+        ("table", spec.table.is_some()),
+        ("", true),
+    ];
+    candidates
+        .into_iter()
+        .find(|(_, present)| *present)
+        .map_or("", |(key, _)| key)
 }

@@ -46,6 +46,8 @@ pub enum MachineErrorKind {
     ClosedLoop {
         /// The link with two parents.
         link: String,
+        /// The two joints that have it as their child.
+        joints: [String; 2],
     },
     /// More than one link (or none, which means a cycle) has no parent.
     Roots(Vec<String>),
@@ -117,9 +119,10 @@ impl fmt::Display for MachineErrorKind {
                     "joint \"{joint}\" refers to link \"{link}\", which is not defined"
                 )
             }
-            ClosedLoop { link } => write!(
+            ClosedLoop { link, joints } => write!(
                 f,
-                "link \"{link}\" is the child of two joints: the model is a closed loop, expected a tree"
+                "link \"{link}\" is the child of joints \"{}\" and \"{}\": the model is a closed loop, expected a tree",
+                joints[0], joints[1]
             ),
             Roots(roots) if roots.is_empty() => {
                 write!(
@@ -207,13 +210,25 @@ impl Machine {
 
     /// Loads and validates URDF text; `file` names it in error messages.
     pub fn from_urdf_str(text: &str, file: &str) -> Result<Machine, MachineError> {
-        let fail = |element: Option<&str>, kind: MachineErrorKind| MachineError {
+        let robot = urdf_rs::read_from_string(text).map_err(|e| MachineError {
             file: file.to_string(),
-            line: element.and_then(|name| line_of_element(text, name)),
+            line: None,
+            kind: MachineErrorKind::Xml(e.to_string()),
+        })?;
+        // Errors about a joint point at its own `<joint>` element: the n-th of that name when
+        // names repeat.
+        let fail = |joint: Option<&urdf_rs::Joint>, kind: MachineErrorKind| MachineError {
+            file: file.to_string(),
+            line: joint.and_then(|joint| {
+                let index = robot.joints.iter().position(|j| std::ptr::eq(j, joint))?;
+                let occurrence = robot.joints[..index]
+                    .iter()
+                    .filter(|j| j.name == joint.name)
+                    .count();
+                line_of_joint(text, &joint.name, occurrence)
+            }),
             kind,
         };
-        let robot = urdf_rs::read_from_string(text)
-            .map_err(|e| fail(None, MachineErrorKind::Xml(e.to_string())))?;
 
         let link_names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
         for end in ["tool", "workpiece"] {
@@ -228,7 +243,7 @@ impl Machine {
             for link in [&joint.parent.link, &joint.child.link] {
                 if !link_names.contains(&link.as_str()) {
                     return Err(fail(
-                        Some(&joint.name),
+                        Some(joint),
                         MachineErrorKind::UnknownLink {
                             joint: joint.name.clone(),
                             link: link.clone(),
@@ -236,14 +251,12 @@ impl Machine {
                     ));
                 }
             }
-            if parent_joint
-                .insert(joint.child.link.as_str(), index)
-                .is_some()
-            {
+            if let Some(first) = parent_joint.insert(joint.child.link.as_str(), index) {
                 return Err(fail(
-                    Some(&joint.name),
+                    Some(joint),
                     MachineErrorKind::ClosedLoop {
                         link: joint.child.link.clone(),
+                        joints: [robot.joints[first].name.clone(), joint.name.clone()],
                     },
                 ));
             }
@@ -270,7 +283,7 @@ impl Machine {
                 .all(|v| v.is_finite());
             if !finite {
                 return Err(fail(
-                    Some(&joint.name),
+                    Some(joint),
                     MachineErrorKind::NotFinite {
                         joint: joint.name.clone(),
                     },
@@ -288,7 +301,7 @@ impl Machine {
                     "a mimic joint".to_string()
                 };
                 return Err(fail(
-                    Some(&joint.name),
+                    Some(joint),
                     MachineErrorKind::UnsupportedJoint {
                         joint: joint.name.clone(),
                         joint_type,
@@ -300,17 +313,14 @@ impl Machine {
             }
             let axis = single_letter(&joint.name).ok_or_else(|| {
                 fail(
-                    Some(&joint.name),
+                    Some(joint),
                     MachineErrorKind::AxisName {
                         joint: joint.name.clone(),
                     },
                 )
             })?;
             if seen_axes.contains(&axis) {
-                return Err(fail(
-                    Some(&joint.name),
-                    MachineErrorKind::DuplicateAxis(axis),
-                ));
+                return Err(fail(Some(joint), MachineErrorKind::DuplicateAxis(axis)));
             }
             seen_axes.push(axis);
             let type_ok = match axis {
@@ -323,7 +333,7 @@ impl Machine {
             };
             if !type_ok {
                 return Err(fail(
-                    Some(&joint.name),
+                    Some(joint),
                     MachineErrorKind::AxisType {
                         axis,
                         joint_type: type_name,
@@ -365,14 +375,11 @@ impl Machine {
                 (false, true) => Side::Workpiece,
                 // A joint on both paths moves tool and workpiece together and so nothing between them.
                 _ => {
-                    return Err(fail(
-                        Some(&joint.name),
-                        MachineErrorKind::OffBranch { axis },
-                    ));
+                    return Err(fail(Some(joint), MachineErrorKind::OffBranch { axis }));
                 }
             };
             if axis == Axis::S && side != Side::Tool {
-                return Err(fail(Some(&joint.name), MachineErrorKind::SpindleSide));
+                return Err(fail(Some(joint), MachineErrorKind::SpindleSide));
             }
             // Along its own frame's letter axis (either sign), and at the home pose along the
             // bed's letter axis with the ISO 841 sign of its side.
@@ -395,7 +402,7 @@ impl Machine {
                     axis.unit() * sign
                 };
                 return Err(fail(
-                    Some(&joint.name),
+                    Some(joint),
                     MachineErrorKind::AxisDirection {
                         axis,
                         found,
@@ -408,7 +415,7 @@ impl Machine {
             } else {
                 let (lower, upper) = (joint.limit.lower, joint.limit.upper);
                 if !(lower.is_finite() && upper.is_finite() && lower < upper) {
-                    return Err(fail(Some(&joint.name), MachineErrorKind::Limits { axis }));
+                    return Err(fail(Some(joint), MachineErrorKind::Limits { axis }));
                 }
                 Some((lower, upper))
             };
@@ -514,14 +521,21 @@ fn single_letter(name: &str) -> Option<Axis> {
     }
 }
 
-/// The 1-based line of `<joint name="NAME"` (or of a link of that name) in the source text.
-fn line_of_element(text: &str, name: &str) -> Option<usize> {
-    let needle_double = format!("name=\"{name}\"");
-    let needle_single = format!("name='{name}'");
-    text.lines()
-        .position(|line| {
-            (line.contains("<joint") || line.contains("<link"))
-                && (line.contains(&needle_double) || line.contains(&needle_single))
+/// The 1-based line of the `occurrence`-th (from 0) `<joint …>` element named `name`, its
+/// attributes possibly spread over several lines.
+fn line_of_joint(text: &str, name: &str, occurrence: usize) -> Option<usize> {
+    let quoted = [format!("\"{name}\""), format!("'{name}'")];
+    text.match_indices("<joint")
+        .filter(|(start, _)| {
+            let tag = &text[*start..];
+            let tag = &tag[..tag.find('>').unwrap_or(tag.len())];
+            tag.match_indices("name").any(|(at, _)| {
+                let rest = tag[at + 4..].trim_start();
+                rest.strip_prefix('=')
+                    .map(str::trim_start)
+                    .is_some_and(|value| quoted.iter().any(|q| value.starts_with(q.as_str())))
+            })
         })
-        .map(|index| index + 1)
+        .nth(occurrence)
+        .map(|(start, _)| text[..start].matches('\n').count() + 1)
 }

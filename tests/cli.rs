@@ -1,0 +1,266 @@
+//! The `mtwin` binary end to end: `check` accepts every shipped model and scenario and
+//! rejects a broken file naming it on stderr; `run` with a bad scenario fails without leaving
+//! any file behind; `run` on `scenarios/vmc3_volumetric.toml` writes exactly
+//! `volumetric.csv` (the documented header, the 9×5×5 grid in order), `truth.json` (the
+//! parameters the scenario injects) and `manifest.json` (the inputs' and outputs' SHA-256,
+//! recomputed here); every subcommand answers `--help`.
+
+use serde_json::Value;
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use tempfile::TempDir;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn mtwin(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mtwin"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn check(file: &Path) -> Output {
+    mtwin(&["check".as_ref(), file.as_os_str()])
+}
+
+fn run(scenario: &Path, out: &Path) -> Output {
+    mtwin(&[
+        "run".as_ref(),
+        scenario.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ])
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The files in `dir` with extension `ext`, sorted.
+fn files_with_extension(dir: &str, ext: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == ext))
+        .collect();
+    files.sort();
+    files
+}
+
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Every entry of `dir` (hidden ones included), sorted; empty if it does not exist.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = match std::fs::read_dir(dir) {
+        Ok(read) => read
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    names.sort();
+    names
+}
+
+/// Runs the vmc3 scenario into a fresh directory; returns it (kept alive) and the out path.
+fn run_vmc3() -> (TempDir, PathBuf) {
+    let dir = TempDir::new().unwrap();
+    let out = dir.path().join("out");
+    let output = run(&root().join("scenarios/vmc3_volumetric.toml"), &out);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    (dir, out)
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+#[test]
+fn check_accepts_every_model() {
+    let models = files_with_extension("models", "urdf");
+    assert_eq!(models.len(), 3, "vmc3, trunnion5, headtable5");
+    for model in models {
+        let output = check(&model);
+        assert!(
+            output.status.success(),
+            "{}: {}",
+            model.display(),
+            text(&output.stderr)
+        );
+    }
+}
+
+#[test]
+fn check_accepts_every_scenario() {
+    let scenarios = files_with_extension("scenarios", "toml");
+    assert_eq!(scenarios.len(), 3, "one volumetric scenario per model");
+    for scenario in scenarios {
+        let output = check(&scenario);
+        assert!(
+            output.status.success(),
+            "{}: {}",
+            scenario.display(),
+            text(&output.stderr)
+        );
+    }
+}
+
+#[test]
+fn check_rejects_broken_model_naming_it() {
+    let dir = TempDir::new().unwrap();
+    let path = dir.path().join("bent_machine.urdf");
+    let urdf = std::fs::read_to_string(root().join("models/vmc3.urdf")).unwrap();
+    std::fs::write(
+        &path,
+        urdf.replace(r#"<axis xyz="-1 0 0"/>"#, r#"<axis xyz="1 0 0"/>"#),
+    )
+    .unwrap();
+    let output = check(&path);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains(&path.display().to_string()),
+        "{}",
+        text(&output.stderr)
+    );
+}
+
+#[test]
+fn check_rejects_broken_scenario_naming_it() {
+    let dir = TempDir::new().unwrap();
+    let path = dir.path().join("future_schema.toml");
+    std::fs::write(&path, "schema = 2\n").unwrap();
+    let output = check(&path);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains(&format!("{}:1:", path.display())),
+        "{}",
+        text(&output.stderr)
+    );
+}
+
+#[test]
+fn run_with_bad_scenario_fails_and_writes_nothing() {
+    // Valid up to the last check: the X grid runs past the 760 mm travel.
+    let dir = TempDir::new().unwrap();
+    let scenario = dir.path().join("too_far.toml");
+    let good = std::fs::read_to_string(root().join("scenarios/vmc3_volumetric.toml")).unwrap();
+    let bad = good
+        .replace("../models/vmc3.urdf", "vmc3.urdf")
+        .replace("to = 760.0, count = 9", "to = 800.0, count = 9");
+    assert_ne!(bad, good);
+    std::fs::copy(
+        root().join("models/vmc3.urdf"),
+        dir.path().join("vmc3.urdf"),
+    )
+    .unwrap();
+    std::fs::write(&scenario, bad).unwrap();
+    let out = dir.path().join("out");
+    let output = run(&scenario, &out);
+    assert!(!output.status.success());
+    assert!(text(&output.stderr).contains(&scenario.display().to_string()));
+    assert_eq!(entries(&out), Vec::<String>::new());
+}
+
+#[test]
+fn run_vmc3_writes_exactly_the_three_outputs() {
+    let (_dir, out) = run_vmc3();
+    assert_eq!(
+        entries(&out),
+        ["manifest.json", "truth.json", "volumetric.csv"]
+    );
+}
+
+#[test]
+fn run_vmc3_volumetric_csv_is_the_9x5x5_grid() {
+    let (_dir, out) = run_vmc3();
+    let csv = std::fs::read_to_string(out.join("volumetric.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("x_mm,y_mm,z_mm,dx_um,dy_um,dz_um"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 9 * 5 * 5);
+    // X 0..760 in 9 (step 95), Y 0..410 in 5 (102.5), Z 0..520 in 5 (130); Z varies fastest.
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), 6, "row {i}");
+        let expected = [
+            95.0 * (i / 25) as f64,
+            102.5 * (i / 5 % 5) as f64,
+            130.0 * (i % 5) as f64,
+        ];
+        let close = row.iter().zip(expected).all(|(v, e)| (v - e).abs() < 1e-6);
+        assert!(close, "row {i}: {row:?}, expected {expected:?}");
+    }
+    // The scenario injects errors, so the map is not all zero.
+    assert!(rows.iter().any(|r| r[3..].iter().any(|d| d.abs() > 1e-3)));
+}
+
+#[test]
+fn run_vmc3_truth_lists_the_injected_parameters() {
+    let (_dir, out) = run_vmc3();
+    let truth = read_json(&out.join("truth.json"));
+    assert_eq!(truth["machine"], "vmc3");
+    assert_eq!(truth["seed"], 1);
+    assert!(truth["convention"].is_string());
+    assert!(
+        truth["coefficients_si"]
+            .as_array()
+            .is_some_and(|c| !c.is_empty())
+    );
+    // The [errors.*] tables of scenarios/vmc3_volumetric.toml.
+    let mut expected = [
+        "EXX", "EYX", "EZX", "EBX", "ECX", "EYY", "EXY", "EAY", "ECY", "EZZ", "EAZ", "EBZ", "EC0Y",
+        "EB0Z", "EA0Z", "EZT",
+    ];
+    expected.sort();
+    let errors = truth["errors"].as_object().unwrap();
+    let names: Vec<&str> = errors.keys().map(String::as_str).collect();
+    assert_eq!(names, expected);
+    assert_eq!(errors["EC0Y"]["kind"], "squareness");
+    assert_eq!(errors["EC0Y"]["unit"], "urad");
+    assert_eq!(errors["EZT"]["kind"], "tool");
+    assert_eq!(errors["EXX"]["axis_side"], "workpiece");
+    assert_eq!(errors["EZZ"]["axis_side"], "tool");
+}
+
+#[test]
+fn run_vmc3_manifest_hashes_inputs_and_outputs() {
+    let (_dir, out) = run_vmc3();
+    let manifest = read_json(&out.join("manifest.json"));
+    let scenario = std::fs::read(root().join("scenarios/vmc3_volumetric.toml")).unwrap();
+    let machine = std::fs::read(root().join("models/vmc3.urdf")).unwrap();
+    assert_eq!(manifest["mtwin_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(manifest["scenario"]["file"], "vmc3_volumetric.toml");
+    assert_eq!(manifest["scenario"]["sha256"], sha256_hex(&scenario));
+    assert_eq!(manifest["machine"]["name"], "vmc3");
+    assert_eq!(manifest["machine"]["file"], "vmc3.urdf");
+    assert_eq!(manifest["machine"]["sha256"], sha256_hex(&machine));
+    assert_eq!(manifest["seed"], 1);
+    assert_eq!(manifest["volumetric_model"], "chain");
+    let files = manifest["files"].as_array().unwrap();
+    let names: Vec<&str> = files.iter().map(|f| f["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["volumetric.csv", "truth.json"]);
+    for file in files {
+        let bytes = std::fs::read(out.join(file["name"].as_str().unwrap())).unwrap();
+        assert_eq!(file["bytes"], bytes.len());
+        assert_eq!(file["sha256"], sha256_hex(&bytes));
+    }
+}
+
+#[test]
+fn help_for_each_subcommand() {
+    for (subcommand, mentions) in [("run", "--out"), ("check", "<FILE>")] {
+        let output = mtwin(&[subcommand.as_ref(), "--help".as_ref()]);
+        assert!(output.status.success(), "{subcommand} --help");
+        let stdout = text(&output.stdout);
+        assert!(stdout.contains("Usage"), "{stdout}");
+        assert!(stdout.contains(mentions), "{stdout}");
+    }
+}
