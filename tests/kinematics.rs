@@ -113,9 +113,10 @@ fn positive_rotary_commands_turn_the_tool_positively_relative_to_the_workpiece()
 
 #[test]
 fn urdf_rpy_and_origin_follow_the_fixed_axis_convention() {
-    // A fixed joint with rpy = (r, p, y) is Rz(y)·Ry(p)·Rx(r), written out here element by
-    // element; its xyz is a translation in the parent frame; a prismatic joint moves along
-    // its axis in its own frame.
+    // The workpiece is mounted by a fixed joint with rpy = (r, p, y), i.e. world_from_workpiece
+    // has the rotation R = Rz(y)·Ry(p)·Rx(r), written out here element by element, and its xyz
+    // as translation. The tool (a prismatic X, Y, Z stack from the bed origin) is at (x, y, z),
+    // so workpiece_from_tool = (Rᵀ, Rᵀ·((x, y, z) - xyz)).
     let (r, p, yaw): (f64, f64, f64) = (0.3, -0.5, 1.2);
     let urdf = format!(
         r#"<robot name="rpy">
@@ -123,34 +124,36 @@ fn urdf_rpy_and_origin_follow_the_fixed_axis_convention() {
   <joint name="X" type="prismatic"><parent link="bed"/><child link="x"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" velocity="1"/></joint>
   <joint name="Y" type="prismatic"><parent link="x"/><child link="y"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1"/></joint>
   <joint name="Z" type="prismatic"><parent link="y"/><child link="z"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1"/></joint>
-  <joint name="holder" type="fixed"><parent link="z"/><child link="tool"/><origin xyz="0.1 0.2 0.3" rpy="{r} {p} {yaw}"/></joint>
-  <joint name="table" type="fixed"><parent link="bed"/><child link="workpiece"/></joint>
+  <joint name="holder" type="fixed"><parent link="z"/><child link="tool"/></joint>
+  <joint name="mount" type="fixed"><parent link="bed"/><child link="workpiece"/><origin xyz="0.1 0.2 0.3" rpy="{r} {p} {yaw}"/></joint>
 </robot>"#
     );
     let machine = Machine::from_urdf_str(&urdf, "rpy.urdf").unwrap();
     let (sr, cr) = r.sin_cos();
     let (sp, cp) = p.sin_cos();
     let (sy, cy) = yaw.sin_cos();
-    let expected = [
+    let rotation = [
         [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
         [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
         [-sp, cp * sr, cp * cr],
     ];
+    let transposed: M3 = std::array::from_fn(|i| std::array::from_fn(|j| rotation[j][i]));
     let q = AxisValues::from_file_units(&[(Axis::X, 10.0), (Axis::Y, -20.0), (Axis::Z, 30.0)]);
     let pose = machine.workpiece_from_tool(&q);
-    for (i, row) in expected.iter().enumerate() {
+    for (i, row) in transposed.iter().enumerate() {
         for (j, value) in row.iter().enumerate() {
             assert!(
                 (pose.matrix3.col(j)[i] - value).abs() < 1e-15,
-                "R[{i}][{j}]"
+                "Rᵀ[{i}][{j}]"
             );
         }
     }
+    let expected = apply(transposed, Vector::new(0.01 - 0.1, -0.02 - 0.2, 0.03 - 0.3));
     assert_close(
         pose.translation,
-        Vector::new(0.11, 0.18, 0.33),
+        expected,
         EXACT_M,
-        "origin xyz + axis travel",
+        "origin xyz and axis travel",
     );
 }
 

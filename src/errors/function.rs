@@ -29,6 +29,8 @@ pub struct Table {
     interpolation: Interpolation,
     /// Row-major n×n: the spline's second derivatives are `weights · values` (cubic only).
     second_derivative_weights: Vec<Real>,
+    /// The second derivatives for the current values (cubic only).
+    second_derivatives: Vec<Real>,
 }
 
 /// Why a table was rejected.
@@ -78,12 +80,30 @@ impl Table {
             Interpolation::Linear => Vec::new(),
             Interpolation::Cubic => natural_spline_weights(&positions),
         };
-        Ok(Table {
+        let mut table = Table {
             positions,
             values,
             interpolation,
             second_derivative_weights,
-        })
+            second_derivatives: Vec::new(),
+        };
+        table.update_second_derivatives();
+        Ok(table)
+    }
+
+    /// Recomputes the spline's second derivatives after the values changed.
+    fn update_second_derivatives(&mut self) {
+        let n = self.values.len();
+        self.second_derivatives = match self.interpolation {
+            Interpolation::Linear => Vec::new(),
+            Interpolation::Cubic => (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| self.second_derivative_weights[i * n + j] * self.values[j])
+                        .sum()
+                })
+                .collect(),
+        };
     }
 
     /// Knot positions (SI).
@@ -110,32 +130,41 @@ impl Table {
         (k, (q - self.positions[k]) / h)
     }
 
-    /// Weight of knot `j`'s value in the interpolated value at `q` (the table is linear in its
-    /// values).
-    fn basis(&self, q: Real, j: usize) -> Real {
-        let (k, t) = self.locate(q);
-        let mut weight = if j == k {
-            1.0 - t
-        } else if j == k + 1 {
-            t
-        } else {
-            0.0
-        };
-        if self.interpolation == Interpolation::Cubic {
-            let n = self.positions.len();
-            let h = self.positions[k + 1] - self.positions[k];
-            let s = 1.0 - t;
-            let w = &self.second_derivative_weights;
-            weight += h * h / 6.0
-                * ((s * s * s - s) * w[k * n + j] + (t * t * t - t) * w[(k + 1) * n + j]);
-        }
-        weight
+    /// The cubic terms' factors at local coordinate t of interval k: the weights of the second
+    /// derivatives at knots k and k + 1.
+    fn cubic_factors(&self, k: usize, t: Real) -> (Real, Real) {
+        let h = self.positions[k + 1] - self.positions[k];
+        let s = 1.0 - t;
+        (h * h / 6.0 * (s * s * s - s), h * h / 6.0 * (t * t * t - t))
     }
 
     fn value(&self, q: Real) -> Real {
-        (0..self.values.len())
-            .map(|j| self.basis(q, j) * self.values[j])
-            .sum()
+        let (k, t) = self.locate(q);
+        let mut value = (1.0 - t) * self.values[k] + t * self.values[k + 1];
+        if self.interpolation == Interpolation::Cubic {
+            let (a, b) = self.cubic_factors(k, t);
+            value += a * self.second_derivatives[k] + b * self.second_derivatives[k + 1];
+        }
+        value
+    }
+
+    /// Appends the weight of each knot's value in the interpolated value at `q` (the table is
+    /// linear in its values).
+    fn basis(&self, q: Real, out: &mut Vec<Real>) {
+        let (k, t) = self.locate(q);
+        let n = self.values.len();
+        let start = out.len();
+        out.resize(start + n, 0.0);
+        let weights = &mut out[start..];
+        weights[k] = 1.0 - t;
+        weights[k + 1] = t;
+        if self.interpolation == Interpolation::Cubic {
+            let (a, b) = self.cubic_factors(k, t);
+            let w = &self.second_derivative_weights;
+            for (j, weight) in weights.iter_mut().enumerate() {
+                *weight += a * w[k * n + j] + b * w[(k + 1) * n + j];
+            }
+        }
     }
 }
 
@@ -236,6 +265,36 @@ impl ErrorFunction {
         }
     }
 
+    /// Why the function cannot describe an error of an axis that turns without end (repeating
+    /// every `turn` rad, evaluated on [0, turn)), if it cannot: a polynomial of degree ≥ 1 or a
+    /// reversal-free drift would jump at the end of the turn, a harmonic must fit a whole number
+    /// of periods in a turn, and a table must cover exactly [0, turn] with equal end values.
+    pub fn periodicity_problem(&self, turn: Real) -> Option<String> {
+        match self {
+            ErrorFunction::Constant(_) | ErrorFunction::Reversal(_) => None,
+            ErrorFunction::Polynomial(c) if c.iter().skip(1).any(|v| *v != 0.0) => {
+                Some("a polynomial in the angle of a continuous axis would jump at 360°; use harmonics or a table".into())
+            }
+            ErrorFunction::Polynomial(_) => None,
+            ErrorFunction::Harmonic { period, .. } => {
+                let cycles = turn / period;
+                ((cycles - cycles.round()).abs() > 1e-9 || cycles.round() < 1.0).then(|| {
+                    format!("a harmonic on a continuous axis needs a whole number of periods per turn (360° / period = {cycles})")
+                })
+            }
+            ErrorFunction::Table(table) => {
+                let (first, last) = (table.positions[0], table.positions[table.positions.len() - 1]);
+                let (v0, vn) = (table.values[0], table.values[table.values.len() - 1]);
+                let ends_match = (v0 - vn).abs() <= 1e-12 * v0.abs().max(vn.abs()).max(1e-12);
+                let spans_turn = first.abs() < 1e-12 && (last - turn).abs() < 1e-9 * turn;
+                (!(spans_turn && ends_match)).then(|| {
+                    "a table on a continuous axis must run from 0° to 360° with the same value at both ends".to_string()
+                })
+            }
+            ErrorFunction::Sum(terms) => terms.iter().find_map(|term| term.periodicity_problem(turn)),
+        }
+    }
+
     /// Number of linear coefficients.
     pub fn coefficient_count(&self) -> usize {
         match self {
@@ -278,6 +337,7 @@ impl ErrorFunction {
             ErrorFunction::Table(table) => {
                 let n = table.values.len();
                 table.values.copy_from_slice(&coefficients[..n]);
+                table.update_second_derivatives();
                 n
             }
             ErrorFunction::Harmonic {
@@ -306,9 +366,7 @@ impl ErrorFunction {
                     power *= q;
                 }
             }
-            ErrorFunction::Table(table) => {
-                out.extend((0..table.values.len()).map(|j| table.basis(q, j)))
-            }
+            ErrorFunction::Table(table) => table.basis(q, out),
             ErrorFunction::Harmonic { period, .. } => {
                 let angle = TAU * q / period;
                 out.push(angle.sin());

@@ -271,6 +271,14 @@ pub enum ErrorModelError {
     /// Location, squareness and tool errors are constants.
     #[error("{0}: location, squareness and tool errors are constants")]
     NotConstant(ParameterName),
+    /// A function that does not repeat every turn on an axis that turns without end.
+    #[error("{name}: {message}")]
+    NotPeriodic {
+        /// The parameter.
+        name: ParameterName,
+        /// What is wrong.
+        message: String,
+    },
     /// A name appears twice.
     #[error("{0} is given twice")]
     Duplicate(ParameterName),
@@ -303,6 +311,19 @@ enum Action {
 struct Binding {
     slot: usize,
     action: Action,
+    /// Its axis turns without end: the argument is taken modulo one turn, in [0, 2π).
+    periodic: bool,
+}
+
+impl Binding {
+    /// The function's argument for an axis position.
+    fn argument(&self, q: Real) -> Real {
+        if self.periodic {
+            q.rem_euclid(std::f64::consts::TAU)
+        } else {
+            q
+        }
+    }
 }
 
 /// The tool-in-workpiece deviation: actual − nominal, in the workpiece frame.
@@ -347,16 +368,19 @@ pub struct ErrorModel {
     parameters: Vec<ErrorParameter>,
     bindings: Vec<Binding>,
     slot_count: usize,
+    /// The axes (and their sides) of the machine it was bound to, slot by slot.
+    machine_axes: Vec<(Axis, Side)>,
 }
 
 impl ErrorModel {
-    /// Binds parameters to `machine`, sorted by name; rejects duplicates, axes the machine lacks
+    /// Binds parameters to `machine`, sorted by their names as text (`EX0C` before `EXX`);
+    /// rejects duplicates, axes the machine lacks
     /// and non-constant location or tool errors.
     pub fn new(
         machine: &Machine,
         mut parameters: Vec<ErrorParameter>,
     ) -> Result<ErrorModel, ErrorModelError> {
-        parameters.sort_by_key(|p| p.name);
+        parameters.sort_by_cached_key(|p| p.name.to_string());
         for pair in parameters.windows(2) {
             if pair[0].name == pair[1].name {
                 return Err(ErrorModelError::Duplicate(pair[0].name));
@@ -371,19 +395,32 @@ impl ErrorModel {
                 ParameterName::Tool { .. } => Binding {
                     slot: machine.tool_slot(),
                     action: Action::Constant,
+                    periodic: false,
                 },
                 ParameterName::Component { axis, .. } | ParameterName::Location { axis, .. } => {
-                    let slot = machine
+                    let info = machine
                         .axis(axis)
-                        .ok_or(ErrorModelError::MissingAxis { name, axis })?
-                        .slot;
+                        .ok_or(ErrorModelError::MissingAxis { name, axis })?;
+                    let slot = info.slot;
                     let action = match name {
                         ParameterName::Component { .. } => Action::Component(axis),
                         _ if axis.is_linear() => Action::Squareness(axis),
                         _ if name.motion().index() == axis.coordinate() + 3 => Action::Constant,
                         _ => Action::RotaryLocation(axis),
                     };
-                    Binding { slot, action }
+                    let periodic = info.is_continuous() && matches!(action, Action::Component(_));
+                    if let Some(message) = parameter
+                        .function
+                        .periodicity_problem(std::f64::consts::TAU)
+                        .filter(|_| periodic)
+                    {
+                        return Err(ErrorModelError::NotPeriodic { name, message });
+                    }
+                    Binding {
+                        slot,
+                        action,
+                        periodic,
+                    }
                 }
             };
             if !matches!(binding.action, Action::Component(_)) && !parameter.function.is_constant()
@@ -396,6 +433,7 @@ impl ErrorModel {
             parameters,
             bindings,
             slot_count: machine.slot_count(),
+            machine_axes: axes_of(machine),
         })
     }
 
@@ -405,10 +443,27 @@ impl ErrorModel {
             parameters: Vec::new(),
             bindings: Vec::new(),
             slot_count: machine.slot_count(),
+            machine_axes: axes_of(machine),
         }
     }
 
-    /// The parameters, sorted by name.
+    /// Panics when `machine` is not the machine this model was bound to (other axes or sides).
+    fn assert_bound_to(&self, machine: &Machine) {
+        let same = self.machine_axes.len() == machine.axes().len()
+            && self
+                .machine_axes
+                .iter()
+                .zip(machine.axes())
+                .all(|(&(axis, side), info)| info.axis == axis && info.side == side);
+        assert!(
+            same,
+            "error model bound to another machine ({:?}) used with \"{}\"",
+            self.machine_axes,
+            machine.name()
+        );
+    }
+
+    /// The parameters, sorted by their names as text.
     pub fn parameters(&self) -> &[ErrorParameter] {
         &self.parameters
     }
@@ -438,9 +493,10 @@ impl ErrorModel {
             let component = parameter.name.motion().index();
             match binding.action {
                 Action::Component(axis) => {
-                    relative[binding.slot][component] += parameter
-                        .function
-                        .value(state.position[axis], state.direction(axis));
+                    relative[binding.slot][component] += parameter.function.value(
+                        binding.argument(state.position[axis]),
+                        state.direction(axis),
+                    );
                 }
                 Action::Constant => {
                     relative[binding.slot][component] += constant(&parameter.function)
@@ -467,6 +523,7 @@ impl ErrorModel {
         workspace: &mut Workspace,
         state: &MachineState,
     ) -> Pose {
+        self.assert_bound_to(machine);
         let mut relative = std::mem::take(&mut workspace.slot_twists);
         let mut line = std::mem::take(&mut workspace.slot_lines);
         let mut motions = std::mem::take(&mut workspace.slot_motions);
@@ -525,7 +582,8 @@ impl ErrorModel {
             .sum()
     }
 
-    /// All linear coefficients (SI), parameter by parameter in name order.
+    /// All linear coefficients (SI), parameter by parameter in the order of
+    /// [`ErrorModel::parameters`].
     pub fn coefficients(&self) -> Vec<Real> {
         let mut out = Vec::with_capacity(self.coefficient_count());
         self.parameters
@@ -572,6 +630,7 @@ impl ErrorModel {
         state: &MachineState,
         out: &mut [[[Real; 6]; 5]],
     ) {
+        self.assert_bound_to(machine);
         assert_eq!(out.len(), self.slot_count, "one sensitivity per slot");
         let workpiece_from_tool = workspace.workpiece_from_tool(machine, &state.position, None);
         let world_from_workpiece =
@@ -635,7 +694,7 @@ impl ErrorModel {
                 Action::Component(axis) => {
                     unit_twist[component] = 1.0;
                     parameter.function.basis(
-                        state.position[axis],
+                        binding.argument(state.position[axis]),
                         state.direction(axis),
                         &mut basis,
                     );
@@ -680,6 +739,15 @@ impl ErrorModel {
         workspace.slot_sensitivities = sensitivities;
         workspace.basis = basis;
     }
+}
+
+/// The axes and sides of a machine, slot by slot.
+fn axes_of(machine: &Machine) -> Vec<(Axis, Side)> {
+    machine
+        .axes()
+        .iter()
+        .map(|info| (info.axis, info.side))
+        .collect()
 }
 
 /// The value of a constant function.

@@ -89,6 +89,11 @@ impl Axis {
         matches!(self, Axis::X | Axis::Y | Axis::Z)
     }
 
+    /// Whether it is a rotary feed axis (A, B, C); the spindle is not.
+    pub fn is_rotary(self) -> bool {
+        matches!(self, Axis::A | Axis::B | Axis::C)
+    }
+
     /// The coordinate direction (0 = x, 1 = y, 2 = z) the axis moves along or about.
     pub fn coordinate(self) -> usize {
         match self {
@@ -215,10 +220,31 @@ pub struct AxisInfo {
     pub side: Side,
     /// Travel limits (m or rad); `None` for continuous joints.
     pub limits: Option<(Real, Real)>,
-    /// The URDF joint axis in its joint frame: `±` the unit vector of the letter.
+    /// The URDF joint axis in its joint frame (parallel to the bed at the home pose): `±` the
+    /// unit vector of the letter.
     pub joint_axis: Vector,
     /// Index of its error slot (see [`Machine::slot_count`]).
     pub slot: usize,
+}
+
+impl AxisInfo {
+    /// Whether `value` (m or rad) is a number within the travel, allowing 1e-9 of the larger
+    /// limit for values written in rounded file units.
+    pub fn within_travel(&self, value: Real) -> bool {
+        match self.limits {
+            _ if !value.is_finite() => false,
+            None => true,
+            Some((lower, upper)) => {
+                let tolerance = 1e-9 * (1.0 + lower.abs().max(upper.abs()));
+                value >= lower - tolerance && value <= upper + tolerance
+            }
+        }
+    }
+
+    /// Whether the axis turns without end (continuous joint): its errors repeat every turn.
+    pub fn is_continuous(&self) -> bool {
+        !self.axis.is_linear() && self.limits.is_none()
+    }
 }
 
 /// One moving joint of a branch, with the fixed transforms before it folded in.
@@ -293,11 +319,6 @@ impl Machine {
         self.axes.len()
     }
 
-    /// The side a slot belongs to (the tool slot is on the tool side).
-    pub fn slot_side(&self, slot: usize) -> Side {
-        self.axes.get(slot).map_or(Side::Tool, |info| info.side)
-    }
-
     /// Nominal tool pose seen from the workpiece at these axis values.
     ///
     /// Convenience for one-off use; loops should keep a [`Workspace`] and call
@@ -306,16 +327,14 @@ impl Machine {
         Workspace::new(self).workpiece_from_tool(self, position, None)
     }
 
-    /// Whether every axis value lies within its travel limits; the first axis outside them,
-    /// with its value and limits, otherwise.
+    /// Whether every axis value lies within its travel limits; the first axis outside them
+    /// (or not a number), with its value and limits, otherwise.
     pub fn check_limits(&self, position: &AxisValues) -> Result<(), (Axis, Real, (Real, Real))> {
         for info in &self.axes {
-            if let Some((lower, upper)) = info.limits {
-                let value = position[info.axis];
-                let tolerance = 1e-12 * (1.0 + lower.abs().max(upper.abs()));
-                if value < lower - tolerance || value > upper + tolerance {
-                    return Err((info.axis, value, (lower, upper)));
-                }
+            let value = position[info.axis];
+            if !info.within_travel(value) {
+                let limits = info.limits.unwrap_or((Real::NEG_INFINITY, Real::INFINITY));
+                return Err((info.axis, value, limits));
             }
         }
         Ok(())

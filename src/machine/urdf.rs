@@ -92,6 +92,25 @@ pub enum MachineErrorKind {
         /// The axis.
         axis: Axis,
     },
+    /// A moving joint above the point where the tool and workpiece branches split: it moves
+    /// both together, so nothing between them.
+    SharedBranch {
+        /// The axis.
+        axis: Axis,
+    },
+    /// A moving joint whose frame is turned relative to the bed at the home pose: errors are
+    /// named in machine X, Y, Z, so moving joints' frames must be parallel to the bed's there.
+    JointFrame {
+        /// The axis.
+        axis: Axis,
+    },
+    /// The `tool` frame's z axis is not along the machine's +Z at the home pose.
+    ToolAxis {
+        /// Where it points instead (bed frame).
+        found: [Real; 3],
+    },
+    /// Links that are joined in a cycle, apart from the tree that holds the root.
+    Cycle(Vec<String>),
     /// The spindle is not on the tool branch.
     SpindleSide,
     /// A non-finite number in an origin or axis.
@@ -182,6 +201,32 @@ impl fmt::Display for MachineErrorKind {
                 f,
                 "joint \"{axis}\" moves neither the tool nor the workpiece (it is on no path from the root to them)"
             ),
+            SharedBranch { axis } => write!(
+                f,
+                "joint \"{axis}\" is above the split of the tool and workpiece branches: it moves both together, \
+                 expected it on the path from the split to `tool` or to `workpiece`"
+            ),
+            JointFrame { axis } => write!(
+                f,
+                "the frame of joint \"{axis}\" is turned relative to the bed at the home pose: errors are named in \
+                 machine X, Y, Z, so a moving joint's frame must be parallel to the bed's there (put rotations on \
+                 fixed joints after it)"
+            ),
+            ToolAxis { found } => write!(
+                f,
+                "the `tool` frame's z axis points along ({:.3} {:.3} {:.3}) at the home pose: expected the \
+                 machine's +Z (0 0 1), from the tool tip into the spindle",
+                found[0], found[1], found[2]
+            ),
+            Cycle(links) => write!(
+                f,
+                "links {} are joined in a cycle, apart from the tree of the root: expected one tree",
+                links
+                    .iter()
+                    .map(|l| format!("\"{l}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
             SpindleSide => write!(
                 f,
                 "joint \"S\" (the spindle) must be on the path from the root to `tool`"
@@ -268,6 +313,28 @@ impl Machine {
             .collect();
         if roots.len() != 1 {
             return Err(fail(None, MachineErrorKind::Roots(roots)));
+        }
+        // Every link must hang from the root; a cycle elsewhere has no parentless link of its own.
+        let mut reachable = vec![roots[0].as_str()];
+        let mut next = 0;
+        while next < reachable.len() {
+            let parent = reachable[next];
+            reachable.extend(
+                robot
+                    .joints
+                    .iter()
+                    .filter(|j| j.parent.link == parent)
+                    .map(|j| j.child.link.as_str()),
+            );
+            next += 1;
+        }
+        let cut_off: Vec<String> = link_names
+            .iter()
+            .filter(|l| !reachable.contains(l))
+            .map(|l| l.to_string())
+            .collect();
+        if !cut_off.is_empty() {
+            return Err(fail(None, MachineErrorKind::Cycle(cut_off)));
         }
 
         // Joint checks, independent of the branch.
@@ -373,40 +440,38 @@ impl Machine {
             let side = match (on_tool, on_work) {
                 (true, false) => Side::Tool,
                 (false, true) => Side::Workpiece,
-                // A joint on both paths moves tool and workpiece together and so nothing between them.
-                _ => {
+                (true, true) => {
+                    return Err(fail(Some(joint), MachineErrorKind::SharedBranch { axis }));
+                }
+                (false, false) => {
                     return Err(fail(Some(joint), MachineErrorKind::OffBranch { axis }));
                 }
             };
             if axis == Axis::S && side != Side::Tool {
                 return Err(fail(Some(joint), MachineErrorKind::SpindleSide));
             }
-            // Along its own frame's letter axis (either sign), and at the home pose along the
-            // bed's letter axis with the ISO 841 sign of its side.
-            let found = joint.axis.xyz.0;
-            let found_vector = Vector::from_array(found);
-            let sign = if side == Side::Tool { 1.0 } else { -1.0 };
+            // The joint frame parallel to the bed at the home pose, and the axis along its letter
+            // with the ISO 841 sign of its side (either sign for the spindle).
             let world_from_joint = home_rotation(
                 &robot.joints,
                 if on_tool { &tool_path } else { &work_path },
                 index,
             );
-            let expected_local = world_from_joint.transpose() * (axis.unit() * sign);
-            let along_letter = (found_vector.abs() - axis.unit()).length() < 1e-12;
-            let sign_ok = (found_vector - expected_local).length() < 1e-9
-                || (axis == Axis::S && (found_vector + expected_local).length() < 1e-9);
-            if !(along_letter && sign_ok) {
-                let expected = if along_letter {
-                    expected_local
-                } else {
-                    axis.unit() * sign
-                };
+            if !world_from_joint.abs_diff_eq(crate::math::Rotation::IDENTITY, 1e-12) {
+                return Err(fail(Some(joint), MachineErrorKind::JointFrame { axis }));
+            }
+            let found = joint.axis.xyz.0;
+            let found_vector = Vector::from_array(found);
+            let expected = axis.unit() * if side == Side::Tool { 1.0 } else { -1.0 };
+            let direction_ok = (found_vector - expected).length() < 1e-12
+                || (axis == Axis::S && (found_vector + expected).length() < 1e-12);
+            if !direction_ok {
                 return Err(fail(
                     Some(joint),
                     MachineErrorKind::AxisDirection {
                         axis,
                         found,
-                        expected: expected.round().to_array(),
+                        expected: expected.to_array(),
                     },
                 ));
             }
@@ -433,6 +498,21 @@ impl Machine {
         }
         check_configuration(&axes)
             .map_err(|message| fail(None, MachineErrorKind::Configuration(message)))?;
+        // ISO 841: Z is the spindle axis; the tool frame's z runs from the tip into the spindle.
+        let tool_z = tool_path
+            .iter()
+            .fold(crate::math::Rotation::IDENTITY, |r, &i| {
+                r * rotation_from_rpy(robot.joints[i].origin.rpy.0)
+            })
+            * Vector::Z;
+        if (tool_z - Vector::Z).length() > 1e-9 {
+            return Err(fail(
+                None,
+                MachineErrorKind::ToolAxis {
+                    found: tool_z.to_array(),
+                },
+            ));
+        }
 
         let branch = |path: &[usize]| -> Branch {
             let mut joints = Vec::new();
