@@ -289,6 +289,23 @@ fn inverse_kinematics_refuses_what_cannot_be_reached() {
         vmc.inverse_kinematics(&far, TiltBranch::Positive),
         Err(InverseKinematicsError::OutOfTravel { axis: Axis::X, .. })
     ));
+    // Not a number.
+    let nan = ToolTarget {
+        position: Vector::new(f64::NAN, 0.0, 0.1),
+        axis: None,
+    };
+    assert_eq!(
+        vmc.inverse_kinematics(&nan, TiltBranch::Positive),
+        Err(InverseKinematicsError::NotFinite)
+    );
+    let nan_axis = ToolTarget {
+        position: Vector::ZERO,
+        axis: Some(Vector::new(f64::NAN, 0.0, 1.0)),
+    };
+    assert_eq!(
+        trunnion.inverse_kinematics(&nan_axis, TiltBranch::Positive),
+        Err(InverseKinematicsError::BadAxis)
+    );
     // A 5-axis target without a tool-axis direction.
     let missing = ToolTarget {
         position: Vector::ZERO,

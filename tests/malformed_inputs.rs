@@ -914,3 +914,177 @@ fn scenario_nothing_to_compute() {
         Some("[volumetric]"),
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Checks added after review: joint frames, the tool axis, cycles, shared joints, grid size,
+// implausible values, periodic axes, NaN targets.
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn urdf_joint_frame_turned_at_home() {
+    // X's frame yawed by π with its axis flipped still moves the table along -X, but EYX would
+    // then act along -Y: refused.
+    let text = replace_once(
+        VMC3,
+        "<origin xyz=\"0 0 0.15\" rpy=\"0 0 0\"/>\n    <axis xyz=\"-1 0 0\"/>",
+        "<origin xyz=\"0 0 0.15\" rpy=\"0 0 3.141592653589793\"/>\n    <axis xyz=\"1 0 0\"/>",
+    );
+    let (error, path) = urdf_error(&text);
+    assert_eq!(
+        error.kind(),
+        &MachineErrorKind::JointFrame { axis: Axis::X }
+    );
+    assert_at_joint(&error, &path, &text, "X");
+}
+
+#[test]
+fn urdf_tool_axis_not_along_z() {
+    // A tool holder turned upside down: the tool frame's z points down at home.
+    let text = replace_once(
+        VMC3,
+        "<origin xyz=\"0 0 -0.15\" rpy=\"0 0 0\"/>\n  </joint>\n</robot>",
+        "<origin xyz=\"0 0 -0.15\" rpy=\"3.141592653589793 0 0\"/>\n  </joint>\n</robot>",
+    );
+    let (error, path) = urdf_error(&text);
+    assert!(
+        matches!(error.kind(), MachineErrorKind::ToolAxis { found } if found[2] < -0.99),
+        "{error}"
+    );
+    assert_names_file(&error, &path);
+}
+
+#[test]
+fn urdf_cycle_apart_from_the_rooted_tree() {
+    // The root (bed) has no parent, so the roots check passes; `m` and `tool` hang from each
+    // other. Loading must stop with an error, not loop.
+    let text = r#"<robot name="cycle">
+  <link name="bed"/><link name="m"/><link name="tool"/><link name="workpiece"/>
+  <joint name="mount" type="fixed"><parent link="bed"/><child link="workpiece"/></joint>
+  <joint name="a" type="fixed"><parent link="tool"/><child link="m"/></joint>
+  <joint name="b" type="fixed"><parent link="m"/><child link="tool"/></joint>
+</robot>"#;
+    let (error, path) = urdf_error(text);
+    assert_eq!(
+        error.kind(),
+        &MachineErrorKind::Cycle(vec!["m".into(), "tool".into()])
+    );
+    assert_names_file(&error, &path);
+}
+
+#[test]
+fn urdf_joint_above_the_branch_split() {
+    // A Y axis moving the whole machine (bed → frame) carries both tool and workpiece.
+    let text = VMC3
+        .replace(
+            "<parent link=\"bed\"/><child link=\"saddle\"/>",
+            "<parent link=\"frame\"/><child link=\"saddle\"/>",
+        )
+        .replace(
+            "<parent link=\"bed\"/><child link=\"column\"/>",
+            "<parent link=\"frame\"/><child link=\"column\"/>",
+        )
+        .replace(
+            "<joint name=\"Y\" type=\"prismatic\">",
+            "<joint name=\"lift\" type=\"fixed\">",
+        );
+    let text = before_robot_end(
+        &text,
+        r#"  <link name="frame"/>
+  <joint name="Y" type="prismatic"><parent link="bed"/><child link="frame"/><axis xyz="0 1 0"/><limit lower="0" upper="0.4" velocity="1"/></joint>"#,
+    );
+    let (error, path) = urdf_error(&text);
+    assert_eq!(
+        error.kind(),
+        &MachineErrorKind::SharedBranch { axis: Axis::Y }
+    );
+    assert_at_joint(&error, &path, &text, "Y");
+}
+
+#[test]
+fn scenario_grid_too_large() {
+    // 4 194 304³ points would overflow; 3000³ = 2.7e10 is beyond the cap of 1e7.
+    for count in ["3000", "4194304"] {
+        let grid = format!(
+            "model = \"chain\"\nx_mm = {{ from = 0.0, to = 700.0, count = {count} }}\n\
+             y_mm = {{ from = 0.0, to = 400.0, count = {count} }}\nz_mm = {{ from = 0.0, to = 500.0, count = {count} }}"
+        );
+        let text = vmc3_with("model = \"chain\"", &grid);
+        let (error, _) = scenario_error(&text);
+        assert_eq!(error.kind(), ScenarioErrorKind::Grid, "{error}");
+        assert!(error.to_string().contains("volumetric"), "{error}");
+    }
+}
+
+#[test]
+fn scenario_value_implausibly_large() {
+    // 5e6 µrad (5 rad) of squareness is a unit slip, not a machine error.
+    let text = replace_once(
+        &minimal("vmc3.urdf"),
+        "[errors.EXX]\nconstant_um = 1.0",
+        "[errors.EC0Y]\nconstant_urad = 5.0e6",
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("[errors.EC0Y]"),
+        Some("errors.EC0Y"),
+    );
+    // A polynomial that grows beyond 10 mm over the travel: 1e300 µm/mm.
+    let text = exx_with("polynomial_um = [0.0, 1e300]");
+    let (error, _) = scenario_error(&text);
+    assert_eq!(error.kind(), ScenarioErrorKind::Value, "{error}");
+}
+
+#[test]
+fn scenario_value_period_underflows() {
+    // 1e-322 mm is finite in the file but zero in metres.
+    let text = exx_with("harmonic = [{ period_mm = 1e-322, amplitude_um = 1.0 }]");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("period_mm"),
+        Some("errors.EXX.harmonic[0].period_mm"),
+    );
+}
+
+#[test]
+fn scenario_value_not_periodic_on_a_continuous_axis() {
+    // C of trunnion5 turns without end: a slope in the angle would jump at 360°.
+    let text = replace_once(
+        &minimal("trunnion5.urdf"),
+        "[errors.EXX]\nconstant_um = 1.0",
+        "[errors.ECC]\npolynomial_urad = [0.0, 0.1]",
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("[errors.ECC]"),
+        Some("errors.ECC"),
+    );
+}
+
+#[test]
+fn scenario_units_second_harmonic_is_found_on_its_line() {
+    // The second entry spells its period in degrees on a linear axis.
+    let text = exx_with(
+        "harmonic = [\n  { period_mm = 10.0, amplitude_um = 1.0 },\n  { period_deg = 5.0, amplitude_um = 1.0 },\n]",
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Units,
+        &text,
+        Some("period_deg"),
+        Some("errors.EXX.harmonic[1].period_deg"),
+    );
+}

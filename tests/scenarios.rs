@@ -124,3 +124,61 @@ fn first_row_of_the_vmc3_map_matches_a_hand_computation() {
         assert!((got - want).abs() < 2e-6, "{row:?} vs {expected:?}");
     }
 }
+
+#[test]
+fn five_axis_map_columns_match_hand_values() {
+    // trunnion5 at A = 0 with only EX0C = 9 µm and EA0C = 10 µrad (the C axis line displaced
+    // along X and tilted about X), at the table centre's tool position. Hand values, workpiece
+    // frame (= C table frame; the tool frame there is Rz(c)):
+    //   EX0C: (I - Rz(c))·(δ, 0, 0)       → C = 0: 0;  C = 180°: (18, 0, 0) µm
+    //   EA0C: the table turns about Rx(ε)·z, so the tool axis is seen at Rx(ε)·Rz(c)·Rx(-ε)·e_z
+    //         → C = 180°: (0, -sin 2ε, cos 2ε); along the tool frame's y = (0, -1, 0) that is
+    //           tj = sin 2ε = 20 µrad, ti = 0; and the tip, h = 100 mm above the table centre
+    //           on the C axis, is seen at h·(0, -sin 2ε, cos 2ε): dy = -2.0 µm, dz = -2e-5 µm.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c_axis.toml");
+    let machine = scenario_path("../models/trunnion5.urdf");
+    std::fs::write(
+        &path,
+        format!(
+            "schema = 1\nmachine = '{}'\nseed = 7\n[errors.EX0C]\nconstant_um = 9.0\n[errors.EA0C]\nconstant_urad = 10.0\n\
+             [volumetric]\nx_mm = {{ from = 325.0, to = 325.0, count = 1 }}\ny_mm = {{ from = 275.0, to = 275.0, count = 1 }}\n\
+             z_mm = {{ from = 0.0, to = 0.0, count = 1 }}\na_deg = {{ from = 0.0, to = 0.0, count = 1 }}\n\
+             c_deg = {{ from = 0.0, to = 180.0, count = 2 }}\n",
+            machine.display()
+        ),
+    )
+    .unwrap();
+    let output = run_scenario(&Scenario::load(&path).unwrap()).unwrap();
+    let csv = String::from_utf8(file(&output, "volumetric.csv").to_vec()).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "x_mm,y_mm,z_mm,a_deg,c_deg,dx_um,dy_um,dz_um,ti_urad,tj_urad"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let expected = [
+        [325.0, 275.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [
+            325.0,
+            275.0,
+            0.0,
+            0.0,
+            180.0,
+            18.0,
+            -1e5 * (20e-6f64).sin(),
+            1e5 * ((20e-6f64).cos() - 1.0),
+            0.0,
+            1e6 * (20e-6f64).sin(),
+        ],
+    ];
+    assert_eq!(rows.len(), 2);
+    for (row, want) in rows.iter().zip(expected) {
+        for (got, want) in row.iter().zip(want) {
+            // Exact values; the file rounds to 1 pm / 1 prad.
+            assert!((got - want).abs() < 2e-6, "{row:?} vs {want:?}");
+        }
+    }
+}

@@ -13,8 +13,9 @@
 //!   and its zero position (`EC0C`; `EA0A`; `EB0B`). Linear axes: the three squareness errors,
 //!   X being the reference and X–Y the reference plane: `EC0Y` (Y about Z), `EB0Z` and `EA0Z`
 //!   (Z about Y and about X).
-//! - **Tool errors** (not named by ISO 230-1): `EXT`, `EYT` tool-tip offset and `EZT` tool
-//!   length error, along x, y and z of the `tool` frame (z = tool axis, out of the tip).
+//! - **Tool errors** (not named by ISO 230-1): `EXT`, `EYT` tool-tip offset and `EZT` along the
+//!   tool axis, translations along x, y and z of the `tool` frame, whose z runs from the tip
+//!   into the spindle: `EZT > 0` is a tool that much shorter than its offset says.
 //!
 //! Translations are in m (µm in files), rotations in rad (µrad in files).
 //!
@@ -31,7 +32,9 @@
 //! **Location errors** describe the **axis line itself**, actual − nominal, in the frame of the
 //! axis's fixed side: `EX0C = +5 µm` means the C axis line lies 5 µm towards +X of where the
 //! model puts it, whichever branch C is on. As in ISO 230-1, what the axis carries is at its
-//! nominal place when the axis is at zero: a location error shows only as the axis moves.
+//! nominal place when the axis is at zero: a location error shows only as the axis moves. The
+//! nominal line is the URDF joint axis through the joint origin, which is also the pivot of the
+//! orientation errors (`EA0C`, `EB0C`).
 //! Turning by `R` about a line displaced by `δ` moves a point by `(I − R)·δ`, so on a rotary
 //! table `EX0C` shifts the tool relative to the workpiece by 0 at C = 0 and by 2·EX0C at 180°.
 //! A squareness error `ε` about direction `e_m` tilts a linear axis's line of travel, adding
@@ -282,14 +285,6 @@ pub enum ErrorModelError {
     /// A name appears twice.
     #[error("{0} is given twice")]
     Duplicate(ParameterName),
-    /// A parameter of a rotary axis has a table or harmonic in the wrong position units, etc.
-    #[error("{name}: {message}")]
-    Invalid {
-        /// The parameter.
-        name: ParameterName,
-        /// What is wrong.
-        message: String,
-    },
 }
 
 /// What a parameter does at its slot.
@@ -304,6 +299,19 @@ enum Action {
     Squareness(Axis),
     /// Position or orientation of a rotary axis line.
     RotaryLocation(Axis),
+}
+
+impl ErrorModelError {
+    /// The parameter the error is about.
+    pub fn parameter(&self) -> ParameterName {
+        match self {
+            ErrorModelError::MissingAxis { name, .. }
+            | ErrorModelError::InvalidName(name, _)
+            | ErrorModelError::NotConstant(name)
+            | ErrorModelError::NotPeriodic { name, .. }
+            | ErrorModelError::Duplicate(name) => *name,
+        }
+    }
 }
 
 /// Where a parameter acts.
@@ -332,7 +340,8 @@ pub struct Deviation {
     /// Tool-tip position deviation (m, workpiece frame).
     pub translation: Vector,
     /// Tool-axis tilt (rad): the change of the tool-axis unit vector along the nominal tool
-    /// frame's x (`ti`) and y (`tj`) axes.
+    /// frame's x (`ti`) and y (`tj`) axes. That frame turns with the spindle angle S; the
+    /// volumetric map holds S at zero.
     pub tilt: [Real; 2],
 }
 
@@ -738,6 +747,31 @@ impl ErrorModel {
         }
         workspace.slot_sensitivities = sensitivities;
         workspace.basis = basis;
+    }
+}
+
+impl ErrorModel {
+    /// The Jacobians at many states stacked into the design matrix of a linearised estimator:
+    /// five rows per state (`dx, dy, dz, ti, tj`, in that order), one column per coefficient.
+    /// Its null space is what the states cannot tell apart.
+    pub fn stacked_jacobian(
+        &self,
+        machine: &Machine,
+        workspace: &mut Workspace,
+        states: &[MachineState],
+    ) -> nalgebra::DMatrix<Real> {
+        let n = self.coefficient_count();
+        let mut matrix = nalgebra::DMatrix::zeros(5 * states.len(), n);
+        let mut columns = vec![[0.0; 5]; n];
+        for (i, state) in states.iter().enumerate() {
+            self.jacobian(machine, workspace, state, &mut columns);
+            for (c, column) in columns.iter().enumerate() {
+                for (row, value) in column.iter().enumerate() {
+                    matrix[(5 * i + row, c)] = *value;
+                }
+            }
+        }
+        matrix
     }
 }
 

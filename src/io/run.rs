@@ -15,6 +15,12 @@ pub enum RunError {
     /// The evaluation model does not fit the machine.
     #[error(transparent)]
     Model(#[from] Lu2012Error),
+    /// The model produced a deviation that is not a number (nothing is written).
+    #[error("the deviation at grid point {row} is not finite; check the error functions")]
+    NotFinite {
+        /// The 0-based row of the volumetric map.
+        row: usize,
+    },
     /// An output could not be written.
     #[error("{path}: cannot write: {message}")]
     Write {
@@ -42,6 +48,12 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
     let mut volumetric_rows = 0;
     if let Some(spec) = &scenario.volumetric {
         let map = volumetric_map(&scenario.twin, &spec.grid, spec.model)?;
+        let finite = |r: &crate::twin::VolumetricRow| {
+            r.deviation.translation.is_finite() && r.deviation.tilt.iter().all(|t| t.is_finite())
+        };
+        if let Some(row) = map.rows.iter().position(|r| !finite(r)) {
+            return Err(RunError::NotFinite { row });
+        }
         volumetric_rows = map.rows.len();
         let mut bytes = Vec::new();
         map.write_csv(&mut bytes)
@@ -136,8 +148,9 @@ fn truth(scenario: &Scenario) -> Value {
     json!({
         "machine": machine.name(),
         "seed": scenario.seed,
-        "convention": "deviation = actual - nominal; each parameter is a motion of the tool relative to the workpiece, \
-                       in the frame of its axis (ISO 230-1 names)",
+        "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
+                       motions of the tool relative to the workpiece in the frame of their axis; location errors \
+                       (E?0?) are the axis line itself, actual - nominal, zero at the axis zero (ISO 230-1 names)",
         "errors": errors,
         "coefficients_si": coefficients,
     })

@@ -27,7 +27,8 @@
 //! their travel, or 0, 90, 180, 270° for a continuous axis.
 
 use crate::errors::{
-    ErrorFunction, ErrorModel, ErrorParameter, Interpolation, ParameterName, Table, TableError,
+    ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Interpolation, ParameterName,
+    Table, TableError,
 };
 use crate::machine::{Axis, Machine, axis_unit_to_si};
 use crate::math::{RAD_PER_URAD, Real, sha256_hex};
@@ -37,6 +38,13 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
+
+/// The most grid points a volumetric map may have (its rows are held in memory).
+pub const MAX_GRID_POINTS: usize = 10_000_000;
+
+/// The largest error the small-motion model is meant for: 10 mm or 10 mrad. Larger values are
+/// typing mistakes (a unit off by 10³), not machine errors.
+const LARGEST_ERROR: Real = 1e-2;
 
 /// The scenario schema this version reads.
 pub const SCHEMA_VERSION: i64 = 1;
@@ -287,6 +295,7 @@ impl Context<'_> {
             .matches('\n')
             .count();
         let mut seen = 0;
+        let mut last_seen = None;
         for (index, line) in self.text.lines().enumerate().skip(first_line) {
             let trimmed = line.trim_start();
             if index > first_line && trimmed.starts_with('[') && !trimmed.contains('=') {
@@ -301,10 +310,12 @@ impl Context<'_> {
                         return Some(index + 1);
                     }
                     seen += 1;
+                    last_seen = Some(index + 1);
                 }
             }
         }
-        None
+        // Fewer occurrences than the entry's index: entries may spell the field differently.
+        last_seen
     }
 }
 
@@ -386,13 +397,19 @@ impl Scenario {
                 format!("machine: cannot read {}: {e}", machine_file.display()),
             )
         })?;
-        let machine = Machine::from_urdf_file(&machine_file).map_err(|e| {
+        // Parse the very bytes that are hashed into the manifest.
+        let machine_error = |message: String| {
             context.error(
                 Some(raw.machine.span()),
                 ScenarioErrorKind::Machine,
-                format!("machine: {e}"),
+                format!("machine: {message}"),
             )
+        };
+        let machine_source = std::str::from_utf8(&machine_text).map_err(|e| {
+            machine_error(format!("{}: not UTF-8 text: {e}", machine_file.display()))
         })?;
+        let machine = Machine::from_urdf_str(machine_source, &machine_file.display().to_string())
+            .map_err(|e| machine_error(e.to_string()))?;
 
         let mut parameters = Vec::new();
         let mut error_specs = BTreeMap::new();
@@ -458,8 +475,33 @@ impl Scenario {
             error_specs.insert(parameter.to_string(), spec.get_ref().clone());
         }
         let errors = ErrorModel::new(&machine, parameters).map_err(|e| {
-            context.error(None, ScenarioErrorKind::Parameter, format!("errors: {e}"))
+            let name = e.parameter().to_string();
+            let span = raw
+                .errors
+                .iter()
+                .find(|(key, _)| *key.get_ref() == name)
+                .map(|(_, spec)| spec.span());
+            let kind = match e {
+                ErrorModelError::NotPeriodic { .. } | ErrorModelError::NotConstant(_) => {
+                    ScenarioErrorKind::Value
+                }
+                _ => ScenarioErrorKind::Parameter,
+            };
+            context.error(span, kind, format!("errors.{e}"))
         })?;
+        for parameter in errors.parameters() {
+            if let Some(message) = implausible(parameter, &machine) {
+                let spec = raw
+                    .errors
+                    .iter()
+                    .find(|(key, _)| *key.get_ref() == parameter.name.to_string());
+                return Err(context.error(
+                    spec.map(|(_, spec)| spec.span()),
+                    ScenarioErrorKind::Value,
+                    format!("errors.{}: {message}", parameter.name),
+                ));
+            }
+        }
 
         let volumetric = raw
             .volumetric
@@ -556,9 +598,8 @@ fn volumetric_spec(
                 }
                 let scale = axis_unit_to_si(axis);
                 if let Some((lower, upper)) = info.limits {
-                    let tolerance = 1e-9 * (1.0 + lower.abs().max(upper.abs()));
                     for value in [from, to] {
-                        if value * scale < lower - tolerance || value * scale > upper + tolerance {
+                        if !info.within_travel(value * scale) {
                             return Err(fail(format!(
                                 "{value} is outside the travel of {axis} ({} .. {} {})",
                                 lower / scale,
@@ -567,6 +608,11 @@ fn volumetric_spec(
                             )));
                         }
                     }
+                }
+                if count > MAX_GRID_POINTS {
+                    return Err(fail(format!(
+                        "count {count} is more than the {MAX_GRID_POINTS} points a map may have"
+                    )));
                 }
                 (from * scale, to * scale, count)
             }
@@ -582,6 +628,22 @@ fn volumetric_spec(
             })
             .collect();
         grid.push(GridAxis { axis, values });
+    }
+    let points = grid
+        .iter()
+        .try_fold(1usize, |product, g| product.checked_mul(g.values.len()));
+    if points.is_none_or(|p| p > MAX_GRID_POINTS) {
+        return Err(context.error(
+            Some(raw.span()),
+            ScenarioErrorKind::Grid,
+            format!(
+                "volumetric: the grid has {} points; at most {MAX_GRID_POINTS}",
+                grid.iter()
+                    .map(|g| g.values.len().to_string())
+                    .collect::<Vec<_>>()
+                    .join(" × ")
+            ),
+        ));
     }
     Ok(VolumetricSpec { model, grid })
 }
@@ -724,7 +786,7 @@ fn spec_to_function(
         finite(period_key.clone(), &[period])?;
         finite(amplitude_key, &[amplitude])?;
         finite(key("phase_deg"), &[h.phase_deg])?;
-        if period <= 0.0 {
+        if (period * position_scale).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return fail(Value, period_key, format!("must be positive, got {period}"));
         }
         terms.push(ErrorFunction::Harmonic {
@@ -783,6 +845,43 @@ fn spec_to_function(
         1 => Ok(terms.pop().expect("one term")),
         _ => Ok(ErrorFunction::Sum(terms)),
     }
+}
+
+/// Why an error parameter is not a plausible machine error, if it is not: its largest value
+/// over its axis's travel (or a turn, sampled at 1001 points) beyond [`LARGEST_ERROR`], or not
+/// finite once in SI units (e.g. a period that underflows to zero).
+fn implausible(parameter: &ErrorParameter, machine: &Machine) -> Option<String> {
+    let (lower, upper) = match parameter.name {
+        ParameterName::Component { axis, .. } => machine
+            .axis(axis)
+            .and_then(|info| info.limits)
+            .unwrap_or((0.0, std::f64::consts::TAU)),
+        _ => (0.0, 0.0),
+    };
+    let mut largest: Real = 0.0;
+    for i in 0..=1000 {
+        let q = lower + (upper - lower) * i as Real / 1000.0;
+        for direction in [
+            crate::machine::Direction::Positive,
+            crate::machine::Direction::Negative,
+        ] {
+            let value = parameter.function.value(q, direction);
+            if !value.is_finite() {
+                return Some(format!(
+                    "not a finite number at {q} (SI units) once converted"
+                ));
+            }
+            largest = largest.max(value.abs());
+        }
+    }
+    let unit = parameter.name.file_unit();
+    (largest > LARGEST_ERROR).then(|| {
+        format!(
+            "reaches {:.0} {unit} over the travel, more than the {:.0} {unit} the small-motion error model is for",
+            largest / RAD_PER_URAD,
+            LARGEST_ERROR / RAD_PER_URAD
+        )
+    })
 }
 
 /// The first key of a spec that makes it vary with position or direction (to name it when a

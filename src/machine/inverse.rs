@@ -67,6 +67,12 @@ pub enum InverseKinematicsError {
     /// The linear axes cannot reach the point (their directions are degenerate).
     #[error("the linear axes are degenerate at these rotary angles")]
     Degenerate,
+    /// The two rotary axes are parallel, so they cannot orient the tool.
+    #[error("the two rotary axes are parallel: they cannot orient the tool")]
+    ParallelRotaryAxes,
+    /// The target position is not finite.
+    #[error("the target position must be finite")]
+    NotFinite,
 }
 
 /// One factor of the rotation part of `workpiece_from_tool`.
@@ -87,13 +93,17 @@ impl Machine {
         target: &ToolTarget,
         branch: TiltBranch,
     ) -> Result<AxisValues, InverseKinematicsError> {
+        if !target.position.is_finite() {
+            return Err(InverseKinematicsError::NotFinite);
+        }
+        let is_unit = |k: Vector| (k.length() - 1.0).abs() <= 1e-9; // false for NaN
         let mut values = AxisValues::ZERO;
         let rotary: Vec<Axis> = self.rotary_axes().map(|info| info.axis).collect();
         let nominal_axis = self.workpiece_from_tool(&values).matrix3.z_axis;
         match (rotary.len(), target.axis) {
             (0, None) => {}
             (0, Some(k)) => {
-                if (k.length() - 1.0).abs() > 1e-9 {
+                if !is_unit(k) {
                     return Err(InverseKinematicsError::BadAxis);
                 }
                 if (k - nominal_axis).length() > 1e-9 {
@@ -102,7 +112,7 @@ impl Machine {
             }
             (_, None) => return Err(InverseKinematicsError::BadAxis),
             (_, Some(k)) => {
-                if (k.length() - 1.0).abs() > 1e-9 {
+                if !is_unit(k) {
                     return Err(InverseKinematicsError::BadAxis);
                 }
                 self.solve_rotary(k, branch, &mut values)?;
@@ -133,7 +143,7 @@ impl Machine {
             let mut constant = Rotation::IDENTITY;
             for joint in &branch.joints {
                 constant *= joint.origin.matrix3;
-                if matches!(joint.axis, Axis::A | Axis::B | Axis::C) {
+                if joint.axis.is_rotary() {
                     factors.push(Factor::Constant(constant));
                     factors.push(Factor::Joint {
                         axis: joint.axis,
@@ -193,7 +203,7 @@ impl Machine {
         let cross = u1.cross(u2);
         let denominator = 1.0 - d * d;
         if denominator < 1e-12 {
-            return Err(InverseKinematicsError::UnreachableDirection { direction: k });
+            return Err(InverseKinematicsError::ParallelRotaryAxes);
         }
         let a = (u1.dot(w) - d * u2.dot(v)) / denominator;
         let b = (u2.dot(v) - d * u1.dot(w)) / denominator;
@@ -204,10 +214,9 @@ impl Machine {
         }
         let c = c_squared.max(0.0).sqrt();
 
-        let tilt_axis = if matches!(axis1, Axis::A | Axis::B) && !matches!(axis2, Axis::A | Axis::B)
-        {
+        let tilt_axis = if is_tilt(axis1) && !is_tilt(axis2) {
             axis1
-        } else if matches!(axis2, Axis::A | Axis::B) && !matches!(axis1, Axis::A | Axis::B) {
+        } else if is_tilt(axis2) && !is_tilt(axis1) {
             axis2
         } else {
             axis1.min(axis2)
@@ -258,6 +267,11 @@ impl Machine {
         values[Axis::Z] = solution.z;
         Ok(())
     }
+}
+
+/// A or B: the axes that tilt the tool relative to a C table or head.
+fn is_tilt(axis: Axis) -> bool {
+    matches!(axis, Axis::A | Axis::B)
 }
 
 /// The angle about unit `u` that carries `from` onto `to` (Paden–Kahan subproblem 1), using

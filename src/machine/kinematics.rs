@@ -98,8 +98,9 @@ impl Workspace {
         }
     }
 
-    /// `world_from_slot` of every slot as left by the last evaluation (the frame each error
-    /// motion is expressed in, at the nominal pose of the joints before it).
+    /// `world_from_slot` of every slot as left by the last evaluation: the frame each error
+    /// motion is expressed in, including the error motions of the slots before it when that
+    /// evaluation had errors (nominal after a nominal evaluation).
     pub fn world_from_slot(&self) -> &[Pose] {
         &self.world_from_slot
     }
