@@ -2,7 +2,8 @@
 
 use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
-use mtwin::io::{Scenario, run_scenario, write_outputs};
+use mtwin::analysis::iso230_2;
+use mtwin::io::{PositioningTable, Scenario, run_scenario, write_outputs};
 use mtwin::machine::{Machine, Side};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -30,6 +31,23 @@ enum Command {
         /// The file.
         file: PathBuf,
     },
+    /// The standards' figures from a measurement table (simulated or real).
+    Analyze {
+        /// What the table holds: `positioning` (ISO 230-2: target_mm, deviation_um, and
+        /// optionally axis, run, direction (+/-), time_min, temp_<sensor>_degc).
+        kind: TableKind,
+        /// The table (CSV with a header).
+        file: PathBuf,
+        /// Print JSON with stable keys instead of the report for people.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum TableKind {
+    /// Linear positioning deviations (laser interferometer), evaluated to ISO 230-2:2014.
+    Positioning,
 }
 
 fn main() -> ExitCode {
@@ -58,6 +76,21 @@ fn execute(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Check { file } => check(&file),
+        Command::Analyze {
+            kind: TableKind::Positioning,
+            file,
+            json,
+        } => {
+            let table = PositioningTable::read(&file)?;
+            let result = iso230_2::evaluate(&table)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&result.to_json(&table))?);
+            } else {
+                print!("{}", result.to_text(&table));
+            }
+            Ok(())
+        }
     }
 }
 

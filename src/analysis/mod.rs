@@ -1,0 +1,3 @@
+//! Analyses: the standards' figures from measurement tables, simulated or real alike.
+
+pub mod iso230_2;

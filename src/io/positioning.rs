@@ -1,0 +1,287 @@
+//! The `positioning` measurement table: linear positioning deviations along one axis, as a
+//! laser interferometer records them (ISO 230-2) — simulated or exported from a real
+//! instrument, written by hand, in any column order.
+//!
+//! | column | required | meaning |
+//! |---|---|---|
+//! | `target_mm` | yes | target position (mm) |
+//! | `deviation_um` | yes | reached − target (µm) |
+//! | `axis` | no | `X`, `Y` or `Z` |
+//! | `run` | no | run label; runs are ordered by first appearance |
+//! | `direction` | no | `+` reached while travelling positive, `-` negative |
+//! | `time_min` | no | time since the start of the test (min) |
+//! | `temp_<sensor>_degc` | no, any number | temperatures (°C) |
+//!
+//! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
+//! reading at a target in a direction belongs to run k.
+
+use crate::machine::Axis;
+use crate::math::{M_PER_MM, M_PER_UM, Real};
+use std::path::Path;
+
+/// Direction of approach to a target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Approach {
+    /// Reached while travelling in the positive direction (↑).
+    Up,
+    /// Reached while travelling in the negative direction (↓).
+    Down,
+}
+
+/// One reading.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositioningReading {
+    /// Target position (m).
+    pub target: Real,
+    /// Reached − target (m).
+    pub deviation: Real,
+    /// Direction of approach.
+    pub approach: Approach,
+    /// Index into [`PositioningTable::runs`].
+    pub run: usize,
+    /// Time since the start of the test (s), if recorded.
+    pub time: Option<Real>,
+    /// Temperatures (°C), in the order of [`PositioningTable::sensors`].
+    pub temperatures: Vec<Real>,
+}
+
+/// A positioning table of one axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositioningTable {
+    /// The axis, if the file names it.
+    pub axis: Option<Axis>,
+    /// Run labels in order of first appearance.
+    pub runs: Vec<String>,
+    /// Temperature sensor names (the `<sensor>` of `temp_<sensor>_degc`), in column order.
+    pub sensors: Vec<String>,
+    /// Whether the file has a `direction` column.
+    pub has_direction: bool,
+    /// The readings, in file order.
+    pub readings: Vec<PositioningReading>,
+}
+
+/// Why a positioning table was rejected; the message names the file, line and column.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{}: {message}", .line.map(|l| format!(":{l}")).unwrap_or_default())]
+pub struct TableError {
+    file: String,
+    line: Option<u64>,
+    message: String,
+}
+
+impl TableError {
+    /// The 1-based line of the file the error is at, if any.
+    pub fn line(&self) -> Option<u64> {
+        self.line
+    }
+}
+
+const KNOWN: [&str; 6] = [
+    "target_mm",
+    "deviation_um",
+    "axis",
+    "run",
+    "direction",
+    "time_min",
+];
+
+impl PositioningTable {
+    /// Reads a positioning table file.
+    pub fn read(path: impl AsRef<Path>) -> Result<PositioningTable, TableError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| TableError {
+            file: file.clone(),
+            line: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        PositioningTable::parse(&bytes, &file)
+    }
+
+    /// Reads a positioning table from bytes; `file` names it in messages.
+    pub fn parse(bytes: &[u8], file: &str) -> Result<PositioningTable, TableError> {
+        let fail = |line: Option<u64>, message: String| TableError {
+            file: file.to_string(),
+            line,
+            message,
+        };
+        let mut reader = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .comment(Some(b'#'))
+            .from_reader(bytes);
+        let header = reader
+            .headers()
+            .map_err(|e| fail(Some(1), format!("cannot read the header: {e}")))?
+            .clone();
+        let column = |name: &str| header.iter().position(|h| h == name);
+        let mut sensors = Vec::new();
+        let mut sensor_columns = Vec::new();
+        for (index, name) in header.iter().enumerate() {
+            if KNOWN.contains(&name) {
+                if header.iter().filter(|h| *h == name).count() > 1 {
+                    return Err(fail(Some(1), format!("column `{name}` appears twice")));
+                }
+                continue;
+            }
+            match name
+                .strip_prefix("temp_")
+                .and_then(|rest| rest.strip_suffix("_degc"))
+            {
+                Some(sensor) if !sensor.is_empty() => {
+                    sensors.push(sensor.to_string());
+                    sensor_columns.push(index);
+                }
+                _ => {
+                    return Err(fail(
+                        Some(1),
+                        format!(
+                            "unknown column `{name}`: expected target_mm, deviation_um, axis, run, direction, \
+                             time_min or temp_<sensor>_degc"
+                        ),
+                    ));
+                }
+            }
+        }
+        let required = |name: &str| {
+            column(name).ok_or_else(|| {
+                fail(
+                    Some(1),
+                    format!("missing column `{name}` (required: target_mm, deviation_um)"),
+                )
+            })
+        };
+        let (target_column, deviation_column) = (required("target_mm")?, required("deviation_um")?);
+        let (axis_column, run_column, direction_column, time_column) = (
+            column("axis"),
+            column("run"),
+            column("direction"),
+            column("time_min"),
+        );
+
+        let mut axis: Option<Axis> = None;
+        let mut runs: Vec<String> = Vec::new();
+        let mut readings = Vec::new();
+        // Without a run column: the k-th reading at a (target, direction) is run k.
+        let mut visits: Vec<(Real, Approach, usize)> = Vec::new();
+        for record in reader.records() {
+            let record = record.map_err(|e| {
+                fail(
+                    e.position().map(|p| p.line()),
+                    format!("not a valid CSV row: {e}"),
+                )
+            })?;
+            let line = record.position().map(|p| p.line());
+            let number = |index: usize, name: &str| -> Result<Real, TableError> {
+                let text = &record[index];
+                match text.parse::<Real>() {
+                    Ok(value) if value.is_finite() => Ok(value),
+                    _ => Err(fail(
+                        line,
+                        format!("column `{name}`: expected a finite number, found \"{text}\""),
+                    )),
+                }
+            };
+            let target = number(target_column, "target_mm")? * M_PER_MM;
+            let deviation = number(deviation_column, "deviation_um")? * M_PER_UM;
+            if let Some(index) = axis_column {
+                let text = &record[index];
+                let this = match text {
+                    "X" | "x" => Axis::X,
+                    "Y" | "y" => Axis::Y,
+                    "Z" | "z" => Axis::Z,
+                    _ => {
+                        return Err(fail(
+                            line,
+                            format!("column `axis`: expected X, Y or Z, found \"{text}\""),
+                        ));
+                    }
+                };
+                match axis {
+                    Some(first) if first != this => {
+                        return Err(fail(
+                            line,
+                            format!(
+                                "column `axis`: axis {this} after {first}; a positioning table holds one axis"
+                            ),
+                        ));
+                    }
+                    _ => axis = Some(this),
+                }
+            }
+            let approach = match direction_column.map(|index| &record[index]) {
+                None | Some("+") => Approach::Up,
+                Some("-") => Approach::Down,
+                Some(other) => {
+                    return Err(fail(
+                        line,
+                        format!("column `direction`: expected + or -, found \"{other}\""),
+                    ));
+                }
+            };
+            let run = match run_column {
+                Some(index) => {
+                    let label = &record[index];
+                    if label.is_empty() {
+                        return Err(fail(line, "column `run`: empty label".into()));
+                    }
+                    match runs.iter().position(|r| r == label) {
+                        Some(run) => run,
+                        None => {
+                            runs.push(label.to_string());
+                            runs.len() - 1
+                        }
+                    }
+                }
+                None => {
+                    let key = (target / M_PER_MM * 1e6).round() * M_PER_MM / 1e6;
+                    let count = match visits
+                        .iter_mut()
+                        .find(|(t, a, _)| *t == key && *a == approach)
+                    {
+                        Some(visit) => {
+                            visit.2 += 1;
+                            visit.2
+                        }
+                        None => {
+                            visits.push((key, approach, 1));
+                            1
+                        }
+                    };
+                    while runs.len() < count {
+                        runs.push((runs.len() + 1).to_string());
+                    }
+                    count - 1
+                }
+            };
+            let time = time_column
+                .map(|index| number(index, "time_min").map(|t| t * 60.0))
+                .transpose()?;
+            let temperatures = sensor_columns
+                .iter()
+                .zip(&sensors)
+                .map(|(&index, sensor)| number(index, &format!("temp_{sensor}_degc")))
+                .collect::<Result<Vec<_>, _>>()?;
+            readings.push(PositioningReading {
+                target,
+                deviation,
+                approach,
+                run,
+                time,
+                temperatures,
+            });
+        }
+        if readings.is_empty() {
+            return Err(fail(
+                None,
+                "no readings: expected one row per reading after the header".into(),
+            ));
+        }
+        Ok(PositioningTable {
+            axis,
+            runs,
+            sensors,
+            has_direction: direction_column.is_some(),
+            readings,
+        })
+    }
+}
