@@ -228,3 +228,44 @@ fn analyze_command_prints_the_report_and_json() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("x.csv"));
 }
+
+#[test]
+fn thermal_series_reports_each_run_and_the_drift_of_every_target() {
+    // Three runs at nut temperatures 22, 24, 26 °C (times 0, 60, 120 min); the axis expands by
+    // 11.7 µm/m/°C from its origin: deviation = 2 + 0.0117·x_mm·(T - 22) µm. By hand: the drift
+    // at 600 mm in the last run is 0.0117·600·4 = 28.08 µm, its slope 7.02 µm/°C, and the
+    // target at 0 mm does not drift.
+    let mut text = String::from("run,time_min,temp_nut_degc,target_mm,deviation_um\n");
+    for (run, (time, temp)) in [(0.0, 22.0), (60.0, 24.0), (120.0, 26.0)]
+        .iter()
+        .enumerate()
+    {
+        for x in [0.0, 300.0, 600.0] {
+            let deviation = 2.0 + 0.0117 * x * (temp - 22.0);
+            text += &format!("warm{run},{time},{temp},{x},{deviation}\n");
+        }
+    }
+    let table = parse(&text);
+    let json = evaluate(&table).unwrap().to_json(&table);
+    let runs = json["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 3);
+    assert_eq!(runs[2]["run"], "warm2");
+    assert_eq!(runs[2]["time_min"], 120.0);
+    assert_eq!(runs[2]["temperatures_degc"]["nut"], 26.0);
+    let drift = json["drift"].as_array().unwrap();
+    let at = |x: f64| drift.iter().find(|d| d["target_mm"] == x).unwrap();
+    assert!((at(600.0)["range_um"].as_f64().unwrap() - 28.08).abs() < TOLERANCE_UM);
+    assert!((at(600.0)["values"][2]["drift_um"].as_f64().unwrap() - 28.08).abs() < TOLERANCE_UM);
+    assert!((at(600.0)["slope_um_per_degc"]["nut"].as_f64().unwrap() - 7.02).abs() < TOLERANCE_UM);
+    assert!((at(300.0)["slope_um_per_degc"]["nut"].as_f64().unwrap() - 3.51).abs() < TOLERANCE_UM);
+    assert_eq!(at(0.0)["range_um"], 0.0);
+    // Not a thermal series without time or temperature: no `runs`, no `drift`.
+    let plain = parse(&eight_by_five());
+    assert!(
+        evaluate(&plain)
+            .unwrap()
+            .to_json(&plain)
+            .get("runs")
+            .is_none()
+    );
+}

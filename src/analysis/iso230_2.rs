@@ -259,7 +259,8 @@ impl Iso230_2 {
     /// A_down_um, R_um, R_up_um, R_down_um, B_um, B_mean_um` (null when the file lacks the
     /// direction they need), `targets` (per target: `target_mm, n_up, n_down, mean_up_um,
     /// mean_down_um, s_up_um, s_down_um, R_up_um, R_down_um, mean_um, B_um, R_um`), and `kind`,
-    /// `standard`, `axis`, `n_targets`, `n_runs`, `bidirectional`, `note`.
+    /// `standard`, `axis`, `n_targets`, `n_runs`, `bidirectional`, `note`; for a thermal series
+    /// (see [`super::thermal_series`]) also `runs` and `drift`.
     pub fn to_json(&self, table: &PositioningTable) -> serde_json::Value {
         use serde_json::json;
         let option = |value: Option<Real>| value.map(um);
@@ -283,7 +284,7 @@ impl Iso230_2 {
                 })
             })
             .collect();
-        json!({
+        let mut report = json!({
             "kind": "positioning",
             "standard": "ISO 230-2:2014",
             "axis": table.axis.map(|a| a.to_string()),
@@ -304,7 +305,13 @@ impl Iso230_2 {
             "B_um": option(self.both.map(|b| b.reversal)),
             "B_mean_um": option(self.both.map(|b| b.mean_reversal)),
             "targets": targets,
-        })
+        });
+        if let Some(series) = super::thermal_series::thermal_series(table) {
+            let (runs, drift) = series.to_json();
+            report["runs"] = runs;
+            report["drift"] = drift;
+        }
+        report
     }
 
     /// What the evaluation could not give, if anything.
@@ -388,6 +395,9 @@ impl Iso230_2 {
             "mean reversal value B̄ (µm)",
             self.both.map(|b| b.mean_reversal),
         );
+        if let Some(series) = super::thermal_series::thermal_series(table) {
+            out += &series.to_text();
+        }
         if let Some(note) = self.note() {
             let _ = writeln!(out, "\nNote: {note}.");
         }

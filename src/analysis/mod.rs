@@ -1,3 +1,4 @@
 //! Analyses: the standards' figures from measurement tables, simulated or real alike.
 
 pub mod iso230_2;
+pub mod thermal_series;

@@ -1,0 +1,246 @@
+//! A positioning table as a thermal series (ISO 230-3 §7 style): runs taken at different
+//! times or temperatures, each with its error curve, and the drift of every target against
+//! time and temperature.
+//!
+//! A table is a thermal series when it has a `time_min` or a `temp_<sensor>_degc` column and at
+//! least two runs. A run's time and temperatures are the means over its readings. The drift of
+//! a target (in one direction) is its mean deviation in each run minus that in the first run
+//! that reached it; its sensitivity to a sensor is the least-squares slope of the deviation
+//! against that sensor's run temperature.
+
+use crate::io::{Approach, PositioningTable};
+use crate::math::Real;
+
+/// One run of a thermal series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunCurve {
+    /// The run label.
+    pub label: String,
+    /// Mean time of its readings (s), if recorded.
+    pub time: Option<Real>,
+    /// Mean temperature of each sensor over its readings (°C).
+    pub temperatures: Vec<Real>,
+    /// Mean deviation (m) per (target, direction), in increasing target, + before −.
+    pub points: Vec<(Real, Approach, Real)>,
+}
+
+/// The drift of one target in one direction over the runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TargetDrift {
+    /// Target position (m).
+    pub target: Real,
+    /// Direction of approach.
+    pub approach: Approach,
+    /// Per run that reached it: (run index, deviation − deviation in its first run) (m).
+    pub drift: Vec<(usize, Real)>,
+    /// max − min of the drift (m).
+    pub range: Real,
+    /// Least-squares slope of the deviation against each sensor's run temperature (m/°C);
+    /// `None` when that sensor did not change between the runs.
+    pub slopes: Vec<Option<Real>>,
+}
+
+/// The thermal-series view of a positioning table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThermalSeries {
+    /// Sensor names, as in the table.
+    pub sensors: Vec<String>,
+    /// Each run's curve, in run order.
+    pub runs: Vec<RunCurve>,
+    /// Each target's drift.
+    pub drift: Vec<TargetDrift>,
+}
+
+/// Targets closer than this (m) are the same target.
+const SAME_TARGET: Real = 1e-9;
+
+/// The thermal series of `table`, if it is one.
+pub fn thermal_series(table: &PositioningTable) -> Option<ThermalSeries> {
+    let timed = table.readings.iter().any(|r| r.time.is_some());
+    if !(timed || !table.sensors.is_empty()) || table.runs.len() < 2 {
+        return None;
+    }
+    let mut keys: Vec<(Real, Approach)> = table
+        .readings
+        .iter()
+        .map(|r| (r.target, r.approach))
+        .collect();
+    keys.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    keys.dedup_by(|a, b| (a.0 - b.0).abs() < SAME_TARGET && a.1 == b.1);
+
+    let mean = |values: &mut dyn Iterator<Item = Real>| {
+        let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+        (n > 0).then(|| sum / n as Real)
+    };
+    let runs: Vec<RunCurve> = table
+        .runs
+        .iter()
+        .enumerate()
+        .map(|(run, label)| {
+            let readings = || table.readings.iter().filter(move |r| r.run == run);
+            let points = keys
+                .iter()
+                .filter_map(|&(target, approach)| {
+                    let mut values = readings()
+                        .filter(|r| {
+                            r.approach == approach && (r.target - target).abs() < SAME_TARGET
+                        })
+                        .map(|r| r.deviation);
+                    mean(&mut values).map(|m| (target, approach, m))
+                })
+                .collect();
+            RunCurve {
+                label: label.clone(),
+                time: mean(&mut readings().filter_map(|r| r.time)),
+                temperatures: (0..table.sensors.len())
+                    .map(|k| mean(&mut readings().map(|r| r.temperatures[k])).unwrap_or(Real::NAN))
+                    .collect(),
+                points,
+            }
+        })
+        .collect();
+
+    let drift = keys
+        .iter()
+        .map(|&(target, approach)| {
+            let visits: Vec<(usize, Real)> = runs
+                .iter()
+                .enumerate()
+                .filter_map(|(run, curve)| {
+                    curve
+                        .points
+                        .iter()
+                        .find(|p| (p.0 - target).abs() < SAME_TARGET && p.1 == approach)
+                        .map(|p| (run, p.2))
+                })
+                .collect();
+            let first = visits.first().map_or(0.0, |v| v.1);
+            let drift: Vec<(usize, Real)> =
+                visits.iter().map(|&(run, d)| (run, d - first)).collect();
+            let range = drift
+                .iter()
+                .map(|d| d.1)
+                .fold(Real::NEG_INFINITY, Real::max)
+                - drift.iter().map(|d| d.1).fold(Real::INFINITY, Real::min);
+            let slopes = (0..table.sensors.len())
+                .map(|k| {
+                    slope(
+                        visits
+                            .iter()
+                            .map(|&(run, d)| (runs[run].temperatures[k], d)),
+                    )
+                })
+                .collect();
+            TargetDrift {
+                target,
+                approach,
+                drift,
+                range,
+                slopes,
+            }
+        })
+        .collect();
+    Some(ThermalSeries {
+        sensors: table.sensors.clone(),
+        runs,
+        drift,
+    })
+}
+
+/// Least-squares slope of y on x; `None` when x does not vary (or fewer than two points).
+fn slope(points: impl Iterator<Item = (Real, Real)> + Clone) -> Option<Real> {
+    let n = points.clone().count() as Real;
+    if n < 2.0 {
+        return None;
+    }
+    let (mx, my) = points
+        .clone()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    let sxx: Real = points.clone().map(|(x, _)| (x - mx).powi(2)).sum();
+    let sxy: Real = points.map(|(x, y)| (x - mx) * (y - my)).sum();
+    (sxx > 1e-12).then(|| sxy / sxx)
+}
+
+impl ThermalSeries {
+    /// JSON: `runs` (per run: `run, time_min, temperatures_degc {sensor: °C}, points [{target_mm,
+    /// direction, deviation_um}]`) and `drift` (per target and direction: `target_mm, direction,
+    /// range_um, values [{run, drift_um}], slope_um_per_degc {sensor: µm/°C or null}`).
+    pub fn to_json(&self) -> (serde_json::Value, serde_json::Value) {
+        use serde_json::{Map, json};
+        let um = |v: Real| (v * 1e12).round() / 1e6;
+        let mm = |v: Real| (v * 1e9).round() / 1e6;
+        let sign = |a: Approach| if a == Approach::Up { "+" } else { "-" };
+        let runs = self
+            .runs
+            .iter()
+            .map(|run| {
+                let temperatures: Map<String, serde_json::Value> = self
+                    .sensors
+                    .iter()
+                    .zip(&run.temperatures)
+                    .map(|(s, t)| (s.clone(), json!(t)))
+                    .collect();
+                json!({
+                    "run": run.label,
+                    "time_min": run.time.map(|t| t / 60.0),
+                    "temperatures_degc": temperatures,
+                    "points": run.points.iter().map(|&(t, a, d)| json!({
+                        "target_mm": mm(t), "direction": sign(a), "deviation_um": um(d)
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect::<Vec<_>>();
+        let drift = self
+            .drift
+            .iter()
+            .map(|d| {
+                let slopes: Map<String, serde_json::Value> = self
+                    .sensors
+                    .iter()
+                    .zip(&d.slopes)
+                    .map(|(s, v)| (s.clone(), json!(v.map(|v| um(v)))))
+                    .collect();
+                json!({
+                    "target_mm": mm(d.target),
+                    "direction": sign(d.approach),
+                    "range_um": um(d.range),
+                    "values": d.drift.iter().map(|&(run, v)| json!({
+                        "run": self.runs[run].label, "drift_um": um(v)
+                    })).collect::<Vec<_>>(),
+                    "slope_um_per_degc": slopes,
+                })
+            })
+            .collect::<Vec<_>>();
+        (json!(runs), json!(drift))
+    }
+
+    /// A short report for people: each run's time and temperatures, and the drift range of
+    /// every target.
+    pub fn to_text(&self) -> String {
+        use std::fmt::Write;
+        let mut out =
+            String::from("\nThermal series (drift relative to each target's first run):\n");
+        for run in &self.runs {
+            let time = run
+                .time
+                .map_or_else(String::new, |t| format!("  t = {:.1} min", t / 60.0));
+            let temps: String = self
+                .sensors
+                .iter()
+                .zip(&run.temperatures)
+                .map(|(s, t)| format!("  {s} {t:.2} °C"))
+                .collect();
+            let _ = writeln!(out, "  run {}{time}{temps}", run.label);
+        }
+        for d in &self.drift {
+            let sign = if d.approach == Approach::Up { '+' } else { '-' };
+            let _ = writeln!(
+                out,
+                "  target {:>10.4} mm {sign}  drift range {:>8.3} µm",
+                d.target * 1e3,
+                d.range * 1e6
+            );
+        }
+        out
+    }
+}
