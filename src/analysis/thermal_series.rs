@@ -57,7 +57,8 @@ const SAME_TARGET: Real = 1e-9;
 /// The thermal series of `table`, if it is one.
 pub fn thermal_series(table: &PositioningTable) -> Option<ThermalSeries> {
     let timed = table.readings.iter().any(|r| r.time.is_some());
-    if !(timed || !table.sensors.is_empty()) || table.runs.len() < 2 {
+    let thermal = timed || !table.sensors.is_empty();
+    if !thermal || table.runs.len() < 2 {
         return None;
     }
     let mut keys: Vec<(Real, Approach)> = table
@@ -198,7 +199,7 @@ impl ThermalSeries {
                     .sensors
                     .iter()
                     .zip(&d.slopes)
-                    .map(|(s, v)| (s.clone(), json!(v.map(|v| um(v)))))
+                    .map(|(s, v)| (s.clone(), json!(v.map(um))))
                     .collect();
                 json!({
                     "target_mm": mm(d.target),
