@@ -23,4 +23,5 @@ pub mod errors;
 pub mod io;
 pub mod machine;
 pub mod math;
+pub mod thermal;
 pub mod twin;

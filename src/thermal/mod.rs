@@ -1,0 +1,8 @@
+//! Thermal behaviour (ISO 230-3): a lumped thermal network driven by what the machine does,
+//! and temperature sensors on its nodes.
+
+mod network;
+mod sensor;
+
+pub use network::{ThermalNetwork, ThermalNetworkError, ThermalNode, ThermalStepper};
+pub use sensor::{SensorSpec, TemperatureSensor};
