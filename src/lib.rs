@@ -20,8 +20,10 @@
 
 pub mod analysis;
 pub mod errors;
+pub mod instruments;
 pub mod io;
 pub mod machine;
 pub mod math;
+pub mod program;
 pub mod thermal;
 pub mod twin;

@@ -18,7 +18,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Simulate a scenario: writes volumetric.csv, truth.json and manifest.json into --out.
+    /// Simulate a scenario: writes what it asks for (volumetric.csv, positioning.csv), with
+    /// truth.json and manifest.json, into --out.
     Run {
         /// The scenario (TOML).
         scenario: PathBuf,
@@ -69,10 +70,7 @@ fn execute(cli: Cli) -> Result<()> {
             for (name, bytes) in &output.files {
                 println!("{}  ({} bytes)", out.join(name).display(), bytes.len());
             }
-            println!(
-                "{} grid points, seed {}",
-                output.volumetric_rows, scenario.seed
-            );
+            println!("seed {}", scenario.seed);
             Ok(())
         }
         Command::Check { file } => check(&file),

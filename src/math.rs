@@ -68,6 +68,15 @@ pub fn seeded_rng(seed: u64, component: &str) -> ChaCha8Rng {
     ChaCha8Rng::from_seed(key)
 }
 
+/// A standard normal draw (Box–Muller on two uniforms), so that noise depends only on the
+/// seeded stream it comes from.
+pub fn standard_normal(rng: &mut ChaCha8Rng) -> Real {
+    use rand::RngExt;
+    let u1: Real = 1.0 - rng.random::<Real>(); // (0, 1]: ln is finite
+    let u2: Real = rng.random::<Real>();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
 /// Lower-case hexadecimal SHA-256 of some bytes (model and scenario identity in manifests).
 pub fn sha256_hex(bytes: &[u8]) -> String {
     Sha256::digest(bytes)

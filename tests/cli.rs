@@ -100,7 +100,11 @@ fn check_accepts_every_model() {
 #[test]
 fn check_accepts_every_scenario() {
     let scenarios = files_with_extension("scenarios", "toml");
-    assert_eq!(scenarios.len(), 3, "one volumetric scenario per model");
+    assert_eq!(
+        scenarios.len(),
+        4,
+        "one volumetric scenario per model and the ISO 230-2 laser test"
+    );
     for scenario in scenarios {
         let output = check(&scenario);
         assert!(

@@ -17,30 +17,39 @@ fn file<'a>(output: &'a mtwin::io::RunOutput, name: &str) -> &'a [u8] {
 }
 
 #[test]
-fn every_bundled_scenario_runs_with_the_grid_it_asks_for() {
-    // Grid sizes counted by hand from the [volumetric] sections.
+fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
+    // Row counts by hand: volumetric grids from the [volumetric] sections; the ISO 230-2 test
+    // reads 9 targets × 2 directions × 5 runs.
     let expected = [
-        ("vmc3_volumetric.toml", 9 * 5 * 5),
-        ("trunnion5_volumetric.toml", 3 * 3 * 3 * 5 * 8),
-        ("headtable5_volumetric.toml", 3 * 3 * 3 * 5 * 4),
+        ("vmc3_volumetric.toml", "volumetric.csv", 9 * 5 * 5),
+        (
+            "trunnion5_volumetric.toml",
+            "volumetric.csv",
+            3 * 3 * 3 * 5 * 8,
+        ),
+        (
+            "headtable5_volumetric.toml",
+            "volumetric.csv",
+            3 * 3 * 3 * 5 * 4,
+        ),
+        ("vmc3_iso230_2.toml", "positioning.csv", 9 * 2 * 5),
     ];
     let on_disk: BTreeSet<String> = std::fs::read_dir(scenario_path(""))
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter(|n| n.ends_with(".toml"))
         .collect();
-    let listed: BTreeSet<String> = expected.iter().map(|(n, _)| n.to_string()).collect();
+    let listed: BTreeSet<String> = expected.iter().map(|(n, _, _)| n.to_string()).collect();
     assert_eq!(
         on_disk, listed,
         "every bundled scenario is run by this test"
     );
-    for (name, rows) in expected {
+    for (name, table, rows) in expected {
         let output = run_scenario(&Scenario::load(scenario_path(name)).unwrap()).unwrap();
-        assert_eq!(output.volumetric_rows, rows, "{name}");
-        let csv = String::from_utf8(file(&output, "volumetric.csv").to_vec()).unwrap();
+        let csv = String::from_utf8(file(&output, table).to_vec()).unwrap();
         assert_eq!(csv.lines().count(), rows + 1, "{name}: header + rows");
         let names: Vec<&str> = output.files.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["volumetric.csv", "truth.json", "manifest.json"]);
+        assert_eq!(names, [table, "truth.json", "manifest.json"]);
     }
 }
 

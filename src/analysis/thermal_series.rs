@@ -2,8 +2,9 @@
 //! times or temperatures, each with its error curve, and the drift of every target against
 //! time and temperature.
 //!
-//! A table is a thermal series when it has a `time_min` or a `temp_<sensor>_degc` column and at
-//! least two runs. A run's time and temperatures are the means over its readings. The drift of
+//! A table is a thermal series when it has at least two runs and either a `temp_<sensor>_degc`
+//! column or run times spread over at least [`MIN_SERIES_SPAN_MIN`] minutes (a plain ISO 230-2
+//! test of a few minutes is not one). A run's time and temperatures are the means over its readings. The drift of
 //! a target (in one direction) is its mean deviation in each run minus that in the first run
 //! that reached it; its sensitivity to a sensor is the least-squares slope of the deviation
 //! against that sensor's run temperature.
@@ -54,10 +55,15 @@ pub struct ThermalSeries {
 /// Targets closer than this (m) are the same target.
 const SAME_TARGET: Real = 1e-9;
 
+/// The spread of run times (min) that makes a timed table a thermal series.
+pub const MIN_SERIES_SPAN_MIN: Real = 30.0;
+
 /// The thermal series of `table`, if it is one.
 pub fn thermal_series(table: &PositioningTable) -> Option<ThermalSeries> {
-    let timed = table.readings.iter().any(|r| r.time.is_some());
-    let thermal = timed || !table.sensors.is_empty();
+    let times = table.readings.iter().filter_map(|r| r.time);
+    let span =
+        times.clone().fold(Real::NEG_INFINITY, Real::max) - times.fold(Real::INFINITY, Real::min);
+    let thermal = !table.sensors.is_empty() || span >= MIN_SERIES_SPAN_MIN * 60.0;
     if !thermal || table.runs.len() < 2 {
         return None;
     }

@@ -11,6 +11,6 @@ mod scenario;
 pub use positioning::{Approach, PositioningReading, PositioningTable, TableError};
 pub use run::{RunError, RunOutput, run_scenario, write_outputs};
 pub use scenario::{
-    ErrorSpec, HarmonicSpec, InterpolationSpec, SCHEMA_VERSION, Scenario, ScenarioError,
+    ErrorSpec, HarmonicSpec, InterpolationSpec, LaserTest, SCHEMA_VERSION, Scenario, ScenarioError,
     ScenarioErrorKind, TableSpec, VolumetricSpec,
 };

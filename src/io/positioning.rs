@@ -16,7 +16,7 @@
 //! reading at a target in a direction belongs to run k.
 
 use crate::machine::Axis;
-use crate::math::{M_PER_MM, M_PER_UM, Real};
+use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 use std::path::Path;
 
 /// Direction of approach to a target.
@@ -283,5 +283,42 @@ impl PositioningTable {
             has_direction: direction_column.is_some(),
             readings,
         })
+    }
+}
+
+impl PositioningTable {
+    /// Writes the table: `axis, run, direction, target_mm, deviation_um, time_min` (the columns
+    /// it has) then `temp_<sensor>_degc`; positions to 1 nm, deviations to 1 pm, times to
+    /// 1 µmin, temperatures to 1 µK, so the same table gives the same bytes.
+    pub fn write_csv(&self, out: impl std::io::Write) -> csv::Result<()> {
+        let mut writer = csv::Writer::from_writer(out);
+        let timed = self.readings.iter().any(|r| r.time.is_some());
+        let mut header: Vec<String> = Vec::new();
+        if self.axis.is_some() {
+            header.push("axis".into());
+        }
+        header.extend(["run", "direction", "target_mm", "deviation_um"].map(String::from));
+        if timed {
+            header.push("time_min".into());
+        }
+        header.extend(self.sensors.iter().map(|s| format!("temp_{s}_degc")));
+        writer.write_record(&header)?;
+        for r in &self.readings {
+            let mut record: Vec<String> = Vec::with_capacity(header.len());
+            if let Some(axis) = self.axis {
+                record.push(axis.to_string());
+            }
+            record.push(self.runs[r.run].clone());
+            record.push(if r.approach == Approach::Up { "+" } else { "-" }.into());
+            record.push(fixed(r.target / M_PER_MM, 6));
+            record.push(fixed(r.deviation / M_PER_UM, 6));
+            if timed {
+                record.push(r.time.map_or_else(String::new, |t| fixed(t / 60.0, 6)));
+            }
+            record.extend(r.temperatures.iter().map(|t| fixed(*t, 6)));
+            writer.write_record(&record)?;
+        }
+        writer.flush()?;
+        Ok(())
     }
 }

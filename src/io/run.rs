@@ -36,8 +36,6 @@ pub enum RunError {
 pub struct RunOutput {
     /// `(file name, bytes)`; `manifest.json` last.
     pub files: Vec<(String, Vec<u8>)>,
-    /// Rows of the volumetric map.
-    pub volumetric_rows: usize,
 }
 
 /// Computes every output of `scenario` in memory: `volumetric.csv`, `truth.json` and
@@ -45,7 +43,6 @@ pub struct RunOutput {
 /// scenario was given by, so the same scenario and seed give the same bytes.
 pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
     let mut files: Vec<(String, Vec<u8>)> = Vec::new();
-    let mut volumetric_rows = 0;
     if let Some(spec) = &scenario.volumetric {
         let map = volumetric_map(&scenario.twin, &spec.grid, spec.model)?;
         let finite = |r: &crate::twin::VolumetricRow| {
@@ -54,11 +51,26 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
         if let Some(row) = map.rows.iter().position(|r| !finite(r)) {
             return Err(RunError::NotFinite { row });
         }
-        volumetric_rows = map.rows.len();
         let mut bytes = Vec::new();
         map.write_csv(&mut bytes)
             .expect("writing to memory cannot fail");
         files.push(("volumetric.csv".into(), bytes));
+    }
+    if let Some(test) = &scenario.laser_test {
+        let visits = test.cycle.visits();
+        let mut rng = crate::math::seeded_rng(scenario.seed, "laser");
+        let table = test.laser.measure(
+            &scenario.twin.machine,
+            &scenario.twin.errors,
+            &visits,
+            &test.cycle.targets,
+            &mut rng,
+        );
+        let mut bytes = Vec::new();
+        table
+            .write_csv(&mut bytes)
+            .expect("writing to memory cannot fail");
+        files.push(("positioning.csv".into(), bytes));
     }
     files.push(("truth.json".into(), to_json_bytes(&truth(scenario))));
 
@@ -79,10 +91,7 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
         "files": listed,
     });
     files.push(("manifest.json".into(), to_json_bytes(&manifest)));
-    Ok(RunOutput {
-        files,
-        volumetric_rows,
-    })
+    Ok(RunOutput { files })
 }
 
 /// Writes the files into `dir` (created if needed). All are first written under temporary
@@ -145,9 +154,23 @@ fn truth(scenario: &Scenario) -> Value {
         .zip(scenario.twin.errors.coefficients())
         .map(|(label, value)| json!({ "label": label, "value_si": value }))
         .collect();
+    let laser_test = scenario.laser_test.as_ref().map(|test| {
+        let laser = &test.laser;
+        json!({
+            "axis": test.cycle.axis.to_string(),
+            "targets_mm": test.cycle.targets.iter().map(|t| t * 1e3).collect::<Vec<_>>(),
+            "runs": test.cycle.runs,
+            "beam_offset_mm": (laser.beam_offset * 1e3).to_array(),
+            "misalignment_urad": laser.misalignment.map(|m| m * 1e6),
+            "air": { "temperature_degc": laser.air.temperature, "pressure_hpa": laser.air.pressure / 100.0, "humidity_pct": laser.air.humidity },
+            "refractive_index_true": laser.air.refractive_index(crate::instruments::HENE_WAVELENGTH_UM),
+            "refractive_index_assumed": laser.assumed_index(),
+        })
+    });
     json!({
         "machine": machine.name(),
         "seed": scenario.seed,
+        "laser_test": laser_test,
         "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
                        motions of the tool relative to the workpiece in the frame of their axis; location errors \
                        (E?0?) are the axis line itself, actual - nominal, zero at the axis zero (ISO 230-1 names)",

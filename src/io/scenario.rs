@@ -39,6 +39,9 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
+mod laser_test;
+pub use laser_test::LaserTest;
+
 /// The most grid points a volumetric map may have (its rows are held in memory).
 pub const MAX_GRID_POINTS: usize = 10_000_000;
 
@@ -201,6 +204,8 @@ struct RawScenario {
     #[serde(default)]
     errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
     volumetric: Option<Spanned<RawVolumetric>>,
+    iso230_2: Option<Spanned<laser_test::RawIso230_2>>,
+    laser: Option<Spanned<laser_test::RawLaser>>,
 }
 
 #[derive(Deserialize)]
@@ -253,15 +258,17 @@ pub struct Scenario {
     pub error_specs: BTreeMap<String, ErrorSpec>,
     /// The volumetric map to compute, if asked for.
     pub volumetric: Option<VolumetricSpec>,
+    /// The laser positioning test to simulate, if asked for.
+    pub laser_test: Option<LaserTest>,
 }
 
-struct Context<'a> {
+pub(super) struct Context<'a> {
     file: String,
     text: &'a str,
 }
 
 impl Context<'_> {
-    fn error(
+    pub(super) fn error(
         &self,
         span: Option<std::ops::Range<usize>>,
         kind: ScenarioErrorKind,
@@ -508,11 +515,25 @@ impl Scenario {
             .as_ref()
             .map(|v| volumetric_spec(&context, &machine, v))
             .transpose()?;
-        if volumetric.is_none() {
+        if let (None, Some(laser)) = (&raw.iso230_2, &raw.laser) {
+            return Err(context.error(
+                Some(laser.span()),
+                ScenarioErrorKind::Nothing,
+                "laser: a laser needs a test to measure; add an [iso230_2] section",
+            ));
+        }
+        let laser_test = raw
+            .iso230_2
+            .as_ref()
+            .map(|test| {
+                laser_test::laser_test(&context, &machine, raw.seed, test, raw.laser.as_ref())
+            })
+            .transpose()?;
+        if volumetric.is_none() && laser_test.is_none() {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric] section",
+                "nothing to compute: add a [volumetric] or an [iso230_2] section",
             ));
         }
 
@@ -526,6 +547,7 @@ impl Scenario {
             twin: Twin { machine, errors },
             error_specs,
             volumetric,
+            laser_test,
         })
     }
 }

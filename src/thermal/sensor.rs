@@ -1,8 +1,7 @@
 //! Temperature sensors on network nodes: first-order lag (a thermocouple in its sheath and
 //! glue), calibration offset, white noise and quantisation, in that order.
 
-use crate::math::Real;
-use rand::RngExt;
+use crate::math::{Real, standard_normal};
 use rand_chacha::ChaCha8Rng;
 
 /// A temperature sensor's characteristics.
@@ -79,11 +78,4 @@ impl TemperatureSensor {
     pub fn spec(&self) -> &SensorSpec {
         &self.spec
     }
-}
-
-/// A standard normal draw (Box–Muller), so that noise depends only on the seeded stream.
-fn standard_normal(rng: &mut ChaCha8Rng) -> Real {
-    let u1: Real = 1.0 - rng.random::<Real>(); // (0, 1]
-    let u2: Real = rng.random::<Real>();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }

@@ -1,0 +1,166 @@
+//! A virtual laser interferometer for linear positioning (ISO 230-2).
+//!
+//! The interferometer sits on the workpiece side with its beam along the axis under test; the
+//! reflector rides on the tool side at `beam_offset` from the tool tip (tool frame) — the Abbe
+//! offset between the measurement line and the functional point. The reading is the
+//! displacement of the reflector relative to the interferometer along the beam, zeroed at the
+//! first reading of each run:
+//!
+//! ```text
+//! optical = (n_air / n_assumed) · u · (p_reflector − p_reflector at the run's first reading)
+//! reading = quantise(optical · (1 − α_material·(T_material,measured − 20 °C)) + noise)
+//! deviation = (P_first + reading) − P_target
+//! ```
+//!
+//! `u` is the beam direction, tilted from the axis by the misalignment (cosine error);
+//! `n_air` the true refractive index, `n_assumed` the one the instrument uses: that of its own
+//! air sensors (each with an offset) through the Edlén equation, or of standard air when
+//! compensation is off. Material (NDE) compensation, when on, scales the reading to 20 °C with
+//! the material sensor's temperature.
+//!
+//! Simplified: the air is uniform along the beam and constant during the test, so the dead path
+//! (whose optical length drifts when the air changes) has no effect yet and is not modelled;
+//! no beam shear, no periodic nonlinearity of the interferometer optics.
+
+use super::air::{Air, HENE_WAVELENGTH_UM};
+use crate::errors::ErrorModel;
+use crate::io::{PositioningReading, PositioningTable};
+use crate::machine::{Axis, Machine, Workspace};
+use crate::math::standard_normal;
+use crate::math::{Real, Vector};
+use crate::program::Visit;
+use rand_chacha::ChaCha8Rng;
+
+/// How the instrument finds the refractive index it divides by.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AirCompensation {
+    /// None: standard air (20 °C, 1013.25 hPa, 50 %RH) is assumed.
+    Off,
+    /// From its own sensors, which read the true air plus these offsets.
+    Sensors {
+        /// Air temperature sensor offset (°C).
+        temperature_offset: Real,
+        /// Pressure sensor offset (Pa).
+        pressure_offset: Real,
+        /// Humidity sensor offset (%RH).
+        humidity_offset: Real,
+    },
+}
+
+/// Material (NDE) compensation: the reading is scaled to 20 °C of the machine's scale material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialCompensation {
+    /// Expansion coefficient the instrument is told (1/K).
+    pub expansion: Real,
+    /// Material temperature as its sensor reads it (°C).
+    pub measured_temperature: Real,
+}
+
+/// A laser interferometer set up on an axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Laser {
+    /// The axis along which the beam runs.
+    pub axis: Axis,
+    /// Reflector position relative to the tool tip, tool frame (m): the Abbe offset.
+    pub beam_offset: Vector,
+    /// Beam tilt from the axis (rad) about the two other coordinate axes, in ISO order
+    /// (e.g. about Y and Z for an X beam).
+    pub misalignment: [Real; 2],
+    /// Resolution (m).
+    pub resolution: Real,
+    /// White noise on each reading, 1σ (m).
+    pub noise: Real,
+    /// The true air along the beam.
+    pub air: Air,
+    /// Refractive-index compensation.
+    pub compensation: AirCompensation,
+    /// Material compensation, if on.
+    pub material: Option<MaterialCompensation>,
+}
+
+impl Laser {
+    /// The beam direction in the workpiece frame: the axis direction tilted by the misalignment.
+    pub fn beam_direction(&self) -> Vector {
+        let along = self.axis.unit();
+        let across: Vec<Vector> = Vector::AXES
+            .iter()
+            .copied()
+            .filter(|a| *a != along)
+            .collect();
+        (along + across[0] * self.misalignment[0] + across[1] * self.misalignment[1]).normalize()
+    }
+
+    /// The refractive index the instrument divides by.
+    pub fn assumed_index(&self) -> Real {
+        match self.compensation {
+            AirCompensation::Off => Air::STANDARD.refractive_index(HENE_WAVELENGTH_UM),
+            AirCompensation::Sensors {
+                temperature_offset,
+                pressure_offset,
+                humidity_offset,
+            } => Air {
+                temperature: self.air.temperature + temperature_offset,
+                pressure: self.air.pressure + pressure_offset,
+                humidity: self.air.humidity + humidity_offset,
+            }
+            .refractive_index(HENE_WAVELENGTH_UM),
+        }
+    }
+
+    /// Measures the visits of a test on a machine with `errors`, each reading carrying its run
+    /// and direction; noise comes from `rng`. Returns a `positioning` table.
+    pub fn measure(
+        &self,
+        machine: &Machine,
+        errors: &ErrorModel,
+        visits: &[Visit],
+        targets: &[Real],
+        rng: &mut ChaCha8Rng,
+    ) -> PositioningTable {
+        let mut workspace = Workspace::new(machine);
+        let beam = self.beam_direction();
+        let scale = self.air.refractive_index(HENE_WAVELENGTH_UM) / self.assumed_index();
+        let material = self
+            .material
+            .map_or(1.0, |m| 1.0 - m.expansion * (m.measured_temperature - 20.0));
+        let reflector = |workspace: &mut Workspace, visit: &Visit| {
+            let pose = errors.workpiece_from_tool(machine, workspace, &visit.state);
+            pose.transform_point3(self.beam_offset)
+        };
+        let mut readings = Vec::with_capacity(visits.len());
+        // The reading is zeroed at each run's first reading: (run, reflector there, its target).
+        let mut zero: Option<(usize, Vector, Real)> = None;
+        for visit in visits {
+            let here = reflector(&mut workspace, visit);
+            let target = targets[visit.target];
+            if zero.is_none_or(|(run, _, _)| run != visit.run) {
+                zero = Some((visit.run, here, target));
+            }
+            let (_, origin, first_target) = zero.expect("set above");
+            let optical = scale * beam.dot(here - origin);
+            let mut reading = optical * material;
+            if self.noise > 0.0 {
+                reading += self.noise * standard_normal(rng);
+            }
+            if self.resolution > 0.0 {
+                reading = (reading / self.resolution).round() * self.resolution;
+            }
+            readings.push(PositioningReading {
+                target,
+                deviation: first_target + reading - target,
+                approach: visit.approach,
+                run: visit.run,
+                time: Some(visit.time),
+                temperatures: Vec::new(),
+            });
+        }
+        let runs = visits.iter().map(|v| v.run).max().map_or(0, |r| r + 1);
+        PositioningTable {
+            axis: Some(self.axis),
+            runs: (1..=runs).map(|r| r.to_string()).collect(),
+            sensors: Vec::new(),
+            has_direction: true,
+            readings,
+        }
+    }
+}

@@ -1,0 +1,443 @@
+//! The `[iso230_2]` and `[laser]` sections: a linear positioning test measured by a laser
+//! interferometer.
+//!
+//! ```toml
+//! [iso230_2]
+//! axis = "X"
+//! targets_mm = { from = 10.0, to = 750.0, count = 9 }   # irregular spacing, seeded
+//! runs = 5
+//! overrun_mm = 5.0
+//! feed_mm_per_min = 2000.0
+//! dwell_s = 2.0
+//! y_mm = 205.0                  # where the other axes stand (default: mid-travel, rotary 0)
+//!
+//! [laser]
+//! beam_offset_mm = [0.0, 0.0, 60.0]   # reflector from the tool tip, tool frame (Abbe offset)
+//! misalignment_urad = [0.0, 0.0]      # beam tilt about the two other axes (cosine error)
+//! resolution_nm = 1.0
+//! noise_nm = 10.0
+//! compensation = "sensors"            # or "off": standard air assumed
+//! air = { temperature_degc = 20.0, pressure_hpa = 1013.25, humidity_pct = 50.0 }
+//! sensor_offsets = { temperature_degc = 0.0, pressure_hpa = 0.0, humidity_pct = 0.0 }
+//! material = { expansion_ppm_per_degc = 11.7, temperature_degc = 20.0 }   # NDE, optional
+//! ```
+
+use super::{Context, ScenarioError, ScenarioErrorKind};
+use crate::instruments::Air;
+use crate::instruments::laser::{AirCompensation, Laser, MaterialCompensation};
+use crate::machine::{Axis, AxisValues, Machine};
+use crate::math::{M_PER_MM, RAD_PER_DEG, RAD_PER_URAD, Real, Vector, seeded_rng};
+use crate::program::{LinearCycle, irregular_targets};
+use serde::Deserialize;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawIso230_2 {
+    axis: Spanned<String>,
+    targets_mm: Spanned<RawTargets>,
+    #[serde(default = "default_runs")]
+    runs: Spanned<usize>,
+    #[serde(default = "default_overrun")]
+    overrun_mm: Spanned<Real>,
+    #[serde(default = "default_feed")]
+    feed_mm_per_min: Spanned<Real>,
+    #[serde(default = "default_dwell")]
+    dwell_s: Spanned<Real>,
+    x_mm: Option<Spanned<Real>>,
+    y_mm: Option<Spanned<Real>>,
+    z_mm: Option<Spanned<Real>>,
+    a_deg: Option<Spanned<Real>>,
+    b_deg: Option<Spanned<Real>>,
+    c_deg: Option<Spanned<Real>>,
+}
+
+fn default_runs() -> Spanned<usize> {
+    Spanned::new(0..0, 5)
+}
+fn default_overrun() -> Spanned<Real> {
+    Spanned::new(0..0, 5.0)
+}
+fn default_feed() -> Spanned<Real> {
+    Spanned::new(0..0, 2000.0)
+}
+fn default_dwell() -> Spanned<Real> {
+    Spanned::new(0..0, 2.0)
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct RawTargets {
+    from: Real,
+    to: Real,
+    count: usize,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawLaser {
+    #[serde(default)]
+    beam_offset_mm: Option<Spanned<[Real; 3]>>,
+    #[serde(default)]
+    misalignment_urad: Option<Spanned<[Real; 2]>>,
+    #[serde(default = "default_resolution")]
+    resolution_nm: Spanned<Real>,
+    #[serde(default)]
+    noise_nm: Option<Spanned<Real>>,
+    #[serde(default)]
+    compensation: Option<Spanned<String>>,
+    #[serde(default)]
+    air: Option<Spanned<RawAir>>,
+    #[serde(default)]
+    sensor_offsets: Option<Spanned<RawAir>>,
+    #[serde(default)]
+    material: Option<Spanned<RawMaterial>>,
+}
+
+fn default_resolution() -> Spanned<Real> {
+    Spanned::new(0..0, 1.0)
+}
+
+#[derive(Deserialize, Clone, Copy, Default)]
+#[serde(deny_unknown_fields)]
+struct RawAir {
+    temperature_degc: Option<Real>,
+    pressure_hpa: Option<Real>,
+    humidity_pct: Option<Real>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct RawMaterial {
+    expansion_ppm_per_degc: Real,
+    temperature_degc: Real,
+}
+
+/// A linear positioning test and the laser that measures it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LaserTest {
+    /// The test cycle.
+    pub cycle: LinearCycle,
+    /// The instrument.
+    pub laser: Laser,
+}
+
+pub(super) fn laser_test(
+    context: &Context<'_>,
+    machine: &Machine,
+    seed: u64,
+    test: &Spanned<RawIso230_2>,
+    laser: Option<&Spanned<RawLaser>>,
+) -> Result<LaserTest, ScenarioError> {
+    let t = test.get_ref();
+    let fail = |span: std::ops::Range<usize>, key: &str, message: String| {
+        let span = if span.is_empty() { test.span() } else { span };
+        context.error(
+            Some(span),
+            ScenarioErrorKind::Value,
+            format!("{key}: {message}"),
+        )
+    };
+    let axis = match t.axis.get_ref().as_str() {
+        "X" => Axis::X,
+        "Y" => Axis::Y,
+        "Z" => Axis::Z,
+        other => {
+            return Err(fail(
+                t.axis.span(),
+                "iso230_2.axis",
+                format!("\"{other}\": expected \"X\", \"Y\" or \"Z\""),
+            ));
+        }
+    };
+    let info = machine.axis(axis).expect("every machine has X, Y, Z");
+    let (lower, upper) = info.limits.expect("linear axes have limits");
+    let RawTargets { from, to, count } = *t.targets_mm.get_ref();
+    let targets_span = t.targets_mm.span();
+    if !(from.is_finite() && to.is_finite() && from < to) {
+        return Err(fail(
+            targets_span,
+            "iso230_2.targets_mm",
+            "from and to must be finite with from < to".into(),
+        ));
+    }
+    if count < 2 {
+        return Err(fail(
+            targets_span,
+            "iso230_2.targets_mm",
+            format!("count must be at least 2, got {count}"),
+        ));
+    }
+    let positive =
+        |value: &Spanned<Real>, key: &str, allow_zero: bool| -> Result<Real, ScenarioError> {
+            let v = *value.get_ref();
+            let ok = v.is_finite() && (v > 0.0 || (allow_zero && v == 0.0));
+            if ok {
+                Ok(v)
+            } else {
+                Err(fail(
+                    value.span(),
+                    key,
+                    format!(
+                        "expected a {} number, got {v}",
+                        if allow_zero {
+                            "non-negative"
+                        } else {
+                            "positive"
+                        }
+                    ),
+                ))
+            }
+        };
+    let overrun = positive(&t.overrun_mm, "iso230_2.overrun_mm", true)? * M_PER_MM;
+    let feed = positive(&t.feed_mm_per_min, "iso230_2.feed_mm_per_min", false)? * M_PER_MM / 60.0;
+    let dwell = positive(&t.dwell_s, "iso230_2.dwell_s", true)?;
+    let runs = *t.runs.get_ref();
+    if runs < 2 {
+        return Err(fail(
+            t.runs.span(),
+            "iso230_2.runs",
+            format!("repeatability needs at least 2 runs (ISO 230-2: 5), got {runs}"),
+        ));
+    }
+    let (start, end) = (from * M_PER_MM - overrun, to * M_PER_MM + overrun);
+    if !(info.within_travel(start) && info.within_travel(end)) {
+        return Err(fail(
+            targets_span,
+            "iso230_2.targets_mm",
+            format!(
+                "the targets with their {} mm overrun span {} .. {} mm, beyond the travel of {axis} ({} .. {} mm)",
+                overrun / M_PER_MM,
+                start / M_PER_MM,
+                end / M_PER_MM,
+                lower / M_PER_MM,
+                upper / M_PER_MM
+            ),
+        ));
+    }
+    let targets = irregular_targets(
+        from * M_PER_MM,
+        to * M_PER_MM,
+        count,
+        &mut seeded_rng(seed, "iso230_2 targets"),
+    );
+
+    // Where the other axes stand: as given, else mid-travel (rotary axes at zero).
+    let mut rest = AxisValues::ZERO;
+    let given = [
+        (Axis::X, "x_mm", &t.x_mm),
+        (Axis::Y, "y_mm", &t.y_mm),
+        (Axis::Z, "z_mm", &t.z_mm),
+        (Axis::A, "a_deg", &t.a_deg),
+        (Axis::B, "b_deg", &t.b_deg),
+        (Axis::C, "c_deg", &t.c_deg),
+    ];
+    for (other, key, value) in given {
+        let key = format!("iso230_2.{key}");
+        match (machine.axis(other), value) {
+            (_, Some(v)) if other == axis => {
+                return Err(fail(
+                    v.span(),
+                    &key,
+                    format!("{axis} is the axis under test; its positions are the targets"),
+                ));
+            }
+            (None, Some(v)) => {
+                return Err(fail(
+                    v.span(),
+                    &key,
+                    format!("machine \"{}\" has no axis {other}", machine.name()),
+                ));
+            }
+            (None, None) => {}
+            (Some(info), value) => {
+                let scale = if other.is_linear() {
+                    M_PER_MM
+                } else {
+                    RAD_PER_DEG
+                };
+                let position = match (value, info.limits) {
+                    (Some(v), _) => *v.get_ref() * scale,
+                    (None, Some((lo, hi))) if other.is_linear() => (lo + hi) / 2.0,
+                    (None, _) => 0.0,
+                };
+                if !info.within_travel(position) {
+                    let span = value.as_ref().map_or(0..0, |v| v.span());
+                    return Err(fail(
+                        span,
+                        &key,
+                        format!("{} is outside the travel of {other}", position / scale),
+                    ));
+                }
+                rest[other] = position;
+            }
+        }
+    }
+    let cycle = LinearCycle {
+        axis,
+        targets,
+        runs,
+        overrun,
+        feed,
+        dwell,
+        rest,
+    };
+
+    let laser = match laser {
+        Some(raw) => laser_spec(context, axis, raw)?,
+        None => Laser {
+            axis,
+            beam_offset: Vector::ZERO,
+            misalignment: [0.0, 0.0],
+            resolution: 1e-9,
+            noise: 0.0,
+            air: Air::STANDARD,
+            compensation: AirCompensation::Sensors {
+                temperature_offset: 0.0,
+                pressure_offset: 0.0,
+                humidity_offset: 0.0,
+            },
+            material: None,
+        },
+    };
+    Ok(LaserTest { cycle, laser })
+}
+
+fn laser_spec(
+    context: &Context<'_>,
+    axis: Axis,
+    raw: &Spanned<RawLaser>,
+) -> Result<Laser, ScenarioError> {
+    let l = raw.get_ref();
+    let fail = |span: std::ops::Range<usize>, key: &str, message: String| {
+        let span = if span.is_empty() { raw.span() } else { span };
+        context.error(
+            Some(span),
+            ScenarioErrorKind::Value,
+            format!("laser.{key}: {message}"),
+        )
+    };
+    let finite =
+        |values: &[Real], span: std::ops::Range<usize>, key: &str| -> Result<(), ScenarioError> {
+            match values.iter().all(|v| v.is_finite()) {
+                true => Ok(()),
+                false => Err(fail(span, key, "expected finite numbers".into())),
+            }
+        };
+    let beam_offset = match &l.beam_offset_mm {
+        Some(v) => {
+            finite(v.get_ref(), v.span(), "beam_offset_mm")?;
+            Vector::from_array(*v.get_ref()) * M_PER_MM
+        }
+        None => Vector::ZERO,
+    };
+    let misalignment = match &l.misalignment_urad {
+        Some(v) => {
+            finite(v.get_ref(), v.span(), "misalignment_urad")?;
+            v.get_ref().map(|m| m * RAD_PER_URAD)
+        }
+        None => [0.0, 0.0],
+    };
+    let non_negative =
+        |v: Real, span: std::ops::Range<usize>, key: &str| -> Result<Real, ScenarioError> {
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(fail(
+                    span,
+                    key,
+                    format!("expected a non-negative number, got {v}"),
+                ))
+            }
+        };
+    let resolution = non_negative(
+        *l.resolution_nm.get_ref(),
+        l.resolution_nm.span(),
+        "resolution_nm",
+    )? * 1e-9;
+    let noise = match &l.noise_nm {
+        Some(v) => non_negative(*v.get_ref(), v.span(), "noise_nm")? * 1e-9,
+        None => 0.0,
+    };
+    let air_raw = l.air.as_ref().map(|a| *a.get_ref()).unwrap_or_default();
+    let air = Air {
+        temperature: air_raw
+            .temperature_degc
+            .unwrap_or(Air::STANDARD.temperature),
+        pressure: air_raw
+            .pressure_hpa
+            .map_or(Air::STANDARD.pressure, |p| p * 100.0),
+        humidity: air_raw.humidity_pct.unwrap_or(Air::STANDARD.humidity),
+    };
+    let air_span = l.air.as_ref().map_or(0..0, |a| a.span());
+    let plausible_air = (-10.0..=60.0).contains(&air.temperature)
+        && (50_000.0..=120_000.0).contains(&air.pressure)
+        && (0.0..=100.0).contains(&air.humidity);
+    if !plausible_air {
+        return Err(fail(
+            air_span,
+            "air",
+            "expected -10..60 °C, 500..1200 hPa, 0..100 %RH".into(),
+        ));
+    }
+    let offsets = l
+        .sensor_offsets
+        .as_ref()
+        .map(|a| *a.get_ref())
+        .unwrap_or_default();
+    let offset_values = [
+        offsets.temperature_degc,
+        offsets.pressure_hpa,
+        offsets.humidity_pct,
+    ]
+    .map(|v| v.unwrap_or(0.0));
+    finite(
+        &offset_values,
+        l.sensor_offsets.as_ref().map_or(0..0, |a| a.span()),
+        "sensor_offsets",
+    )?;
+    let compensation = match l.compensation.as_ref().map(|c| c.get_ref().as_str()) {
+        None | Some("sensors") => AirCompensation::Sensors {
+            temperature_offset: offset_values[0],
+            pressure_offset: offset_values[1] * 100.0,
+            humidity_offset: offset_values[2],
+        },
+        Some("off") => AirCompensation::Off,
+        Some(other) => {
+            let span = l.compensation.as_ref().map_or(0..0, |c| c.span());
+            return Err(fail(
+                span,
+                "compensation",
+                format!("\"{other}\": expected \"sensors\" or \"off\""),
+            ));
+        }
+    };
+    let material = match &l.material {
+        Some(m) => {
+            let RawMaterial {
+                expansion_ppm_per_degc,
+                temperature_degc,
+            } = *m.get_ref();
+            finite(
+                &[expansion_ppm_per_degc, temperature_degc],
+                m.span(),
+                "material",
+            )?;
+            Some(MaterialCompensation {
+                expansion: expansion_ppm_per_degc * 1e-6,
+                measured_temperature: temperature_degc,
+            })
+        }
+        None => None,
+    };
+    Ok(Laser {
+        axis,
+        beam_offset,
+        misalignment,
+        resolution,
+        noise,
+        air,
+        compensation,
+        material,
+    })
+}
