@@ -190,3 +190,120 @@ fn sensor_noise_has_its_standard_deviation_and_depends_only_on_the_seed() {
     assert!((sd / 0.05 - 1.0).abs() < 0.03, "sd {sd}");
     assert!((mean - 20.0).abs() < 4.0 * 0.05 / n.sqrt(), "mean {mean}");
 }
+
+mod thermal_errors {
+    use mtwin::errors::ErrorModel;
+    use mtwin::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
+    use mtwin::math::Vector;
+    use mtwin::thermal::{ThermalErrors, ThermalTerm, ThermalTermError};
+
+    fn vmc3() -> Machine {
+        Machine::from_urdf_file(concat!(env!("CARGO_MANIFEST_DIR"), "/models/vmc3.urdf")).unwrap()
+    }
+
+    /// The deviation the thermal terms alone cause at `state` with node `temperatures`.
+    fn deviation(
+        machine: &Machine,
+        terms: Vec<ThermalTerm>,
+        temperatures: &[f64],
+        state: &MachineState,
+    ) -> Vector {
+        let thermal = ThermalErrors::new(machine, temperatures.len(), terms).unwrap();
+        let mut extra = vec![[0.0; 6]; machine.slot_count()];
+        thermal.slot_twists(temperatures, state, &mut extra);
+        let errors = ErrorModel::empty(machine);
+        let mut workspace = Workspace::new(machine);
+        let nominal = workspace
+            .workpiece_from_tool(machine, &state.position, None)
+            .translation;
+        errors
+            .workpiece_from_tool_with(machine, &mut workspace, state, Some(&extra))
+            .translation
+            - nominal
+    }
+
+    fn at_x(x_mm: f64) -> MachineState {
+        MachineState::at(AxisValues::from_file_units(&[
+            (Axis::X, x_mm),
+            (Axis::Y, 200.0),
+            (Axis::Z, 100.0),
+        ]))
+    }
+
+    #[test]
+    fn screw_expansion_grows_from_the_fixed_end() {
+        // Steel screw (11.7e-6/K) 5 K above its reference. Origin at the fixed end: +29.25 µm at
+        // X = 500 mm, nothing at 0. Origin at the free end (fixed end at 760 mm): the origin
+        // drifts by -11.7e-6·5·0.76 = -44.46 µm and the error vanishes at the fixed end.
+        let machine = vmc3();
+        let screw = |fixed_end: f64| ThermalTerm::ScrewExpansion {
+            axis: Axis::X,
+            screw: 0,
+            expansion: 11.7e-6,
+            fixed_end,
+            reference: 20.0,
+        };
+        let d = deviation(&machine, vec![screw(0.0)], &[25.0], &at_x(500.0));
+        assert!(
+            (d - Vector::new(29.25e-6, 0.0, 0.0)).length() < 1e-12,
+            "{d:?}"
+        );
+        assert!(deviation(&machine, vec![screw(0.0)], &[25.0], &at_x(0.0)).length() < 1e-15);
+        let origin = deviation(&machine, vec![screw(0.76)], &[25.0], &at_x(0.0));
+        assert!((origin.x + 44.46e-6).abs() < 1e-12, "{origin:?}");
+        assert!(deviation(&machine, vec![screw(0.76)], &[25.0], &at_x(760.0)).length() < 1e-15);
+    }
+
+    #[test]
+    fn spindle_growth_and_column_tilt_move_the_tool_as_derived() {
+        let machine = vmc3();
+        // 1 µm/K at 10 K above reference: the tip moves 10 µm down (-Z, towards the table).
+        let growth = ThermalTerm::SpindleGrowth {
+            node: 0,
+            growth: 1e-6,
+            reference: 20.0,
+        };
+        let d = deviation(&machine, vec![growth], &[30.0], &at_x(300.0));
+        assert!(
+            (d - Vector::new(0.0, 0.0, -10e-6)).length() < 1e-12,
+            "{d:?}"
+        );
+        // 2 µrad/K × 1.5 K front-back = 3 µrad about X at the head, whose reference point is
+        // 0.35 m behind and 0.30 m above the tip: (dy, dz) = ε·(0.30, 0.35) to first order.
+        let tilt = ThermalTerm::ColumnTilt {
+            front: 0,
+            back: 1,
+            tilt: 2e-6,
+        };
+        let d = deviation(&machine, vec![tilt], &[21.5, 20.0], &at_x(300.0));
+        assert!(
+            (d - Vector::new(0.0, 0.9e-6, 1.05e-6)).length() < 1e-11,
+            "{d:?}"
+        );
+    }
+
+    #[test]
+    fn terms_that_do_not_fit_are_refused() {
+        let machine = vmc3();
+        let on_a = ThermalTerm::ScrewExpansion {
+            axis: Axis::A,
+            screw: 0,
+            expansion: 1e-5,
+            fixed_end: 0.0,
+            reference: 20.0,
+        };
+        assert_eq!(
+            ThermalErrors::new(&machine, 1, vec![on_a]).unwrap_err(),
+            ThermalTermError::Axis(Axis::A)
+        );
+        let missing = ThermalTerm::SpindleGrowth {
+            node: 3,
+            growth: 1e-6,
+            reference: 20.0,
+        };
+        assert_eq!(
+            ThermalErrors::new(&machine, 2, vec![missing]).unwrap_err(),
+            ThermalTermError::Node(3)
+        );
+    }
+}

@@ -532,11 +532,32 @@ impl ErrorModel {
         workspace: &mut Workspace,
         state: &MachineState,
     ) -> Pose {
+        self.workpiece_from_tool_with(machine, workspace, state, None)
+    }
+
+    /// [`ErrorModel::workpiece_from_tool`] with `extra` relative twists added at each slot
+    /// (one per slot, SI, in the slot frames): how thermal terms
+    /// ([`crate::thermal::ThermalErrors`]) enter the chain.
+    pub fn workpiece_from_tool_with(
+        &self,
+        machine: &Machine,
+        workspace: &mut Workspace,
+        state: &MachineState,
+        extra: Option<&[[Real; 6]]>,
+    ) -> Pose {
         self.assert_bound_to(machine);
         let mut relative = std::mem::take(&mut workspace.slot_twists);
         let mut line = std::mem::take(&mut workspace.slot_lines);
         let mut motions = std::mem::take(&mut workspace.slot_motions);
         self.slot_twists(state, &mut relative, &mut line);
+        if let Some(extra) = extra {
+            assert_eq!(extra.len(), relative.len(), "one extra twist per slot");
+            for (twist, add) in relative.iter_mut().zip(extra) {
+                for (value, a) in twist.iter_mut().zip(add) {
+                    *value += a;
+                }
+            }
+        }
         for (slot, motion) in motions.iter_mut().enumerate() {
             let t = relative[slot];
             *motion = small_motion(Vector::new(t[0], t[1], t[2]), Vector::new(t[3], t[4], t[5]));

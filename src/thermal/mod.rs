@@ -1,8 +1,10 @@
 //! Thermal behaviour (ISO 230-3): a lumped thermal network driven by what the machine does,
 //! and temperature sensors on its nodes.
 
+mod errors;
 mod network;
 mod sensor;
 
+pub use errors::{ThermalErrors, ThermalTerm, ThermalTermError};
 pub use network::{ThermalNetwork, ThermalNetworkError, ThermalNode, ThermalStepper};
 pub use sensor::{SensorSpec, TemperatureSensor};
