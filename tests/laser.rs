@@ -287,7 +287,10 @@ fn the_linear_cycle_visits_every_target_both_ways_on_time() {
     {
         assert!((got - want).abs() < 1e-9, "{times:?}");
     }
-    let order: Vec<(usize, Approach)> = visits.iter().map(|v| (v.target, v.approach)).collect();
+    let order: Vec<(usize, Approach)> = visits
+        .iter()
+        .map(|v| (v.point.target, v.point.approach))
+        .collect();
     assert_eq!(
         order[..4],
         [

@@ -132,9 +132,9 @@ impl Laser {
         let mut zero: Option<(usize, Vector, Real)> = None;
         for visit in visits {
             let here = reflector(&mut workspace, visit);
-            let target = targets[visit.target];
-            if zero.is_none_or(|(run, _, _)| run != visit.run) {
-                zero = Some((visit.run, here, target));
+            let target = targets[visit.point.target];
+            if zero.is_none_or(|(run, _, _)| run != visit.point.run) {
+                zero = Some((visit.point.run, here, target));
             }
             let (_, origin, first_target) = zero.expect("set above");
             let optical = scale * beam.dot(here - origin);
@@ -148,13 +148,17 @@ impl Laser {
             readings.push(PositioningReading {
                 target,
                 deviation: first_target + reading - target,
-                approach: visit.approach,
-                run: visit.run,
+                approach: visit.point.approach,
+                run: visit.point.run,
                 time: Some(visit.time),
                 temperatures: Vec::new(),
             });
         }
-        let runs = visits.iter().map(|v| v.run).max().map_or(0, |r| r + 1);
+        let runs = visits
+            .iter()
+            .map(|v| v.point.run)
+            .max()
+            .map_or(0, |r| r + 1);
         PositioningTable {
             axis: Some(self.axis),
             runs: (1..=runs).map(|r| r.to_string()).collect(),

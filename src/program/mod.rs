@@ -1,13 +1,210 @@
-//! What the machine does over time. So far: the ISO 230-2 linear test cycle (targets approached
-//! in both directions with an overrun, runs repeated), with the time of every reading from the
-//! feed and the dwell. Continuous programmes (warm-up cycles, circular interpolation, spindle
-//! programmes) and the servo model come with the thermal and ball-bar work.
+//! What the machine does over time: a programme of steps (moves at a feed, dwells, warm-up
+//! cycles, spindle speed changes, measurement points) turned into a timeline of intervals
+//! (for the thermal model: how fast each axis moved and how fast the spindle turned) and
+//! measurement events (for the instruments: where the machine stood and how it got there).
+//!
+//! Simplified: axes move at constant speed along straight lines, starting and stopping
+//! instantly (no acceleration, no servo lag); the ball-bar work adds the servo model.
 
 use crate::io::Approach;
 use crate::machine::{Axis, AxisValues, Direction, MachineState};
 use crate::math::Real;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
+
+/// What a measurement event is about, for the instrument that takes it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeasurePoint {
+    /// Run index (from 0).
+    pub run: usize,
+    /// Target index.
+    pub target: usize,
+    /// Direction of approach.
+    pub approach: Approach,
+}
+
+/// One step of a programme (SI: m, m/s, s, rad/s).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// Move the named axes (the others stay) along a straight line at `feed` (path speed).
+    Move {
+        /// Where to.
+        to: Vec<(Axis, Real)>,
+        /// Path speed (m/s), > 0.
+        feed: Real,
+    },
+    /// Stand still.
+    Dwell(Real),
+    /// Run one axis back and forth between two positions at `feed` for `duration`, then return
+    /// to where it started.
+    WarmUp {
+        /// The axis.
+        axis: Axis,
+        /// One end of the stroke.
+        from: Real,
+        /// The other end.
+        to: Real,
+        /// Speed (m/s).
+        feed: Real,
+        /// How long (s).
+        duration: Real,
+    },
+    /// Set the spindle speed (rad/s; 0 stops it).
+    Spindle(Real),
+    /// A measurement point.
+    Measure(MeasurePoint),
+}
+
+/// An interval of the timeline, during which the heat inputs are taken as constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// Its length (s).
+    pub duration: Real,
+    /// Mean speed of each axis over it (m/s or rad/s, ≥ 0).
+    pub speed: AxisValues,
+    /// Spindle speed (rad/s).
+    pub spindle: Real,
+}
+
+/// One reading of an instrument: where the machine stands, how it got there, and when.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Visit {
+    /// What is being measured.
+    pub point: MeasurePoint,
+    /// Time since the start of the programme (s).
+    pub time: Real,
+    /// Commanded positions and directions of travel.
+    pub state: MachineState,
+}
+
+/// An event of the timeline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Event {
+    /// Time passes.
+    Interval(Interval),
+    /// An instrument reads.
+    Measure(Visit),
+}
+
+/// A programme: where the machine starts and its steps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Program {
+    /// Starting positions (SI).
+    pub start: AxisValues,
+    /// The steps, in order.
+    pub steps: Vec<Step>,
+}
+
+impl Program {
+    /// The timeline, with no interval longer than `max_interval` seconds.
+    pub fn timeline(&self, max_interval: Real) -> Vec<Event> {
+        assert!(max_interval > 0.0, "intervals need a positive length");
+        let mut events = Vec::new();
+        let mut state = MachineState::at(self.start);
+        let mut time = 0.0;
+        let mut spindle = 0.0;
+        let pass = |duration: Real,
+                    speed: AxisValues,
+                    spindle: Real,
+                    time: &mut Real,
+                    events: &mut Vec<Event>| {
+            let pieces = (duration / max_interval).ceil().max(1.0) as usize;
+            for _ in 0..pieces {
+                events.push(Event::Interval(Interval {
+                    duration: duration / pieces as Real,
+                    speed,
+                    spindle,
+                }));
+            }
+            *time += duration;
+        };
+        for step in &self.steps {
+            match step {
+                Step::Move { to, feed } => {
+                    let mut end = state.position;
+                    for &(axis, value) in to {
+                        end[axis] = value;
+                    }
+                    let delta: Vec<Real> = (0..7).map(|i| end.0[i] - state.position.0[i]).collect();
+                    let length = delta.iter().map(|d| d * d).sum::<Real>().sqrt();
+                    if length > 0.0 {
+                        let duration = length / feed;
+                        let mut speed = AxisValues::ZERO;
+                        for (i, d) in delta.iter().enumerate() {
+                            speed.0[i] = d.abs() / duration;
+                            if *d != 0.0 {
+                                state.direction[i] = if *d > 0.0 {
+                                    Direction::Positive
+                                } else {
+                                    Direction::Negative
+                                };
+                            }
+                        }
+                        pass(duration, speed, spindle, &mut time, &mut events);
+                        state.position = end;
+                    }
+                }
+                Step::Dwell(duration) => {
+                    pass(*duration, AxisValues::ZERO, spindle, &mut time, &mut events)
+                }
+                Step::WarmUp {
+                    axis,
+                    from,
+                    to,
+                    feed,
+                    duration,
+                } => {
+                    // To `from`, back and forth over the stroke for `duration`, then home: the
+                    // axis moves at the feed throughout, so that is its mean speed.
+                    let (axis, home) = (*axis, state.position[*axis]);
+                    let stroke = (to - from).abs();
+                    let travelled = feed * duration;
+                    let phase = if stroke > 0.0 {
+                        travelled % (2.0 * stroke)
+                    } else {
+                        0.0
+                    };
+                    let (end, heading_to) = if phase <= stroke {
+                        (from + (to - from).signum() * phase, *to)
+                    } else {
+                        (to - (to - from).signum() * (phase - stroke), *from)
+                    };
+                    let lead_in = (from - home).abs();
+                    let back = (home - end).abs();
+                    let mut speed = AxisValues::ZERO;
+                    speed[axis] = *feed;
+                    pass(
+                        (lead_in + back) / feed + duration,
+                        speed,
+                        spindle,
+                        &mut time,
+                        &mut events,
+                    );
+                    // The last motion decides the direction of travel.
+                    let last_move = if back > 0.0 {
+                        home - end
+                    } else {
+                        heading_to - end
+                    };
+                    if last_move != 0.0 {
+                        state.direction[axis.index()] = if last_move > 0.0 {
+                            Direction::Positive
+                        } else {
+                            Direction::Negative
+                        };
+                    }
+                }
+                Step::Spindle(speed) => spindle = *speed,
+                Step::Measure(point) => events.push(Event::Measure(Visit {
+                    point: *point,
+                    time,
+                    state,
+                })),
+            }
+        }
+        events
+    }
+}
 
 /// The ISO 230-2 test cycle on one linear axis: in each run, from an overrun below the first
 /// target, every target is approached in the positive direction; then from an overrun beyond
@@ -30,63 +227,65 @@ pub struct LinearCycle {
     pub rest: AxisValues,
 }
 
-/// One reading of the cycle: where the machine stands, how it got there, and when.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Visit {
-    /// Run index (from 0).
-    pub run: usize,
-    /// Target index (from 0, increasing position).
-    pub target: usize,
-    /// Direction of approach.
-    pub approach: Approach,
-    /// Time since the start of the test (s).
-    pub time: Real,
-    /// Commanded positions and directions of travel.
-    pub state: MachineState,
-}
-
 impl LinearCycle {
-    /// Every reading of the test in order, timed: moves at the feed between consecutive points
-    /// (overruns included), then the dwell, then the reading.
-    pub fn visits(&self) -> Vec<Visit> {
-        let mut visits = Vec::with_capacity(2 * self.runs * self.targets.len());
+    /// The steps of one run (index `run`): overrun below, targets upwards, overrun above,
+    /// targets downwards, each target followed by the dwell and a measurement.
+    pub fn run_steps(&self, run: usize) -> Vec<Step> {
+        let mut steps = Vec::with_capacity(6 * self.targets.len() + 2);
         let (Some(&first), Some(&last)) = (self.targets.first(), self.targets.last()) else {
-            return visits;
+            return steps;
         };
-        let mut time = 0.0;
-        let mut here = first - self.overrun;
-        let mut go = |to: Real, time: &mut Real| {
-            *time += (to - here).abs() / self.feed;
-            here = to;
+        let go = |to: Real| Step::Move {
+            to: vec![(self.axis, to)],
+            feed: self.feed,
         };
-        for run in 0..self.runs {
-            for (approach, direction, start) in [
-                (Approach::Up, Direction::Positive, first - self.overrun),
-                (Approach::Down, Direction::Negative, last + self.overrun),
-            ] {
-                go(start, &mut time);
-                let order: Vec<usize> = match approach {
-                    Approach::Up => (0..self.targets.len()).collect(),
-                    Approach::Down => (0..self.targets.len()).rev().collect(),
-                };
-                for target in order {
-                    go(self.targets[target], &mut time);
-                    time += self.dwell;
-                    let mut state = MachineState::at(self.rest);
-                    state.position[self.axis] = self.targets[target];
-                    state.direction[self.axis.index()] = direction;
-                    visits.push(Visit {
-                        run,
-                        target,
-                        approach,
-                        time,
-                        state,
-                    });
-                }
+        for (approach, start) in [
+            (Approach::Up, first - self.overrun),
+            (Approach::Down, last + self.overrun),
+        ] {
+            steps.push(go(start));
+            let order: Vec<usize> = match approach {
+                Approach::Up => (0..self.targets.len()).collect(),
+                Approach::Down => (0..self.targets.len()).rev().collect(),
+            };
+            for target in order {
+                steps.push(go(self.targets[target]));
+                steps.push(Step::Dwell(self.dwell));
+                steps.push(Step::Measure(MeasurePoint {
+                    run,
+                    target,
+                    approach,
+                }));
             }
         }
-        visits
+        steps
     }
+
+    /// The whole test as a programme, starting at the first overrun position.
+    pub fn program(&self) -> Program {
+        let mut start = self.rest;
+        start[self.axis] = self.targets.first().map_or(0.0, |t| t - self.overrun);
+        Program {
+            start,
+            steps: (0..self.runs).flat_map(|run| self.run_steps(run)).collect(),
+        }
+    }
+
+    /// Every reading of the test in order, timed.
+    pub fn visits(&self) -> Vec<Visit> {
+        visits(&self.program().timeline(Real::INFINITY))
+    }
+}
+
+/// The measurement events of a timeline.
+pub fn visits(timeline: &[Event]) -> Vec<Visit> {
+    timeline
+        .iter()
+        .filter_map(|e| match e {
+            Event::Measure(visit) => Some(*visit),
+            Event::Interval(_) => None,
+        })
+        .collect()
 }
 
 /// `count` targets from `start` to `end` (m) at the irregular spacing ISO 230-2 asks for, so
