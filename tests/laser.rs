@@ -9,6 +9,7 @@ use mtwin::io::{Approach, PositioningTable};
 use mtwin::machine::{Axis, AxisValues, Machine};
 use mtwin::math::{Vector, seeded_rng};
 use mtwin::program::{LinearCycle, irregular_targets};
+use mtwin::twin::Twin;
 
 fn vmc3() -> Machine {
     Machine::from_urdf_file(concat!(env!("CARGO_MANIFEST_DIR"), "/models/vmc3.urdf")).unwrap()
@@ -47,10 +48,14 @@ fn cycle() -> LinearCycle {
 
 fn measure(laser: &Laser, errors: &ErrorModel, machine: &Machine) -> PositioningTable {
     let cycle = cycle();
+    let visits = cycle.visits();
+    let twin = Twin {
+        machine: machine.clone(),
+        errors: errors.clone(),
+    };
     laser.measure(
-        machine,
-        errors,
-        &cycle.visits(),
+        &visits,
+        &twin.poses(&visits),
         &cycle.targets,
         &mut seeded_rng(1, "laser"),
     )

@@ -23,11 +23,9 @@
 //! no beam shear, no periodic nonlinearity of the interferometer optics.
 
 use super::air::{Air, HENE_WAVELENGTH_UM};
-use crate::errors::ErrorModel;
 use crate::io::{PositioningReading, PositioningTable};
-use crate::machine::{Axis, Machine, Workspace};
-use crate::math::standard_normal;
-use crate::math::{Real, Vector};
+use crate::machine::Axis;
+use crate::math::{Pose, Real, Vector, standard_normal};
 use crate::program::Visit;
 use rand_chacha::ChaCha8Rng;
 
@@ -107,31 +105,27 @@ impl Laser {
         }
     }
 
-    /// Measures the visits of a test on a machine with `errors`, each reading carrying its run
-    /// and direction; noise comes from `rng`. Returns a `positioning` table.
+    /// Measures the visits of a test, given the actual tool pose seen from the workpiece at each
+    /// (`poses[i]` at `visits[i]`, from the twin with whatever errors it has); noise comes from
+    /// `rng`. Returns a `positioning` table (without temperature columns).
     pub fn measure(
         &self,
-        machine: &Machine,
-        errors: &ErrorModel,
         visits: &[Visit],
+        poses: &[Pose],
         targets: &[Real],
         rng: &mut ChaCha8Rng,
     ) -> PositioningTable {
-        let mut workspace = Workspace::new(machine);
+        assert_eq!(visits.len(), poses.len(), "one pose per visit");
         let beam = self.beam_direction();
         let scale = self.air.refractive_index(HENE_WAVELENGTH_UM) / self.assumed_index();
         let material = self
             .material
             .map_or(1.0, |m| 1.0 - m.expansion * (m.measured_temperature - 20.0));
-        let reflector = |workspace: &mut Workspace, visit: &Visit| {
-            let pose = errors.workpiece_from_tool(machine, workspace, &visit.state);
-            pose.transform_point3(self.beam_offset)
-        };
         let mut readings = Vec::with_capacity(visits.len());
         // The reading is zeroed at each run's first reading: (run, reflector there, its target).
         let mut zero: Option<(usize, Vector, Real)> = None;
-        for visit in visits {
-            let here = reflector(&mut workspace, visit);
+        for (visit, pose) in visits.iter().zip(poses) {
+            let here = pose.transform_point3(self.beam_offset);
             let target = targets[visit.point.target];
             if zero.is_none_or(|(run, _, _)| run != visit.point.run) {
                 zero = Some((visit.point.run, here, target));

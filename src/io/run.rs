@@ -59,13 +59,10 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
     if let Some(test) = &scenario.laser_test {
         let visits = test.cycle.visits();
         let mut rng = crate::math::seeded_rng(scenario.seed, "laser");
-        let table = test.laser.measure(
-            &scenario.twin.machine,
-            &scenario.twin.errors,
-            &visits,
-            &test.cycle.targets,
-            &mut rng,
-        );
+        let poses = scenario.twin.poses(&visits);
+        let table = test
+            .laser
+            .measure(&visits, &poses, &test.cycle.targets, &mut rng);
         let mut bytes = Vec::new();
         table
             .write_csv(&mut bytes)

@@ -7,6 +7,8 @@ pub use volumetric::{GridAxis, VolumetricMap, VolumetricRow, volumetric_map};
 
 use crate::errors::{Deviation, ErrorModel, Lu2012Error, lu2012_deviation};
 use crate::machine::{Machine, MachineState, Workspace};
+use crate::math::Pose;
+use crate::program::Visit;
 
 /// How the twin turns error parameters into a tool-in-workpiece deviation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -39,6 +41,18 @@ pub struct Twin {
 }
 
 impl Twin {
+    /// The actual tool pose seen from the workpiece at each visit (geometric errors only).
+    pub fn poses(&self, visits: &[Visit]) -> Vec<Pose> {
+        let mut workspace = Workspace::new(&self.machine);
+        visits
+            .iter()
+            .map(|v| {
+                self.errors
+                    .workpiece_from_tool(&self.machine, &mut workspace, &v.state)
+            })
+            .collect()
+    }
+
     /// The deviation (actual − nominal, workpiece frame) at `state` by `model`.
     pub fn deviation(
         &self,
