@@ -2,9 +2,11 @@
 //! and temperature sensors on its nodes.
 
 mod errors;
+mod machine;
 mod network;
 mod sensor;
 
 pub use errors::{ThermalErrors, ThermalTerm, ThermalTermError};
+pub use machine::{Ambient, HeatDriver, HeatSource, MachineThermal};
 pub use network::{ThermalNetwork, ThermalNetworkError, ThermalNode, ThermalStepper};
 pub use sensor::{SensorSpec, TemperatureSensor};

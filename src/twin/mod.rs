@@ -1,8 +1,10 @@
 //! The twin: a machine and its injected errors, evaluated by the exact chain or by a
 //! deliberately simpler model.
 
+mod thermal_run;
 mod volumetric;
 
+pub use thermal_run::{ThermalRecord, run_thermal};
 pub use volumetric::{GridAxis, VolumetricMap, VolumetricRow, volumetric_map};
 
 use crate::errors::{Deviation, ErrorModel, Lu2012Error, lu2012_deviation};

@@ -1,0 +1,220 @@
+//! The thermal twin: the default machine model's warm-up against the plausibility the issue
+//! asks of it, and a warm-up experiment (Lu 2012 Ch. 5 style) in which the laser's deviations
+//! follow position × screw temperature rise exactly as the injected model says, and the origin
+//! drifts when it sits at the free end of the screw.
+
+use mtwin::errors::ErrorModel;
+use mtwin::instruments::Air;
+use mtwin::instruments::laser::{AirCompensation, Laser};
+use mtwin::io::Approach;
+use mtwin::machine::{Axis, AxisValues, Machine, Workspace};
+use mtwin::math::{Vector, seeded_rng};
+use mtwin::program::{LinearCycle, MeasurePoint, Program, Step};
+use mtwin::thermal::{Ambient, MachineThermal, ThermalStepper};
+use mtwin::twin::{Twin, run_thermal};
+
+fn vmc3() -> Machine {
+    Machine::from_urdf_file(concat!(env!("CARGO_MANIFEST_DIR"), "/models/vmc3.urdf")).unwrap()
+}
+
+#[test]
+fn default_model_warms_up_like_a_machine_tool() {
+    // X idling at 4 800 mm/min (0.08 m/s) from 20 °C, 6 h in 60 s steps: the nut rises a few
+    // °C, the screw lags it with a warm-up time constant of 20-90 min, and after 3 h the screw
+    // is stable (it rises less than 10 % of its final rise in the following hour).
+    let machine = vmc3();
+    let thermal =
+        MachineThermal::ballscrew_default(&machine, Ambient::constant(20.0), &[]).unwrap();
+    let (nut, screw) = (
+        thermal.network.node("x_nut").unwrap(),
+        thermal.network.node("x_screw").unwrap(),
+    );
+    let mut speeds = AxisValues::ZERO;
+    speeds[Axis::X] = 0.08;
+    let mut powers = vec![0.0; thermal.network.nodes().len()];
+    thermal.powers(&speeds, 0.0, &mut powers);
+    let final_rise = thermal.network.steady_state(&powers, 20.0).unwrap();
+    let (nut_rise, screw_rise) = (final_rise[nut] - 20.0, final_rise[screw] - 20.0);
+    assert!((1.0..6.0).contains(&nut_rise), "nut rise {nut_rise} °C");
+    assert!(
+        screw_rise > 0.3 * nut_rise && screw_rise < nut_rise,
+        "screw rise {screw_rise} °C"
+    );
+
+    let mut stepper = ThermalStepper::new(&thermal.network, 20.0);
+    let mut history = vec![20.0];
+    for _ in 0..360 {
+        stepper.step(60.0, &powers, 20.0);
+        history.push(stepper.temperatures()[screw]);
+    }
+    let minutes_to_63 = history
+        .iter()
+        .position(|t| t - 20.0 >= 0.632 * screw_rise)
+        .unwrap();
+    assert!(
+        (20..=90).contains(&minutes_to_63),
+        "screw time constant {minutes_to_63} min"
+    );
+    let (at_3h, at_4h) = (history[180] - 20.0, history[240] - 20.0);
+    assert!(
+        at_4h - at_3h < 0.1 * screw_rise,
+        "still rising {} °C in the 4th hour",
+        at_4h - at_3h
+    );
+}
+
+/// Targets 0..750 mm every 50 mm, forward then backward (5 mm overrun), between warm-ups of
+/// 30 min at 4 800 mm/min over the whole stroke: four laser runs.
+fn warm_up_experiment() -> (LinearCycle, Program) {
+    let mut rest = AxisValues::ZERO;
+    rest[Axis::Y] = 0.205;
+    rest[Axis::Z] = 0.1;
+    let cycle = LinearCycle {
+        axis: Axis::X,
+        targets: (0..=15).map(|i| 0.05 * i as f64).collect(),
+        runs: 1,
+        overrun: 0.005,
+        feed: 0.05,
+        dwell: 1.0,
+        rest,
+    };
+    let mut steps = Vec::new();
+    for run in 0..4 {
+        if run > 0 {
+            steps.push(Step::WarmUp {
+                axis: Axis::X,
+                from: 0.0,
+                to: 0.75,
+                feed: 0.08,
+                duration: 1800.0,
+            });
+        }
+        steps.push(Step::Move {
+            to: vec![(Axis::X, -0.005)],
+            feed: 0.08,
+        });
+        steps.extend(cycle.run_steps(run));
+    }
+    let mut start = rest;
+    start[Axis::X] = -0.005;
+    (cycle, Program { start, steps })
+}
+
+#[test]
+fn warm_up_deviations_follow_position_times_screw_temperature_rise() {
+    // Origin at the free end (fixed end at X = 760 mm, as on the V30 of Lu 2012), an ideal
+    // laser zeroed at 0 mm each run. Injected: e(x, T) = α·(T_screw - 20)·(x - 0.76). So each
+    // reading is e(x, T_now) - e(0, T_at_zero), from the screw temperatures the twin recorded.
+    let machine = vmc3();
+    let thermal =
+        MachineThermal::ballscrew_default(&machine, Ambient::constant(20.0), &[(Axis::X, 0.76)])
+            .unwrap();
+    let screw = thermal.network.node("x_screw").unwrap();
+    let twin = Twin {
+        errors: ErrorModel::empty(&machine),
+        machine,
+    };
+    let (cycle, program) = warm_up_experiment();
+    let records = run_thermal(&twin, &thermal, &program, 60.0, &mut []);
+    assert_eq!(records.len(), 4 * 2 * 16);
+    let laser = Laser {
+        axis: Axis::X,
+        beam_offset: Vector::ZERO,
+        misalignment: [0.0, 0.0],
+        resolution: 0.0,
+        noise: 0.0,
+        air: Air::STANDARD,
+        compensation: AirCompensation::Off,
+        material: None,
+    };
+    let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
+    let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
+    let table = laser.measure(&visits, &poses, &cycle.targets, &mut seeded_rng(1, "laser"));
+    let alpha = 11.7e-6;
+    let error = |x: f64, t: f64| alpha * (t - 20.0) * (x - 0.76);
+    let mut last_up = Vec::new();
+    for (k, (reading, record)) in table.readings.iter().zip(&records).enumerate() {
+        let zero = &records[k - k % 32]; // each run has 32 readings; its first is the zero
+        let expected = error(reading.target, record.temperatures[screw])
+            - error(0.0, zero.temperatures[screw]);
+        assert!(
+            (reading.deviation - expected).abs() < 1e-12,
+            "reading {k}: {} vs {expected}",
+            reading.deviation
+        );
+        if reading.approach == Approach::Up && (reading.target - 0.75).abs() < 1e-12 {
+            last_up.push((reading.deviation, record.temperatures[screw]));
+        }
+    }
+    // The screw warms run after run, and the error at 750 mm grows with it: 11.7e-6·ΔT·0.75.
+    assert!(
+        last_up
+            .windows(2)
+            .all(|w| w[1].1 > w[0].1 + 0.1 && w[1].0 > w[0].0),
+        "{last_up:?}"
+    );
+    let (dev, temperature) = last_up[3];
+    assert!(
+        (dev / (alpha * 0.75) - (temperature - 20.0)).abs() < 0.05,
+        "{dev} m at {temperature} °C"
+    );
+}
+
+#[test]
+fn the_origin_drifts_when_it_is_at_the_free_end() {
+    // After 60 min of X idling, the tool at X = 0: with the fixed end at 760 mm the origin has
+    // moved by α·ΔT·(0 - 0.76) < 0; with the fixed end at the origin it has not moved.
+    let machine = vmc3();
+    let mut start = AxisValues::ZERO;
+    start[Axis::Y] = 0.205;
+    let program = Program {
+        start,
+        steps: vec![
+            Step::WarmUp {
+                axis: Axis::X,
+                from: 0.0,
+                to: 0.75,
+                feed: 0.08,
+                duration: 3600.0,
+            },
+            Step::Measure(MeasurePoint {
+                run: 0,
+                target: 0,
+                approach: Approach::Down,
+            }),
+        ],
+    };
+    let twin = Twin {
+        errors: ErrorModel::empty(&machine),
+        machine: machine.clone(),
+    };
+    let drift = |fixed_end: f64| {
+        let thermal = MachineThermal::ballscrew_default(
+            &machine,
+            Ambient::constant(20.0),
+            &[(Axis::X, fixed_end)],
+        )
+        .unwrap();
+        let screw = thermal.network.node("x_screw").unwrap();
+        let record = run_thermal(&twin, &thermal, &program, 60.0, &mut [])
+            .pop()
+            .unwrap();
+        let nominal = Workspace::new(&machine).workpiece_from_tool(
+            &machine,
+            &record.visit.state.position,
+            None,
+        );
+        (
+            record.pose.translation.x - nominal.translation.x,
+            record.temperatures[screw] - 20.0,
+        )
+    };
+    let (free, rise) = drift(0.76);
+    assert!(rise > 0.5, "screw rise {rise}");
+    assert!(
+        (free - 11.7e-6 * rise * -0.76).abs() < 1e-12 && free < -3e-6,
+        "origin drift {free}"
+    );
+    let (fixed, _) = drift(0.0);
+    assert!(fixed.abs() < 1e-15, "{fixed}");
+}
