@@ -36,6 +36,10 @@ pub struct TargetDrift {
     pub drift: Vec<(usize, Real)>,
     /// max − min of the drift (m).
     pub range: Real,
+    /// ISO 230-3 drift range over the first 60 min, signed (m), when runs are timed.
+    pub range_first_hour: Option<Real>,
+    /// When the ISO 230-3 stop criterion was first met (s), when runs are timed.
+    pub stop_time: Option<Real>,
     /// Least-squares slope of the deviation against each sensor's run temperature (m/°C);
     /// `None` when that sensor did not change between the runs.
     pub slopes: Vec<Option<Real>>,
@@ -171,7 +175,9 @@ fn slope(points: impl Iterator<Item = (Real, Real)> + Clone) -> Option<Real> {
 impl ThermalSeries {
     /// JSON: `runs` (per run: `run, time_min, temperatures_degc {sensor: °C}, points [{target_mm,
     /// direction, deviation_um}]`) and `drift` (per target and direction: `target_mm, direction,
-    /// range_um, values [{run, drift_um}], slope_um_per_degc {sensor: µm/°C or null}`).
+    /// range_um, range_60_um` (ISO 230-3 range over the first 60 min, signed), `stop_min` (when
+    /// the ISO 230-3 15 % stop criterion was first met), `values [{run, drift_um}],
+    /// slope_um_per_degc {sensor: µm/°C or null}`).
     pub fn to_json(&self) -> (serde_json::Value, serde_json::Value) {
         use serde_json::{Map, json};
         let um = |v: Real| (v * 1e12).round() / 1e6;
@@ -211,6 +217,8 @@ impl ThermalSeries {
                     "target_mm": mm(d.target),
                     "direction": sign(d.approach),
                     "range_um": um(d.range),
+                    "range_60_um": d.range_first_hour.map(um),
+                    "stop_min": d.stop_time.map(|t| t / 60.0),
                     "values": d.drift.iter().map(|&(run, v)| json!({
                         "run": self.runs[run].label, "drift_um": um(v)
                     })).collect::<Vec<_>>(),

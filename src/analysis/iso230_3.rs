@@ -1,0 +1,97 @@
+//! ISO 230-3:2007 evaluations of drift records: the drift ranges over the first 60 min and over
+//! the whole moving (or running) period (§3.14–3.17), the criterion that allows a test to stop
+//! early (§6.2, §7.2.3), and the ETVE value for a performance test of a given duration (§5.3).
+//!
+//! A drift record is a time series `(t, d)` (s; m or rad), zeroed at its start. "Range" is
+//! max − min; it is reported with the sign of the larger excursion from the start value, as the
+//! standard's examples do (e.g. Z = −0,061).
+
+use crate::math::Real;
+
+/// One hour (s).
+const HOUR: Real = 3600.0;
+
+/// The signed range of `d` over the samples with `t` in `[from, to]`: max − min, negative when
+/// the larger excursion from the first value of the record is downwards. `None` without
+/// samples there.
+pub fn signed_range(record: &[(Real, Real)], from: Real, to: Real) -> Option<Real> {
+    let start = record.first()?.1;
+    let inside = record
+        .iter()
+        .filter(|(t, _)| *t >= from && *t <= to)
+        .map(|(_, d)| *d);
+    let (low, high) = inside.fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), d| {
+        (lo.min(d), hi.max(d))
+    });
+    (low <= high).then(|| {
+        if high - start >= start - low {
+            high - low
+        } else {
+            low - high
+        }
+    })
+}
+
+/// The drift ranges of a record: over its first 60 min, and over its whole span.
+pub fn drift_ranges(record: &[(Real, Real)]) -> Option<(Real, Real)> {
+    let start = record.first()?.0;
+    let end = record.last()?.0;
+    Some((
+        signed_range(record, start, start + HOUR)?,
+        signed_range(record, start, end)?,
+    ))
+}
+
+/// The first time at which the test could have stopped: the change over the last 60 min is
+/// less than 15 % of the largest drift in the first hour,
+/// `|d(t) − d(t − 60 min)| < 0.15 · max_{first hour} |d|`. `None` if never (or the record is
+/// shorter than two hours). The value at t − 60 min is interpolated linearly.
+pub fn stop_time(record: &[(Real, Real)]) -> Option<Real> {
+    let start = record.first()?.0;
+    let first_hour = record
+        .iter()
+        .filter(|(t, _)| *t <= start + HOUR)
+        .map(|(_, d)| d.abs())
+        .fold(0.0, Real::max);
+    record
+        .iter()
+        .filter(|(t, _)| *t >= start + 2.0 * HOUR)
+        .find(|(t, d)| {
+            interpolate(record, t - HOUR)
+                .is_some_and(|before| (d - before).abs() < 0.15 * first_hour)
+        })
+        .map(|(t, _)| *t)
+}
+
+/// The ETVE for a performance test lasting `duration` s: the largest range of `d` within any
+/// window of that length (windows starting at each sample), and that window's start.
+pub fn etve(record: &[(Real, Real)], duration: Real) -> Option<(Real, Real)> {
+    let end = record.last()?.0;
+    record
+        .iter()
+        .filter(|(t, _)| *t + duration <= end + 1e-9)
+        .map(|&(s, _)| {
+            let inside = record
+                .iter()
+                .filter(|(t, _)| *t >= s && *t <= s + duration + 1e-9)
+                .map(|(_, d)| *d);
+            let (lo, hi) = inside.fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), d| {
+                (lo.min(d), hi.max(d))
+            });
+            (hi - lo, s)
+        })
+        .fold(None, |best: Option<(Real, Real)>, (range, s)| match best {
+            Some((r, _)) if r >= range => best,
+            _ => Some((range, s)),
+        })
+}
+
+/// `d` at time `t`, linearly interpolated between samples.
+fn interpolate(record: &[(Real, Real)], t: Real) -> Option<Real> {
+    let after = record.iter().position(|(time, _)| *time >= t)?;
+    if after == 0 {
+        return (record[0].0 == t).then_some(record[0].1);
+    }
+    let ((t0, d0), (t1, d1)) = (record[after - 1], record[after]);
+    Some(d0 + (d1 - d0) * (t - t0) / (t1 - t0))
+}

@@ -1,0 +1,70 @@
+//! ISO 230-3 evaluations against closed forms: the stop criterion of a first-order drift
+//! (t > 60 min + τ·ln(1/0.15) = 60 min + 1.897 τ), drift ranges with their sign, and the ETVE
+//! window of a record built so that its worst hour is known.
+
+use mtwin::analysis::iso230_3::{drift_ranges, etve, signed_range, stop_time};
+
+/// A record sampled every minute for `minutes`, in seconds.
+fn record(minutes: usize, d: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    (0..=minutes)
+        .map(|m| (m as f64 * 60.0, d(m as f64 * 60.0)))
+        .collect()
+}
+
+#[test]
+fn a_first_order_drift_may_stop_after_sixty_minutes_plus_1_897_tau() {
+    // d = d∞(1 - e^(-t/τ)): |d(t) - d(t - 60)| / d(60) = e^(-(t - 60 min)/τ) < 0.15 once
+    // t > 60 min + τ·ln(1/0.15). With τ = 50 min: 154.9 min, i.e. the first minute sample 155.
+    let tau = 50.0 * 60.0;
+    let drift = record(300, |t| 12e-6 * (1.0 - (-t / tau).exp()));
+    let expected_minutes = 60.0 + 50.0 * (1.0f64 / 0.15).ln();
+    assert!((expected_minutes - 154.86).abs() < 0.01);
+    // The record is checked from two hours on, so the first allowed sample is minute 155.
+    assert_eq!(stop_time(&drift), Some(155.0 * 60.0));
+    // τ = 120 min: 60 + 227.7 = 287.7 min — within a 300 min record; τ = 200 min: never.
+    assert_eq!(
+        stop_time(&record(300, |t| 12e-6 * (1.0 - (-t / 7200.0f64).exp()))),
+        Some(288.0 * 60.0)
+    );
+    assert_eq!(
+        stop_time(&record(300, |t| 12e-6 * (1.0 - (-t / 12000.0f64).exp()))),
+        None
+    );
+}
+
+#[test]
+fn drift_ranges_carry_the_sign_of_the_larger_excursion() {
+    // Falls to -61 µm in the first 40 min, recovers to -20 µm by 4 h: the first-hour range is
+    // -61 µm (downwards), the whole-test range also -61 µm.
+    let drift = record(240, |t| {
+        let m = t / 60.0;
+        if m <= 40.0 {
+            -61e-6 * m / 40.0
+        } else {
+            -61e-6 + 41e-6 * (m - 40.0) / 200.0
+        }
+    });
+    let (first_hour, whole) = drift_ranges(&drift).unwrap();
+    assert!(
+        (first_hour + 61e-6).abs() < 1e-12 && (whole + 61e-6).abs() < 1e-12,
+        "{first_hour} {whole}"
+    );
+    // A rise of 5 µm with a 1 µm dip: +6 µm range, positive.
+    let up = [(0.0, 0.0), (60.0, -1e-6), (120.0, 5e-6)];
+    assert!((signed_range(&up, 0.0, 120.0).unwrap() - 6e-6).abs() < 1e-18);
+}
+
+#[test]
+fn etve_finds_the_worst_window() {
+    // Flat at 0.2 µm, except a ramp of 1.5 µm from 90 to 150 min (the worked example of
+    // ISO 230-3 Figure 4, ETVE(X) = 0.0015 mm for a one-hour test, window 90-150 min).
+    let drift = record(300, |t| {
+        let m = t / 60.0;
+        0.2e-6 + 1.5e-6 * ((m - 90.0) / 60.0).clamp(0.0, 1.0)
+    });
+    let (value, start) = etve(&drift, 3600.0).unwrap();
+    assert!((value - 1.5e-6).abs() < 1e-15, "{value}");
+    assert_eq!(start, 90.0 * 60.0);
+    // A two-hour test sees the same 1.5 µm (no other change), from the first window holding it.
+    assert!((etve(&drift, 7200.0).unwrap().0 - 1.5e-6).abs() < 1e-15);
+}
