@@ -23,13 +23,12 @@ pub fn signed_range(record: &[(Real, Real)], from: Real, to: Real) -> Option<Rea
     let (low, high) = inside.fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), d| {
         (lo.min(d), hi.max(d))
     });
-    (low <= high).then(|| {
-        if high - start >= start - low {
-            high - low
-        } else {
-            low - high
-        }
-    })
+    let sign = if high - start >= start - low {
+        1.0
+    } else {
+        -1.0
+    };
+    (low <= high).then_some(sign * (high - low))
 }
 
 /// The drift ranges of a record: over its first 60 min, and over its whole span.

@@ -142,11 +142,28 @@ pub fn thermal_series(table: &PositioningTable) -> Option<ThermalSeries> {
                     )
                 })
                 .collect();
+            let timed: Vec<(Real, Real)> = drift
+                .iter()
+                .filter_map(|&(run, d)| runs[run].time.map(|t| (t, d)))
+                .collect();
+            let complete = timed.len() == drift.len();
+            let range_first_hour = if complete {
+                super::iso230_3::drift_ranges(&timed).map(|r| r.0)
+            } else {
+                None
+            };
+            let stop_time = if complete {
+                super::iso230_3::stop_time(&timed)
+            } else {
+                None
+            };
             TargetDrift {
                 target,
                 approach,
                 drift,
                 range,
+                range_first_hour,
+                stop_time,
                 slopes,
             }
         })
