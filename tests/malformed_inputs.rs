@@ -1088,3 +1088,91 @@ fn scenario_units_second_harmonic_is_found_on_its_line() {
         Some("errors.EXX.harmonic[1].period_deg"),
     );
 }
+
+/// A valid warm-up scenario on vmc3 (lines: 5 `[thermal]`, 6 sensors, 8 `[warmup]`).
+fn warmup_scenario() -> String {
+    format!(
+        "schema = 1\n\
+         machine = '{}'\n\
+         seed = 1\n\
+         \n\
+         [thermal]\n\
+         sensors = [{{ node = \"x_nut\" }}]\n\
+         \n\
+         [warmup]\n\
+         axis = \"X\"\n\
+         targets_mm = {{ from = 10.0, to = 710.0, step = 100.0 }}\n\
+         runs = 2\n\
+         idle = {{ from_mm = 0.0, to_mm = 750.0, feed_mm_per_min = 4800.0, minutes = 10.0 }}\n",
+        model("vmc3.urdf")
+    )
+}
+
+#[test]
+fn warmup_scenario_is_valid_and_its_mistakes_are_named() {
+    let dir = TempDir::new().unwrap();
+    Scenario::load(write(&dir, "ok.toml", &warmup_scenario())).unwrap();
+    // Without [thermal] a warm-up has nothing to warm.
+    let text = replace_once(
+        &warmup_scenario(),
+        "[thermal]\nsensors = [{ node = \"x_nut\" }]\n",
+        "",
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("[warmup]"),
+        Some("[thermal]"),
+    );
+    // A sensor on a node the network lacks names the nodes there are.
+    let text = replace_once(&warmup_scenario(), "node = \"x_nut\"", "node = \"x_nutt\"");
+    let (error, _) = scenario_error(&text);
+    assert_eq!(error.kind(), ScenarioErrorKind::Value);
+    assert!(
+        error.to_string().contains("x_nutt") && error.to_string().contains("x_screw"),
+        "{error}"
+    );
+    // Targets whose overrun leaves the travel (X starts at 0 mm).
+    let text = replace_once(
+        &warmup_scenario(),
+        "from = 10.0, to = 710.0",
+        "from = 0.0, to = 700.0",
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("targets_mm"),
+        Some("warmup.targets_mm"),
+    );
+}
+
+#[test]
+fn one_laser_test_per_scenario_and_a_laser_needs_one() {
+    let iso = "[iso230_2]\naxis = \"X\"\ntargets_mm = { from = 10.0, to = 700.0, count = 5 }\n";
+    let text = format!("{}{iso}", warmup_scenario());
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("[warmup]"),
+        Some("one laser test"),
+    );
+    let text = format!("{}\n[laser]\nnoise_nm = 5.0\n", minimal("vmc3.urdf"));
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Nothing,
+        &text,
+        Some("[laser]"),
+        Some("laser"),
+    );
+}

@@ -19,7 +19,7 @@ fn file<'a>(output: &'a mtwin::io::RunOutput, name: &str) -> &'a [u8] {
 #[test]
 fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // Row counts by hand: volumetric grids from the [volumetric] sections; the ISO 230-2 test
-    // reads 9 targets × 2 directions × 5 runs.
+    // reads 9 targets × 2 directions × 5 runs, the warm-up experiment 16 × 2 × 7.
     let expected = [
         ("vmc3_volumetric.toml", "volumetric.csv", 9 * 5 * 5),
         (
@@ -33,6 +33,7 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
             3 * 3 * 3 * 5 * 4,
         ),
         ("vmc3_iso230_2.toml", "positioning.csv", 9 * 2 * 5),
+        ("vmc3_warmup_laser.toml", "positioning.csv", 16 * 2 * 7),
     ];
     let on_disk: BTreeSet<String> = std::fs::read_dir(scenario_path(""))
         .unwrap()

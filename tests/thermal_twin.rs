@@ -218,3 +218,75 @@ fn the_origin_drifts_when_it_is_at_the_free_end() {
     let (fixed, _) = drift(0.0);
     assert!(fixed.abs() < 1e-15, "{fixed}");
 }
+
+#[test]
+fn the_warm_up_scenario_files_follow_the_injected_thermal_model() {
+    // Through the written files: between two runs at the same target and direction the cold
+    // errors cancel, so the change in deviation is
+    //   α·[(T₂(x) - T₁(x))·(x - 0.76) - (T₂(zero) - T₁(zero))·(0.005 - 0.76)]
+    // with the true screw temperatures from truth.json (the zero is each run's first reading,
+    // at 5 mm). The laser adds 20 nm of noise per reading (two readings: 28 nm) and 1 nm
+    // steps: allow 5 × 28 nm + 2 nm.
+    use mtwin::io::{Scenario, run_scenario};
+    let scenario = Scenario::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/vmc3_warmup_laser.toml"
+    ))
+    .unwrap();
+    let output = run_scenario(&scenario).unwrap();
+    let file = |name: &str| {
+        output
+            .files
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap()
+            .1
+            .clone()
+    };
+    let csv = String::from_utf8(file("positioning.csv")).unwrap();
+    let rows: Vec<Vec<String>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len(), 7 * 2 * 16);
+    let truth: serde_json::Value = serde_json::from_slice(&file("truth.json")).unwrap();
+    let states = &truth["thermal_states"];
+    let screw = states["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n == "x_screw")
+        .unwrap();
+    let temperature = |row: usize| states["temperatures_degc"][row][screw].as_f64().unwrap();
+    let alpha = 11.7e-6;
+    let per_run = 32;
+    let mut checked = 0;
+    for run in 1..7 {
+        for k in 0..per_run {
+            let (a, b) = (k, run * per_run + k); // same target and direction, run 1 and run `run + 1`
+            assert_eq!((&rows[a][2], &rows[a][3]), (&rows[b][2], &rows[b][3]));
+            let x = rows[a][3].parse::<f64>().unwrap() * 1e-3;
+            let change =
+                (rows[b][4].parse::<f64>().unwrap() - rows[a][4].parse::<f64>().unwrap()) * 1e-6;
+            let (zero_a, zero_b) = (0, run * per_run);
+            let expected = alpha
+                * ((temperature(b) - temperature(a)) * (x - 0.76)
+                    - (temperature(zero_b) - temperature(zero_a)) * (0.005 - 0.76));
+            assert!(
+                (change - expected).abs() < 5.0 * 28e-9 + 2e-9,
+                "run {} row {k}: {change} vs {expected}",
+                run + 1
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 6 * 32);
+    // And the error really grew: at 755 mm the last run is more than 15 µm off the first.
+    let last_up = |run: usize| rows[run * per_run + 15][4].parse::<f64>().unwrap();
+    assert!(
+        last_up(6) - last_up(0) > 15.0,
+        "{} µm",
+        last_up(6) - last_up(0)
+    );
+}

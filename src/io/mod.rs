@@ -12,5 +12,5 @@ pub use positioning::{Approach, PositioningReading, PositioningTable, TableError
 pub use run::{RunError, RunOutput, run_scenario, write_outputs};
 pub use scenario::{
     ErrorSpec, HarmonicSpec, InterpolationSpec, LaserTest, SCHEMA_VERSION, Scenario, ScenarioError,
-    ScenarioErrorKind, TableSpec, VolumetricSpec,
+    ScenarioErrorKind, TableSpec, ThermalSetup, VolumetricSpec,
 };

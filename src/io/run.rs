@@ -3,7 +3,7 @@
 use super::scenario::Scenario;
 use crate::errors::{Lu2012Error, ParameterName};
 use crate::machine::Side;
-use crate::math::sha256_hex;
+use crate::math::{Real, sha256_hex};
 use crate::twin::volumetric_map;
 use serde_json::{Value, json};
 use std::path::Path;
@@ -56,20 +56,53 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
             .expect("writing to memory cannot fail");
         files.push(("volumetric.csv".into(), bytes));
     }
+    let mut thermal_truth = None;
     if let Some(test) = &scenario.laser_test {
-        let visits = test.cycle.visits();
         let mut rng = crate::math::seeded_rng(scenario.seed, "laser");
-        let poses = scenario.twin.poses(&visits);
-        let table = test
-            .laser
-            .measure(&visits, &poses, &test.cycle.targets, &mut rng);
+        let table = match &scenario.thermal {
+            Some(setup) => {
+                let mut sensors = setup.sensors(scenario.seed);
+                let records = crate::twin::run_thermal(
+                    &scenario.twin,
+                    &setup.thermal,
+                    &test.program,
+                    setup.max_interval,
+                    &mut sensors,
+                );
+                let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
+                let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
+                let mut table = test
+                    .laser
+                    .measure(&visits, &poses, &test.cycle.targets, &mut rng);
+                table.sensors = setup
+                    .sensors
+                    .iter()
+                    .map(|(_, spec)| spec.name.clone())
+                    .collect();
+                for (reading, record) in table.readings.iter_mut().zip(&records) {
+                    reading.temperatures = record.readings.clone();
+                }
+                thermal_truth = Some(thermal_states(setup, &records));
+                table
+            }
+            None => {
+                let visits = crate::program::visits(&test.program.timeline(Real::INFINITY));
+                let poses = scenario.twin.poses(&visits);
+                test.laser
+                    .measure(&visits, &poses, &test.cycle.targets, &mut rng)
+            }
+        };
         let mut bytes = Vec::new();
         table
             .write_csv(&mut bytes)
             .expect("writing to memory cannot fail");
         files.push(("positioning.csv".into(), bytes));
     }
-    files.push(("truth.json".into(), to_json_bytes(&truth(scenario))));
+    let mut truth = truth(scenario);
+    if let Some(states) = thermal_truth {
+        truth["thermal_states"] = states;
+    }
+    files.push(("truth.json".into(), to_json_bytes(&truth)));
 
     let listed: Vec<Value> = files
         .iter()
@@ -173,6 +206,20 @@ fn truth(scenario: &Scenario) -> Value {
                        (E?0?) are the axis line itself, actual - nominal, zero at the axis zero (ISO 230-1 names)",
         "errors": errors,
         "coefficients_si": coefficients,
+    })
+}
+
+/// The true node temperatures at every measurement: `{nodes: [names], time_min: [..],
+/// temperatures_degc: [[per node] per measurement]}`.
+fn thermal_states(
+    setup: &crate::io::ThermalSetup,
+    records: &[crate::twin::ThermalRecord],
+) -> Value {
+    let round = |v: Real| (v * 1e6).round() / 1e6;
+    json!({
+        "nodes": setup.thermal.network.nodes().iter().map(|n| n.name.clone()).collect::<Vec<_>>(),
+        "time_min": records.iter().map(|r| round(r.visit.time / 60.0)).collect::<Vec<_>>(),
+        "temperatures_degc": records.iter().map(|r| r.temperatures.iter().map(|t| round(*t)).collect::<Vec<_>>()).collect::<Vec<_>>(),
     })
 }
 

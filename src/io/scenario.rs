@@ -40,7 +40,9 @@ use std::path::{Path, PathBuf};
 use toml::Spanned;
 
 mod laser_test;
+mod thermal_test;
 pub use laser_test::LaserTest;
+pub use thermal_test::ThermalSetup;
 
 /// The most grid points a volumetric map may have (its rows are held in memory).
 pub const MAX_GRID_POINTS: usize = 10_000_000;
@@ -205,7 +207,9 @@ struct RawScenario {
     errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
     volumetric: Option<Spanned<RawVolumetric>>,
     iso230_2: Option<Spanned<laser_test::RawIso230_2>>,
+    warmup: Option<Spanned<thermal_test::RawWarmup>>,
     laser: Option<Spanned<laser_test::RawLaser>>,
+    thermal: Option<Spanned<thermal_test::RawThermal>>,
 }
 
 #[derive(Deserialize)]
@@ -260,6 +264,9 @@ pub struct Scenario {
     pub volumetric: Option<VolumetricSpec>,
     /// The laser positioning test to simulate, if asked for.
     pub laser_test: Option<LaserTest>,
+    /// The machine's thermal model, if the scenario has one: the laser test then runs through
+    /// it (temperatures change the errors, sensors are read at each measurement).
+    pub thermal: Option<ThermalSetup>,
 }
 
 pub(super) struct Context<'a> {
@@ -515,25 +522,53 @@ impl Scenario {
             .as_ref()
             .map(|v| volumetric_spec(&context, &machine, v))
             .transpose()?;
-        if let (None, Some(laser)) = (&raw.iso230_2, &raw.laser) {
+        if let (None, None, Some(laser)) = (&raw.iso230_2, &raw.warmup, &raw.laser) {
             return Err(context.error(
                 Some(laser.span()),
                 ScenarioErrorKind::Nothing,
-                "laser: a laser needs a test to measure; add an [iso230_2] section",
+                "laser: a laser needs a test to measure; add an [iso230_2] or a [warmup] section",
             ));
         }
-        let laser_test = raw
-            .iso230_2
+        if let (Some(_), Some(warmup)) = (&raw.iso230_2, &raw.warmup) {
+            return Err(context.error(
+                Some(warmup.span()),
+                ScenarioErrorKind::Value,
+                "warmup: one laser test per scenario; this one already has [iso230_2]",
+            ));
+        }
+        let thermal = raw
+            .thermal
             .as_ref()
-            .map(|test| {
-                laser_test::laser_test(&context, &machine, raw.seed, test, raw.laser.as_ref())
-            })
+            .map(|t| thermal_test::thermal_setup(&context, &machine, t))
             .transpose()?;
+        if let (Some(warmup), None) = (&raw.warmup, &thermal) {
+            return Err(context.error(
+                Some(warmup.span()),
+                ScenarioErrorKind::Value,
+                "warmup: a warm-up experiment needs the machine's thermal model; add a [thermal] section",
+            ));
+        }
+        let laser_test = match (&raw.iso230_2, &raw.warmup) {
+            (Some(test), _) => Some(laser_test::laser_test(
+                &context,
+                &machine,
+                raw.seed,
+                test,
+                raw.laser.as_ref(),
+            )?),
+            (None, Some(warmup)) => Some(thermal_test::warmup_test(
+                &context,
+                &machine,
+                warmup,
+                raw.laser.as_ref(),
+            )?),
+            (None, None) => None,
+        };
         if volumetric.is_none() && laser_test.is_none() {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric] or an [iso230_2] section",
+                "nothing to compute: add a [volumetric], an [iso230_2] or a [warmup] section",
             ));
         }
 
@@ -548,6 +583,7 @@ impl Scenario {
             error_specs,
             volumetric,
             laser_test,
+            thermal,
         })
     }
 }

@@ -27,7 +27,7 @@ use crate::instruments::Air;
 use crate::instruments::laser::{AirCompensation, Laser, MaterialCompensation};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, RAD_PER_DEG, RAD_PER_URAD, Real, Vector, seeded_rng};
-use crate::program::{LinearCycle, irregular_targets};
+use crate::program::{LinearCycle, Program, irregular_targets};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -116,8 +116,11 @@ struct RawMaterial {
 /// A linear positioning test and the laser that measures it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LaserTest {
-    /// The test cycle.
+    /// The cycle of one run (axis, targets, feed, overrun, dwell).
     pub cycle: LinearCycle,
+    /// Everything the machine does during the test (for a warm-up experiment, the idle
+    /// running between runs too).
+    pub program: Program,
     /// The instrument.
     pub laser: Laser,
 }
@@ -282,10 +285,23 @@ pub(super) fn laser_test(
         dwell,
         rest,
     };
+    Ok(LaserTest {
+        program: cycle.program(),
+        cycle,
+        laser: laser_for(context, axis, laser)?,
+    })
+}
 
-    let laser = match laser {
-        Some(raw) => laser_spec(context, axis, raw)?,
-        None => Laser {
+/// The laser of the `[laser]` section on `axis`, or an ideal one (1 nm resolution, no noise,
+/// exact air compensation, reflector at the tool tip) without the section.
+pub(super) fn laser_for(
+    context: &Context<'_>,
+    axis: Axis,
+    raw: Option<&Spanned<RawLaser>>,
+) -> Result<Laser, ScenarioError> {
+    match raw {
+        Some(raw) => laser_spec(context, axis, raw),
+        None => Ok(Laser {
             axis,
             beam_offset: Vector::ZERO,
             misalignment: [0.0, 0.0],
@@ -298,9 +314,8 @@ pub(super) fn laser_test(
                 humidity_offset: 0.0,
             },
             material: None,
-        },
-    };
-    Ok(LaserTest { cycle, laser })
+        }),
+    }
 }
 
 fn laser_spec(

@@ -1,0 +1,438 @@
+//! The `[thermal]` and `[warmup]` sections: the machine's thermal model and a warm-up
+//! experiment measured by the laser (Lu 2012 Ch. 5: runs over the axis between idle-running
+//! warm-up intervals, the nut temperature recorded at each run).
+//!
+//! ```toml
+//! [thermal]
+//! ambient_degc = 20.0                       # mean air temperature (also the start of every node)
+//! daily_amplitude_degc = 0.0                # daily cycle, peak at daily_peak_h after the start
+//! daily_peak_h = 8.0
+//! oscillation = { amplitude_degc = 0.2, period_min = 3.0 }   # e.g. an air conditioner
+//! steps = [{ at_min = 120.0, by_degc = 1.0 }]
+//! fixed_end_mm = { x = 760.0 }              # where each screw's thrust bearing is (default 0)
+//! max_interval_s = 60.0                     # longest interval the heat inputs are held over
+//! sensors = [{ node = "x_nut", noise_degc = 0.05, resolution_degc = 0.1, lag_s = 20.0, offset_degc = 0.0 }]
+//!
+//! [warmup]
+//! axis = "X"
+//! targets_mm = { from = 0.0, to = 750.0, step = 50.0 }
+//! runs = 7
+//! overrun_mm = 5.0
+//! feed_mm_per_min = 2000.0
+//! dwell_s = 2.0
+//! idle = { from_mm = 0.0, to_mm = 750.0, feed_mm_per_min = 4800.0, minutes = 45.0 }   # between runs
+//! ```
+
+use super::laser_test::{LaserTest, RawLaser, laser_for};
+use super::{Context, ScenarioError, ScenarioErrorKind};
+use crate::machine::{Axis, AxisValues, Machine};
+use crate::math::{M_PER_MM, Real, seeded_rng};
+use crate::program::{LinearCycle, Program, Step};
+use crate::thermal::{Ambient, MachineThermal, SensorSpec, TemperatureSensor};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawThermal {
+    #[serde(default = "twenty")]
+    ambient_degc: Real,
+    #[serde(default)]
+    daily_amplitude_degc: Real,
+    #[serde(default)]
+    daily_peak_h: Real,
+    oscillation: Option<RawOscillation>,
+    #[serde(default)]
+    steps: Vec<RawStep>,
+    #[serde(default)]
+    fixed_end_mm: BTreeMap<String, Real>,
+    #[serde(default = "sixty")]
+    max_interval_s: Real,
+    #[serde(default)]
+    sensors: Vec<RawSensor>,
+}
+
+fn twenty() -> Real {
+    20.0
+}
+fn sixty() -> Real {
+    60.0
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOscillation {
+    amplitude_degc: Real,
+    period_min: Real,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStep {
+    at_min: Real,
+    by_degc: Real,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSensor {
+    node: String,
+    name: Option<String>,
+    #[serde(default)]
+    offset_degc: Real,
+    #[serde(default = "noise")]
+    noise_degc: Real,
+    #[serde(default = "resolution")]
+    resolution_degc: Real,
+    #[serde(default = "lag")]
+    lag_s: Real,
+}
+
+fn noise() -> Real {
+    0.05
+}
+fn resolution() -> Real {
+    0.1
+}
+fn lag() -> Real {
+    20.0
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawWarmup {
+    axis: Spanned<String>,
+    targets_mm: Spanned<RawTargets>,
+    #[serde(default = "seven")]
+    runs: usize,
+    #[serde(default = "five")]
+    overrun_mm: Real,
+    #[serde(default = "two_thousand")]
+    feed_mm_per_min: Real,
+    #[serde(default = "two")]
+    dwell_s: Real,
+    idle: Spanned<RawIdle>,
+    y_mm: Option<Real>,
+    z_mm: Option<Real>,
+    x_mm: Option<Real>,
+}
+
+fn seven() -> usize {
+    7
+}
+fn five() -> Real {
+    5.0
+}
+fn two_thousand() -> Real {
+    2000.0
+}
+fn two() -> Real {
+    2.0
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct RawTargets {
+    from: Real,
+    to: Real,
+    step: Real,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct RawIdle {
+    from_mm: Real,
+    to_mm: Real,
+    feed_mm_per_min: Real,
+    minutes: Real,
+}
+
+/// The thermal model of a scenario.
+#[derive(Clone, Debug)]
+pub struct ThermalSetup {
+    /// The machine's thermal model.
+    pub thermal: MachineThermal,
+    /// Sensors: the node each follows and its characteristics.
+    pub sensors: Vec<(usize, SensorSpec)>,
+    /// The longest interval over which heat inputs are held (s).
+    pub max_interval: Real,
+}
+
+impl ThermalSetup {
+    /// Fresh sensors for a run, each with its own seeded noise stream.
+    pub fn sensors(&self, seed: u64) -> Vec<(usize, TemperatureSensor)> {
+        self.sensors
+            .iter()
+            .map(|(node, spec)| {
+                let rng = seeded_rng(seed, &format!("sensor {}", spec.name));
+                (
+                    *node,
+                    TemperatureSensor::new(spec.clone(), self.thermal.initial, rng),
+                )
+            })
+            .collect()
+    }
+}
+
+pub(super) fn thermal_setup(
+    context: &Context<'_>,
+    machine: &Machine,
+    raw: &Spanned<RawThermal>,
+) -> Result<ThermalSetup, ScenarioError> {
+    let t = raw.get_ref();
+    let fail = |message: String| {
+        context.error(
+            Some(raw.span()),
+            ScenarioErrorKind::Value,
+            format!("thermal: {message}"),
+        )
+    };
+    let numbers = [
+        t.ambient_degc,
+        t.daily_amplitude_degc,
+        t.daily_peak_h,
+        t.max_interval_s,
+    ];
+    if !numbers.iter().all(|v| v.is_finite()) || !(-10.0..=60.0).contains(&t.ambient_degc) {
+        return Err(fail(
+            "ambient_degc must be between -10 and 60 °C and every number finite".into(),
+        ));
+    }
+    if t.max_interval_s <= 0.0 {
+        return Err(fail(format!(
+            "max_interval_s must be positive, got {}",
+            t.max_interval_s
+        )));
+    }
+    let oscillation = match &t.oscillation {
+        Some(o)
+            if o.amplitude_degc.is_finite() && o.period_min.is_finite() && o.period_min > 0.0 =>
+        {
+            Some((o.amplitude_degc, o.period_min * 60.0))
+        }
+        Some(_) => {
+            return Err(fail(
+                "oscillation: amplitude_degc finite and period_min positive".into(),
+            ));
+        }
+        None => None,
+    };
+    if t.steps
+        .iter()
+        .any(|s| !(s.at_min.is_finite() && s.by_degc.is_finite()))
+    {
+        return Err(fail("steps: at_min and by_degc must be finite".into()));
+    }
+    let ambient = Ambient {
+        mean: t.ambient_degc,
+        steps: t
+            .steps
+            .iter()
+            .map(|s| (s.at_min * 60.0, s.by_degc))
+            .collect(),
+        daily_amplitude: t.daily_amplitude_degc,
+        daily_peak: t.daily_peak_h * 3600.0,
+        oscillation,
+    };
+    let mut fixed_ends = Vec::new();
+    for (key, value) in &t.fixed_end_mm {
+        let axis = match key.as_str() {
+            "x" => Axis::X,
+            "y" => Axis::Y,
+            "z" => Axis::Z,
+            other => return Err(fail(format!("fixed_end_mm.{other}: expected x, y or z"))),
+        };
+        if !value.is_finite() {
+            return Err(fail(format!("fixed_end_mm.{key}: not a finite number")));
+        }
+        fixed_ends.push((axis, value * M_PER_MM));
+    }
+    let thermal = MachineThermal::ballscrew_default(machine, ambient, &fixed_ends)
+        .map_err(|e| fail(e.to_string()))?;
+    let mut sensors = Vec::new();
+    for s in &t.sensors {
+        let node = thermal.network.node(&s.node).ok_or_else(|| {
+            let names: Vec<&str> = thermal
+                .network
+                .nodes()
+                .iter()
+                .map(|n| n.name.as_str())
+                .collect();
+            fail(format!(
+                "sensors: no node \"{}\"; the nodes are {}",
+                s.node,
+                names.join(", ")
+            ))
+        })?;
+        let values = [s.offset_degc, s.noise_degc, s.resolution_degc, s.lag_s];
+        if !values.iter().all(|v| v.is_finite())
+            || s.noise_degc < 0.0
+            || s.resolution_degc < 0.0
+            || s.lag_s < 0.0
+        {
+            return Err(fail(format!(
+                "sensors ({}): finite values, noise, resolution and lag not negative",
+                s.node
+            )));
+        }
+        let name = s.name.clone().unwrap_or_else(|| s.node.clone());
+        if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(fail(format!(
+                "sensors: name \"{name}\" must be letters, digits and _ (it becomes temp_{name}_degc)"
+            )));
+        }
+        sensors.push((
+            node,
+            SensorSpec {
+                name,
+                offset: s.offset_degc,
+                noise: s.noise_degc,
+                resolution: s.resolution_degc,
+                time_constant: s.lag_s,
+            },
+        ));
+    }
+    Ok(ThermalSetup {
+        thermal,
+        sensors,
+        max_interval: t.max_interval_s,
+    })
+}
+
+/// The `[warmup]` experiment as a laser test: laser runs between idle-running intervals.
+pub(super) fn warmup_test(
+    context: &Context<'_>,
+    machine: &Machine,
+    raw: &Spanned<RawWarmup>,
+    laser: Option<&Spanned<RawLaser>>,
+) -> Result<LaserTest, ScenarioError> {
+    let w = raw.get_ref();
+    let fail = |span: std::ops::Range<usize>, message: String| {
+        context.error(
+            Some(span),
+            ScenarioErrorKind::Value,
+            format!("warmup.{message}"),
+        )
+    };
+    let axis = match w.axis.get_ref().as_str() {
+        "X" => Axis::X,
+        "Y" => Axis::Y,
+        "Z" => Axis::Z,
+        other => {
+            return Err(fail(
+                w.axis.span(),
+                format!("axis: \"{other}\": expected \"X\", \"Y\" or \"Z\""),
+            ));
+        }
+    };
+    let info = machine.axis(axis).expect("every machine has X, Y, Z");
+    let RawTargets { from, to, step } = *w.targets_mm.get_ref();
+    let span = w.targets_mm.span();
+    if !(from.is_finite() && to.is_finite() && step.is_finite() && step > 0.0 && from < to) {
+        return Err(fail(
+            span,
+            "targets_mm: finite from < to and a positive step".into(),
+        ));
+    }
+    let count = ((to - from) / step + 1e-9).floor() as usize + 1;
+    if !(2..=10_000).contains(&count) {
+        return Err(fail(
+            span,
+            format!("targets_mm: {count} targets; expected 2 to 10000"),
+        ));
+    }
+    let targets: Vec<Real> = (0..count)
+        .map(|i| (from + step * i as Real) * M_PER_MM)
+        .collect();
+    let overrun = w.overrun_mm * M_PER_MM;
+    let ends = [targets[0] - overrun, targets[count - 1] + overrun];
+    let overrun_ok = w.overrun_mm.is_finite() && w.overrun_mm >= 0.0;
+    if !(overrun_ok && ends.iter().all(|e| info.within_travel(*e))) {
+        return Err(fail(
+            span,
+            format!(
+                "targets_mm: with the {} mm overrun they leave the travel of {axis}",
+                w.overrun_mm
+            ),
+        ));
+    }
+    let timing = [w.feed_mm_per_min, w.dwell_s];
+    if !timing.iter().all(|v| v.is_finite()) || w.feed_mm_per_min <= 0.0 || w.dwell_s < 0.0 {
+        return Err(fail(
+            raw.span(),
+            "feed_mm_per_min must be positive and dwell_s not negative".into(),
+        ));
+    }
+    if w.runs < 2 {
+        return Err(fail(
+            raw.span(),
+            format!("runs: at least 2, got {}", w.runs),
+        ));
+    }
+    let idle = *w.idle.get_ref();
+    let idle_ok = [idle.from_mm, idle.to_mm, idle.feed_mm_per_min, idle.minutes]
+        .iter()
+        .all(|v| v.is_finite())
+        && idle.feed_mm_per_min > 0.0
+        && idle.minutes >= 0.0
+        && info.within_travel(idle.from_mm * M_PER_MM)
+        && info.within_travel(idle.to_mm * M_PER_MM);
+    if !idle_ok {
+        return Err(fail(
+            w.idle.span(),
+            format!("idle: a stroke within the travel of {axis}, a positive feed, minutes ≥ 0"),
+        ));
+    }
+    let mut rest = AxisValues::ZERO;
+    for (other, value) in [(Axis::X, w.x_mm), (Axis::Y, w.y_mm), (Axis::Z, w.z_mm)] {
+        let info = machine.axis(other).expect("linear axes");
+        let (lower, upper) = info.limits.expect("linear axes have limits");
+        let position = value.map_or((lower + upper) / 2.0, |v| v * M_PER_MM);
+        if other != axis {
+            if !info.within_travel(position) {
+                return Err(fail(
+                    raw.span(),
+                    format!(
+                        "{}_mm: outside the travel of {other}",
+                        other.letter().to_ascii_lowercase()
+                    ),
+                ));
+            }
+            rest[other] = position;
+        }
+    }
+    let cycle = LinearCycle {
+        axis,
+        targets,
+        runs: 1,
+        overrun,
+        feed: w.feed_mm_per_min * M_PER_MM / 60.0,
+        dwell: w.dwell_s,
+        rest,
+    };
+    let mut steps = Vec::new();
+    for run in 0..w.runs {
+        if run > 0 {
+            steps.push(Step::WarmUp {
+                axis,
+                from: idle.from_mm * M_PER_MM,
+                to: idle.to_mm * M_PER_MM,
+                feed: idle.feed_mm_per_min * M_PER_MM / 60.0,
+                duration: idle.minutes * 60.0,
+            });
+        }
+        steps.push(Step::Move {
+            to: vec![(axis, ends[0])],
+            feed: cycle.feed,
+        });
+        steps.extend(cycle.run_steps(run));
+    }
+    let mut start = rest;
+    start[axis] = ends[0];
+    Ok(LaserTest {
+        program: Program { start, steps },
+        cycle,
+        laser: laser_for(context, axis, laser)?,
+    })
+}
