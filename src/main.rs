@@ -3,6 +3,7 @@
 use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
 use mtwin::analysis::iso230_2;
+use mtwin::analysis::thermal_series::thermal_series;
 use mtwin::io::{PositioningTable, Scenario, run_scenario, write_outputs};
 use mtwin::machine::{Machine, Side};
 use std::path::{Path, PathBuf};
@@ -80,12 +81,27 @@ fn execute(cli: Cli) -> Result<()> {
             json,
         } => {
             let table = PositioningTable::read(&file)?;
-            let result = iso230_2::evaluate(&table)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&result.to_json(&table))?);
-            } else {
-                print!("{}", result.to_text(&table));
+            match iso230_2::evaluate(&table) {
+                Ok(result) if json => {
+                    println!("{}", serde_json::to_string_pretty(&result.to_json(&table))?)
+                }
+                Ok(result) => print!("{}", result.to_text(&table)),
+                // A drift test (e.g. ISO 230-3 §7) is a thermal series but not an ISO 230-2 test.
+                Err(e) => match thermal_series(&table) {
+                    Some(series) if json => {
+                        println!(
+                            "{}",
+                            serde_json::to_string_pretty(
+                                &series.report_json(&table, &e.to_string())
+                            )?
+                        );
+                    }
+                    Some(series) => {
+                        print!("{}", series.to_text());
+                        println!("\nNote: no ISO 230-2 figures: {e}; drift only.");
+                    }
+                    None => bail!("{}: {e}", file.display()),
+                },
             }
             Ok(())
         }

@@ -102,8 +102,8 @@ fn check_accepts_every_scenario() {
     let scenarios = files_with_extension("scenarios", "toml");
     assert_eq!(
         scenarios.len(),
-        5,
-        "one volumetric scenario per model, the ISO 230-2 laser test and the warm-up experiment"
+        6,
+        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment and the ISO 230-3 linear-motion test"
     );
     for scenario in scenarios {
         let output = check(&scenario);

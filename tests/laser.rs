@@ -3,7 +3,7 @@
 //! (compensated and not), the cosine error, material compensation, and the cycle's timing.
 
 use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
-use mtwin::instruments::laser::{AirCompensation, Laser, MaterialCompensation};
+use mtwin::instruments::laser::{AirCompensation, Laser, MaterialCompensation, Zeroing};
 use mtwin::instruments::{Air, HENE_WAVELENGTH_UM};
 use mtwin::io::{Approach, PositioningTable};
 use mtwin::machine::{Axis, AxisValues, Machine};
@@ -27,6 +27,7 @@ fn ideal_laser() -> Laser {
         air: Air::STANDARD,
         compensation: AirCompensation::Off,
         material: None,
+        zero: Zeroing::EachRun,
     }
 }
 

@@ -19,7 +19,8 @@ fn file<'a>(output: &'a mtwin::io::RunOutput, name: &str) -> &'a [u8] {
 #[test]
 fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // Row counts by hand: volumetric grids from the [volumetric] sections; the ISO 230-2 test
-    // reads 9 targets × 2 directions × 5 runs, the warm-up experiment 16 × 2 × 7.
+    // reads 9 targets × 2 directions × 5 runs, the warm-up experiment 16 × 2 × 7, the
+    // ISO 230-3 linear-motion test 2 targets × 240 readings (see tests/thermal_twin.rs).
     let expected = [
         ("vmc3_volumetric.toml", "volumetric.csv", 9 * 5 * 5),
         (
@@ -34,6 +35,7 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
         ),
         ("vmc3_iso230_2.toml", "positioning.csv", 9 * 2 * 5),
         ("vmc3_warmup_laser.toml", "positioning.csv", 16 * 2 * 7),
+        ("vmc3_iso230_3_linear.toml", "positioning.csv", 2 * 240),
     ];
     let on_disk: BTreeSet<String> = std::fs::read_dir(scenario_path(""))
         .unwrap()

@@ -5,7 +5,7 @@
 
 use mtwin::errors::ErrorModel;
 use mtwin::instruments::Air;
-use mtwin::instruments::laser::{AirCompensation, Laser};
+use mtwin::instruments::laser::{AirCompensation, Laser, Zeroing};
 use mtwin::io::Approach;
 use mtwin::machine::{Axis, AxisValues, Machine, Workspace};
 use mtwin::math::{Vector, seeded_rng};
@@ -126,6 +126,7 @@ fn warm_up_deviations_follow_position_times_screw_temperature_rise() {
         air: Air::STANDARD,
         compensation: AirCompensation::Off,
         material: None,
+        zero: Zeroing::EachRun,
     };
     let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
     let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
@@ -289,4 +290,104 @@ fn the_warm_up_scenario_files_follow_the_injected_thermal_model() {
         "{} µm",
         last_up(6) - last_up(0)
     );
+}
+
+#[test]
+fn the_linear_motion_test_reads_as_iso_230_3_asks() {
+    // Targets 20 and 740 mm at 10 000 mm/min with 2 s dwells: a bidirectional cycle takes
+    // 2·(0.72 m / (1/6 m/s) + 2 s) = 12.64 s, so 4 h hold 1139 cycles; a reading pair every 5th
+    // (227) after the first pair, then 12 cool-down visits 5 min apart: 240 pairs.
+    use mtwin::program::{LinearMotionTest, visits};
+    let mut rest = AxisValues::ZERO;
+    rest[Axis::Y] = 0.205;
+    let test = LinearMotionTest {
+        axis: Axis::X,
+        targets: [0.02, 0.74],
+        feed: 10.0 / 60.0,
+        dwell: 2.0,
+        cycling: 4.0 * 3600.0,
+        read_every: 5,
+        cooldown: 3600.0,
+        visit_interval: 300.0,
+        rest,
+    };
+    let readings = visits(&test.program().timeline(f64::INFINITY));
+    assert_eq!(readings.len(), 2 * 240);
+    assert!(
+        readings
+            .iter()
+            .all(|v| (v.point.target == 0) == (v.point.approach == Approach::Down))
+    );
+    let cooldown: Vec<f64> = readings
+        .iter()
+        .filter(|v| v.point.run >= 228 && v.point.target == 0)
+        .map(|v| v.time)
+        .collect();
+    assert_eq!(cooldown.len(), 12);
+    assert!(
+        cooldown
+            .windows(2)
+            .all(|w| (w[1] - w[0] - 300.0).abs() < 1e-9),
+        "{cooldown:?}"
+    );
+    assert!(cooldown[0] > 4.0 * 3600.0 && cooldown[11] <= 5.0 * 3600.0 + 60.0);
+}
+
+#[test]
+fn the_linear_motion_scenario_drift_follows_the_screw_temperature() {
+    // Zeroed once: at each target the drift from its first reading is
+    // α·(T_screw(t) - T_screw(t₀))·(P - 0.76) (origin at the free end), within the noise of two
+    // readings (5 × 28 nm + 2 nm). P1 = 20 mm drifts strongly negative, P2 = 740 mm barely.
+    use mtwin::io::{Scenario, run_scenario};
+    let scenario = Scenario::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/vmc3_iso230_3_linear.toml"
+    ))
+    .unwrap();
+    let output = run_scenario(&scenario).unwrap();
+    let file = |name: &str| {
+        output
+            .files
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap()
+            .1
+            .clone()
+    };
+    let csv = String::from_utf8(file("positioning.csv")).unwrap();
+    let rows: Vec<Vec<String>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    let truth: serde_json::Value = serde_json::from_slice(&file("truth.json")).unwrap();
+    let states = &truth["thermal_states"];
+    let screw = states["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n == "x_screw")
+        .unwrap();
+    let temperature = |row: usize| states["temperatures_degc"][row][screw].as_f64().unwrap();
+    let deviation = |row: usize| rows[row][4].parse::<f64>().unwrap() * 1e-6;
+    for (first, p) in [(0usize, 0.02), (1, 0.74)] {
+        let mut largest: f64 = 0.0;
+        for row in (first..rows.len()).step_by(2) {
+            let drift = deviation(row) - deviation(first);
+            let expected = 11.7e-6 * (temperature(row) - temperature(first)) * (p - 0.76);
+            assert!(
+                (drift - expected).abs() < 5.0 * 28e-9 + 2e-9,
+                "P = {p}, row {row}: {drift} vs {expected}"
+            );
+            largest = largest.max(drift.abs());
+        }
+        if p < 0.5 {
+            assert!(largest > 20e-6, "P1 drifts: {largest}");
+        } else {
+            assert!(
+                largest < 2e-6,
+                "P2 near the fixed end barely drifts: {largest}"
+            );
+        }
+    }
 }

@@ -246,6 +246,45 @@ impl ThermalSeries {
         (json!(runs), json!(drift))
     }
 
+    /// The JSON report of a positioning table that is a thermal series but not an ISO 230-2
+    /// test (e.g. the ISO 230-3 linear-motion test, each target approached from one side): the
+    /// ISO 230-2 keys are null and `note` says why.
+    pub fn report_json(
+        &self,
+        table: &PositioningTable,
+        why_not_iso230_2: &str,
+    ) -> serde_json::Value {
+        let (runs, drift) = self.to_json();
+        let mut report = serde_json::json!({
+            "kind": "positioning",
+            "standard": "ISO 230-3:2007 (drift)",
+            "axis": table.axis.map(|a| a.to_string()),
+            "n_runs": table.runs.len(),
+            "bidirectional": false,
+            "note": format!("no ISO 230-2 figures: {why_not_iso230_2}; drift only"),
+            "targets": [],
+            "runs": runs,
+            "drift": drift,
+        });
+        for key in [
+            "E_um",
+            "E_up_um",
+            "E_down_um",
+            "M_um",
+            "A_um",
+            "A_up_um",
+            "A_down_um",
+            "R_um",
+            "R_up_um",
+            "R_down_um",
+            "B_um",
+            "B_mean_um",
+        ] {
+            report[key] = serde_json::Value::Null;
+        }
+        report
+    }
+
     /// A short report for people: each run's time and temperatures, and the drift range of
     /// every target.
     pub fn to_text(&self) -> String {
@@ -266,9 +305,15 @@ impl ThermalSeries {
         }
         for d in &self.drift {
             let sign = if d.approach == Approach::Up { '+' } else { '-' };
+            let first_hour = d.range_first_hour.map_or_else(String::new, |r| {
+                format!("  first 60 min {:>8.3} µm", r * 1e6)
+            });
+            let stop = d.stop_time.map_or_else(String::new, |t| {
+                format!("  15 % criterion met at {:.0} min", t / 60.0)
+            });
             let _ = writeln!(
                 out,
-                "  target {:>10.4} mm {sign}  drift range {:>8.3} µm",
+                "  target {:>10.4} mm {sign}  drift range {:>8.3} µm{first_hour}{stop}",
                 d.target * 1e3,
                 d.range * 1e6
             );

@@ -4,7 +4,7 @@
 //! reflector rides on the tool side at `beam_offset` from the tool tip (tool frame) — the Abbe
 //! offset between the measurement line and the functional point. The reading is the
 //! displacement of the reflector relative to the interferometer along the beam, zeroed at the
-//! first reading of each run:
+//! first reading of each run (or once, for drift tests):
 //!
 //! ```text
 //! optical = (n_air / n_assumed) · u · (p_reflector − p_reflector at the run's first reading)
@@ -74,6 +74,18 @@ pub struct Laser {
     pub compensation: AirCompensation,
     /// Material compensation, if on.
     pub material: Option<MaterialCompensation>,
+    /// Zero the reading at the first reading of each run (positioning tests) or only once, at
+    /// the very first reading (drift tests, ISO 230-3).
+    pub zero: Zeroing,
+}
+
+/// When the laser's reading is set to zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Zeroing {
+    /// At the first reading of each run.
+    EachRun,
+    /// Once, at the first reading of the test.
+    Once,
 }
 
 impl Laser {
@@ -127,7 +139,8 @@ impl Laser {
         for (visit, pose) in visits.iter().zip(poses) {
             let here = pose.transform_point3(self.beam_offset);
             let target = targets[visit.point.target];
-            if zero.is_none_or(|(run, _, _)| run != visit.point.run) {
+            let new_run = zero.is_none_or(|(run, _, _)| run != visit.point.run);
+            if zero.is_none() || (new_run && self.zero == Zeroing::EachRun) {
                 zero = Some((visit.point.run, here, target));
             }
             let (_, origin, first_target) = zero.expect("set above");

@@ -71,9 +71,7 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
                 );
                 let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
                 let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
-                let mut table = test
-                    .laser
-                    .measure(&visits, &poses, &test.cycle.targets, &mut rng);
+                let mut table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
                 table.sensors = setup
                     .sensors
                     .iter()
@@ -88,8 +86,7 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
             None => {
                 let visits = crate::program::visits(&test.program.timeline(Real::INFINITY));
                 let poses = scenario.twin.poses(&visits);
-                test.laser
-                    .measure(&visits, &poses, &test.cycle.targets, &mut rng)
+                test.laser.measure(&visits, &poses, &test.targets, &mut rng)
             }
         };
         let mut bytes = Vec::new();
@@ -187,9 +184,9 @@ fn truth(scenario: &Scenario) -> Value {
     let laser_test = scenario.laser_test.as_ref().map(|test| {
         let laser = &test.laser;
         json!({
-            "axis": test.cycle.axis.to_string(),
-            "targets_mm": test.cycle.targets.iter().map(|t| t * 1e3).collect::<Vec<_>>(),
-            "runs": test.cycle.runs,
+            "axis": test.laser.axis.to_string(),
+            "targets_mm": test.targets.iter().map(|t| t * 1e3).collect::<Vec<_>>(),
+            "runs": test.runs,
             "beam_offset_mm": (laser.beam_offset * 1e3).to_array(),
             "misalignment_urad": laser.misalignment.map(|m| m * 1e6),
             "air": { "temperature_degc": laser.air.temperature, "pressure_hpa": laser.air.pressure / 100.0, "humidity_pct": laser.air.humidity },

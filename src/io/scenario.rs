@@ -208,6 +208,7 @@ struct RawScenario {
     volumetric: Option<Spanned<RawVolumetric>>,
     iso230_2: Option<Spanned<laser_test::RawIso230_2>>,
     warmup: Option<Spanned<thermal_test::RawWarmup>>,
+    iso230_3_linear: Option<Spanned<thermal_test::RawLinearMotion>>,
     laser: Option<Spanned<laser_test::RawLaser>>,
     thermal: Option<Spanned<thermal_test::RawThermal>>,
 }
@@ -522,18 +523,24 @@ impl Scenario {
             .as_ref()
             .map(|v| volumetric_spec(&context, &machine, v))
             .transpose()?;
-        if let (None, None, Some(laser)) = (&raw.iso230_2, &raw.warmup, &raw.laser) {
+        let tests = [
+            raw.iso230_2.as_ref().map(|t| t.span()),
+            raw.warmup.as_ref().map(|t| t.span()),
+            raw.iso230_3_linear.as_ref().map(|t| t.span()),
+        ];
+        let given: Vec<_> = tests.iter().flatten().collect();
+        if let (true, Some(laser)) = (given.is_empty(), &raw.laser) {
             return Err(context.error(
                 Some(laser.span()),
                 ScenarioErrorKind::Nothing,
-                "laser: a laser needs a test to measure; add an [iso230_2] or a [warmup] section",
+                "laser: a laser needs a test to measure; add an [iso230_2], [warmup] or [iso230_3_linear] section",
             ));
         }
-        if let (Some(_), Some(warmup)) = (&raw.iso230_2, &raw.warmup) {
+        if given.len() > 1 {
             return Err(context.error(
-                Some(warmup.span()),
+                Some(given[1].clone()),
                 ScenarioErrorKind::Value,
-                "warmup: one laser test per scenario; this one already has [iso230_2]",
+                "one laser test per scenario: [iso230_2], [warmup] or [iso230_3_linear]",
             ));
         }
         let thermal = raw
@@ -541,34 +548,34 @@ impl Scenario {
             .as_ref()
             .map(|t| thermal_test::thermal_setup(&context, &machine, t))
             .transpose()?;
-        if let (Some(warmup), None) = (&raw.warmup, &thermal) {
+        if let (Some(span), None) = (tests[1].clone().or(tests[2].clone()), &thermal) {
             return Err(context.error(
-                Some(warmup.span()),
+                Some(span),
                 ScenarioErrorKind::Value,
-                "warmup: a warm-up experiment needs the machine's thermal model; add a [thermal] section",
+                "warmup and iso230_3_linear are thermal tests: add a [thermal] section with the machine's thermal model",
             ));
         }
-        let laser_test = match (&raw.iso230_2, &raw.warmup) {
-            (Some(test), _) => Some(laser_test::laser_test(
-                &context,
-                &machine,
-                raw.seed,
-                test,
-                raw.laser.as_ref(),
-            )?),
-            (None, Some(warmup)) => Some(thermal_test::warmup_test(
-                &context,
-                &machine,
-                warmup,
-                raw.laser.as_ref(),
-            )?),
-            (None, None) => None,
+        let laser = raw.laser.as_ref();
+        let laser_test = if let Some(test) = &raw.iso230_2 {
+            Some(laser_test::laser_test(
+                &context, &machine, raw.seed, test, laser,
+            )?)
+        } else if let Some(warmup) = &raw.warmup {
+            Some(thermal_test::warmup_test(
+                &context, &machine, warmup, laser,
+            )?)
+        } else if let Some(linear) = &raw.iso230_3_linear {
+            Some(thermal_test::linear_motion_test(
+                &context, &machine, linear, laser,
+            )?)
+        } else {
+            None
         };
         if volumetric.is_none() && laser_test.is_none() {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric], an [iso230_2] or a [warmup] section",
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup] or [iso230_3_linear] section",
             ));
         }
 

@@ -277,6 +277,98 @@ impl LinearCycle {
     }
 }
 
+/// The ISO 230-3 §7 linear-motion test on one axis: cycling between two targets near the ends of
+/// travel (each approached only from the other, so reversal is included), readings every
+/// `read_every` bidirectional cycles; then a cool-down parked at mid-travel, visiting both
+/// targets every `visit_interval`. Target 0 (P1, the lower) is always approached downwards,
+/// target 1 (P2) upwards; run k is the k-th pair of readings. It starts at P2 and reads
+/// P1 then P2 before cycling.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearMotionTest {
+    /// The axis.
+    pub axis: Axis,
+    /// P1 < P2 (m).
+    pub targets: [Real; 2],
+    /// Traverse rate (m/s).
+    pub feed: Real,
+    /// Dwell at each target (s).
+    pub dwell: Real,
+    /// Length of the cycling period (s).
+    pub cycling: Real,
+    /// Read every this many bidirectional cycles (≥ 1).
+    pub read_every: usize,
+    /// Length of the cool-down (s).
+    pub cooldown: Real,
+    /// Interval between cool-down visits (s).
+    pub visit_interval: Real,
+    /// Positions of the other axes (SI).
+    pub rest: AxisValues,
+}
+
+impl LinearMotionTest {
+    /// The whole test as a programme.
+    pub fn program(&self) -> Program {
+        let [p1, p2] = self.targets;
+        let go = |to: Real| Step::Move {
+            to: vec![(self.axis, to)],
+            feed: self.feed,
+        };
+        let read = |run: usize, steps: &mut Vec<Step>| {
+            steps.push(go(p1));
+            steps.push(Step::Dwell(self.dwell));
+            steps.push(Step::Measure(MeasurePoint {
+                run,
+                target: 0,
+                approach: Approach::Down,
+            }));
+            steps.push(go(p2));
+            steps.push(Step::Dwell(self.dwell));
+            steps.push(Step::Measure(MeasurePoint {
+                run,
+                target: 1,
+                approach: Approach::Up,
+            }));
+        };
+        let mut steps = Vec::new();
+        let mut run = 0;
+        read(run, &mut steps);
+        let cycle_time = 2.0 * ((p2 - p1).abs() / self.feed + self.dwell);
+        let cycles = (self.cycling / cycle_time).floor() as usize;
+        for cycle in 1..=cycles {
+            if cycle % self.read_every.max(1) == 0 {
+                run += 1;
+                read(run, &mut steps);
+            } else {
+                steps.extend([
+                    go(p1),
+                    Step::Dwell(self.dwell),
+                    go(p2),
+                    Step::Dwell(self.dwell),
+                ]);
+            }
+        }
+        // Cool-down: park at mid-travel; every `visit_interval`, read both targets and return.
+        let middle = (p1 + p2) / 2.0;
+        let to_middle = (p2 - middle).abs() / self.feed;
+        let visit_time = (middle - p1).abs() / self.feed
+            + (p2 - p1).abs() / self.feed
+            + 2.0 * self.dwell
+            + to_middle;
+        steps.push(go(middle));
+        let visits = (self.cooldown / self.visit_interval).floor() as usize;
+        for visit in 0..visits {
+            let wait = self.visit_interval - if visit == 0 { to_middle } else { visit_time };
+            steps.push(Step::Dwell(wait.max(0.0)));
+            run += 1;
+            read(run, &mut steps);
+            steps.push(go(middle));
+        }
+        let mut start = self.rest;
+        start[self.axis] = p2;
+        Program { start, steps }
+    }
+}
+
 /// The measurement events of a timeline.
 pub fn visits(timeline: &[Event]) -> Vec<Visit> {
     timeline

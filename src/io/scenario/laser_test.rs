@@ -24,7 +24,7 @@
 
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::instruments::Air;
-use crate::instruments::laser::{AirCompensation, Laser, MaterialCompensation};
+use crate::instruments::laser::{AirCompensation, Laser, MaterialCompensation, Zeroing};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, RAD_PER_DEG, RAD_PER_URAD, Real, Vector, seeded_rng};
 use crate::program::{LinearCycle, Program, irregular_targets};
@@ -92,6 +92,9 @@ pub(super) struct RawLaser {
     sensor_offsets: Option<Spanned<RawAir>>,
     #[serde(default)]
     material: Option<Spanned<RawMaterial>>,
+    /// `each_run` (default) or `once`.
+    #[serde(default)]
+    zero: Option<Spanned<String>>,
 }
 
 fn default_resolution() -> Spanned<Real> {
@@ -116,8 +119,10 @@ struct RawMaterial {
 /// A linear positioning test and the laser that measures it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LaserTest {
-    /// The cycle of one run (axis, targets, feed, overrun, dwell).
-    pub cycle: LinearCycle,
+    /// Target positions along the laser's axis (m), indexed by the programme's measure points.
+    pub targets: Vec<Real>,
+    /// Number of runs.
+    pub runs: usize,
     /// Everything the machine does during the test (for a warm-up experiment, the idle
     /// running between runs too).
     pub program: Program,
@@ -287,7 +292,8 @@ pub(super) fn laser_test(
     };
     Ok(LaserTest {
         program: cycle.program(),
-        cycle,
+        runs: cycle.runs,
+        targets: cycle.targets,
         laser: laser_for(context, axis, laser)?,
     })
 }
@@ -314,6 +320,7 @@ pub(super) fn laser_for(
                 humidity_offset: 0.0,
             },
             material: None,
+            zero: Zeroing::EachRun,
         }),
     }
 }
@@ -445,6 +452,18 @@ fn laser_spec(
         }
         None => None,
     };
+    let zero = match l.zero.as_ref().map(|z| z.get_ref().as_str()) {
+        None | Some("each_run") => Zeroing::EachRun,
+        Some("once") => Zeroing::Once,
+        Some(other) => {
+            let span = l.zero.as_ref().map_or(0..0, |z| z.span());
+            return Err(fail(
+                span,
+                "zero",
+                format!("\"{other}\": expected \"each_run\" or \"once\""),
+            ));
+        }
+    };
     Ok(Laser {
         axis,
         beam_offset,
@@ -454,5 +473,6 @@ fn laser_spec(
         air,
         compensation,
         material,
+        zero,
     })
 }

@@ -432,7 +432,156 @@ pub(super) fn warmup_test(
     start[axis] = ends[0];
     Ok(LaserTest {
         program: Program { start, steps },
-        cycle,
+        targets: cycle.targets,
+        runs: w.runs,
         laser: laser_for(context, axis, laser)?,
+    })
+}
+
+/// `[iso230_3_linear]`: the ISO 230-3 §7 linear-motion test.
+///
+/// ```toml
+/// [iso230_3_linear]
+/// axis = "X"
+/// targets_mm = [20.0, 740.0]      # P1, P2: near the ends of travel
+/// feed_mm_per_min = 10000.0       # a share of the fastest programmable feed
+/// dwell_s = 2.0
+/// cycling_min = 240.0
+/// read_every = 5                  # bidirectional cycles between readings
+/// cooldown_min = 60.0
+/// visit_every_min = 5.0
+/// ```
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawLinearMotion {
+    axis: Spanned<String>,
+    targets_mm: Spanned<[Real; 2]>,
+    #[serde(default = "ten_thousand")]
+    feed_mm_per_min: Real,
+    #[serde(default = "two")]
+    dwell_s: Real,
+    #[serde(default = "two_forty")]
+    cycling_min: Real,
+    #[serde(default = "five_cycles")]
+    read_every: usize,
+    #[serde(default = "sixty_min")]
+    cooldown_min: Real,
+    #[serde(default = "five")]
+    visit_every_min: Real,
+    x_mm: Option<Real>,
+    y_mm: Option<Real>,
+    z_mm: Option<Real>,
+}
+
+fn ten_thousand() -> Real {
+    10_000.0
+}
+fn two_forty() -> Real {
+    240.0
+}
+fn five_cycles() -> usize {
+    5
+}
+fn sixty_min() -> Real {
+    60.0
+}
+
+/// The `[iso230_3_linear]` test as a laser test. ISO 230-3 §7.2.5: air compensation on, NDE off,
+/// and all readings zeroed once at the start — the laser is set so whatever `[laser]` says.
+pub(super) fn linear_motion_test(
+    context: &Context<'_>,
+    machine: &Machine,
+    raw: &Spanned<RawLinearMotion>,
+    laser: Option<&Spanned<RawLaser>>,
+) -> Result<LaserTest, ScenarioError> {
+    let m = raw.get_ref();
+    let fail = |span: std::ops::Range<usize>, message: String| {
+        context.error(
+            Some(span),
+            ScenarioErrorKind::Value,
+            format!("iso230_3_linear.{message}"),
+        )
+    };
+    let axis = match m.axis.get_ref().as_str() {
+        "X" => Axis::X,
+        "Y" => Axis::Y,
+        "Z" => Axis::Z,
+        other => {
+            return Err(fail(
+                m.axis.span(),
+                format!("axis: \"{other}\": expected \"X\", \"Y\" or \"Z\""),
+            ));
+        }
+    };
+    let info = machine.axis(axis).expect("every machine has X, Y, Z");
+    let [p1, p2] = m.targets_mm.get_ref().map(|t| t * M_PER_MM);
+    if !(p1.is_finite()
+        && p2.is_finite()
+        && p1 < p2
+        && info.within_travel(p1)
+        && info.within_travel(p2))
+    {
+        return Err(fail(
+            m.targets_mm.span(),
+            format!("targets_mm: two positions P1 < P2 within the travel of {axis}"),
+        ));
+    }
+    let numbers = [
+        m.feed_mm_per_min,
+        m.dwell_s,
+        m.cycling_min,
+        m.cooldown_min,
+        m.visit_every_min,
+    ];
+    let valid = numbers.iter().all(|v| v.is_finite())
+        && m.feed_mm_per_min > 0.0
+        && m.dwell_s >= 0.0
+        && m.cycling_min > 0.0
+        && m.cooldown_min >= 0.0
+        && m.visit_every_min > 0.0
+        && m.read_every >= 1;
+    if !valid {
+        return Err(fail(raw.span(), "feed, cycling and visit interval positive; dwell and cool-down not negative; read_every ≥ 1".into()));
+    }
+    let mut rest = AxisValues::ZERO;
+    for (other, value) in [(Axis::X, m.x_mm), (Axis::Y, m.y_mm), (Axis::Z, m.z_mm)] {
+        if other == axis {
+            continue;
+        }
+        let info = machine.axis(other).expect("linear axes");
+        let (lower, upper) = info.limits.expect("linear axes have limits");
+        let position = value.map_or((lower + upper) / 2.0, |v| v * M_PER_MM);
+        if !info.within_travel(position) {
+            return Err(fail(
+                raw.span(),
+                format!(
+                    "{}_mm: outside the travel of {other}",
+                    other.letter().to_ascii_lowercase()
+                ),
+            ));
+        }
+        rest[other] = position;
+    }
+    let test = crate::program::LinearMotionTest {
+        axis,
+        targets: [p1, p2],
+        feed: m.feed_mm_per_min * M_PER_MM / 60.0,
+        dwell: m.dwell_s,
+        cycling: m.cycling_min * 60.0,
+        read_every: m.read_every,
+        cooldown: m.cooldown_min * 60.0,
+        visit_interval: m.visit_every_min * 60.0,
+        rest,
+    };
+    let program = test.program();
+    let runs = crate::program::visits(&program.timeline(Real::INFINITY)).len() / 2;
+    let mut laser = laser_for(context, axis, laser)?;
+    laser.zero = crate::instruments::laser::Zeroing::Once;
+    laser.material = None;
+    Ok(LaserTest {
+        program,
+        targets: vec![p1, p2],
+        runs,
+        laser,
     })
 }
