@@ -27,6 +27,7 @@ fn ideal_laser() -> Laser {
         air: Air::STANDARD,
         compensation: AirCompensation::Off,
         material: None,
+        dead_path: 0.0,
         zero: Zeroing::EachRun,
     }
 }
@@ -356,4 +357,71 @@ fn the_bundled_test_recovers_the_injected_lost_motion() {
         (mean_reversal + 3e-6).abs() < 5.0 * 4.2e-9 + 1e-9,
         "B̄ = {mean_reversal}"
     );
+}
+
+#[test]
+fn the_dead_path_drifts_with_the_air_even_when_compensated() {
+    // No motion between the zero and a reading, 1 m of dead path, the air 1 °C warmer at the
+    // reading, sensors exact. The fringe count still changes by the dead path's optical length:
+    // reading = L_dead·(n(21 °C) - n(20 °C)) / n(21 °C) ≈ -0.96 µm at 50 %RH (Edlén: about
+    // -0.93 ppm/°C dry, -0.03 ppm/°C more from the humidity).
+    let machine = vmc3();
+    let laser = Laser {
+        dead_path: 1.0,
+        compensation: AirCompensation::Sensors {
+            temperature_offset: 0.0,
+            pressure_offset: 0.0,
+            humidity_offset: 0.0,
+        },
+        ..ideal_laser()
+    };
+    let visit = |run: usize, time: f64| mtwin::program::Visit {
+        point: mtwin::program::MeasurePoint {
+            run,
+            target: 0,
+            approach: Approach::Up,
+        },
+        time,
+        state: mtwin::machine::MachineState::at(AxisValues::ZERO),
+    };
+    let visits = [visit(0, 0.0), visit(0, 600.0)];
+    let twin = Twin {
+        machine: machine.clone(),
+        errors: ErrorModel::empty(&machine),
+    };
+    let poses = twin.poses(&visits);
+    let table = laser.measure_in_air(
+        &visits,
+        &poses,
+        Some(&[20.0, 21.0]),
+        &[0.0],
+        &mut seeded_rng(1, "laser"),
+    );
+    let n = |t: f64| {
+        Air {
+            temperature: t,
+            ..Air::STANDARD
+        }
+        .refractive_index(HENE_WAVELENGTH_UM)
+    };
+    let expected = 1.0 * (n(21.0) - n(20.0)) / n(21.0);
+    assert!(
+        (table.readings[1].deviation - expected).abs() < 1e-15,
+        "{}",
+        table.readings[1].deviation
+    );
+    assert!((expected + 0.96e-6).abs() < 0.03e-6, "{expected}");
+    // Without a dead path the same change leaves nothing.
+    let table = Laser {
+        dead_path: 0.0,
+        ..laser
+    }
+    .measure_in_air(
+        &visits,
+        &poses,
+        Some(&[20.0, 21.0]),
+        &[0.0],
+        &mut seeded_rng(1, "laser"),
+    );
+    assert!(table.readings[1].deviation.abs() < 1e-18);
 }

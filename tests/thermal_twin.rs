@@ -10,7 +10,7 @@ use mtwin::io::Approach;
 use mtwin::machine::{Axis, AxisValues, Machine, Workspace};
 use mtwin::math::{Vector, seeded_rng};
 use mtwin::program::{LinearCycle, MeasurePoint, Program, Step};
-use mtwin::thermal::{Ambient, MachineThermal, ThermalStepper};
+use mtwin::thermal::{Ambient, MachineThermal, ScrewSpec, ThermalStepper};
 use mtwin::twin::{Twin, run_thermal};
 
 fn vmc3() -> Machine {
@@ -106,9 +106,18 @@ fn warm_up_deviations_follow_position_times_screw_temperature_rise() {
     // laser zeroed at 0 mm each run. Injected: e(x, T) = α·(T_screw - 20)·(x - 0.76). So each
     // reading is e(x, T_now) - e(0, T_at_zero), from the screw temperatures the twin recorded.
     let machine = vmc3();
-    let thermal =
-        MachineThermal::ballscrew_default(&machine, Ambient::constant(20.0), &[(Axis::X, 0.76)])
-            .unwrap();
+    let thermal = MachineThermal::ballscrew_default(
+        &machine,
+        Ambient::constant(20.0),
+        &[(
+            Axis::X,
+            ScrewSpec {
+                fixed_end: 0.76,
+                expansion: 11.7e-6,
+            },
+        )],
+    )
+    .unwrap();
     let screw = thermal.network.node("x_screw").unwrap();
     let twin = Twin {
         errors: ErrorModel::empty(&machine),
@@ -126,6 +135,7 @@ fn warm_up_deviations_follow_position_times_screw_temperature_rise() {
         air: Air::STANDARD,
         compensation: AirCompensation::Off,
         material: None,
+        dead_path: 0.0,
         zero: Zeroing::EachRun,
     };
     let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
@@ -193,7 +203,13 @@ fn the_origin_drifts_when_it_is_at_the_free_end() {
         let thermal = MachineThermal::ballscrew_default(
             &machine,
             Ambient::constant(20.0),
-            &[(Axis::X, fixed_end)],
+            &[(
+                Axis::X,
+                ScrewSpec {
+                    fixed_end,
+                    expansion: 11.7e-6,
+                },
+            )],
         )
         .unwrap();
         let screw = thermal.network.node("x_screw").unwrap();

@@ -7,7 +7,8 @@
 //! first reading of each run (or once, for drift tests):
 //!
 //! ```text
-//! optical = (n_air / n_assumed) · u · (p_reflector − p_reflector at the run's first reading)
+//! optical = [n_air·(L_dead + u·Δp) − n_air,zero·L_dead] / n_assumed,
+//!           Δp = p_reflector − p_reflector at the run's first reading
 //! reading = quantise(optical · (1 − α_material·(T_material,measured − 20 °C)) + noise)
 //! deviation = (P_first + reading) − P_target
 //! ```
@@ -18,9 +19,12 @@
 //! compensation is off. Material (NDE) compensation, when on, scales the reading to 20 °C with
 //! the material sensor's temperature.
 //!
-//! Simplified: the air is uniform along the beam and constant during the test, so the dead path
-//! (whose optical length drifts when the air changes) has no effect yet and is not modelled;
-//! no beam shear, no periodic nonlinearity of the interferometer optics.
+//! When the air temperature changes during a test ([`Laser::measure_in_air`]), the dead path
+//! (the beam between interferometer and reflector at the zero) changes its optical length too,
+//! which the reading cannot tell from motion.
+//!
+//! Simplified: the air is uniform along the beam, only its temperature changes; no beam shear,
+//! no periodic nonlinearity of the interferometer optics.
 
 use super::air::{Air, HENE_WAVELENGTH_UM};
 use crate::io::{PositioningReading, PositioningTable};
@@ -74,6 +78,9 @@ pub struct Laser {
     pub compensation: AirCompensation,
     /// Material compensation, if on.
     pub material: Option<MaterialCompensation>,
+    /// Beam length between interferometer and reflector at the zero (m): its optical length
+    /// changes with the air but is not part of the measured displacement.
+    pub dead_path: Real,
     /// Zero the reading at the first reading of each run (positioning tests) or only once, at
     /// the very first reading (drift tests, ISO 230-3).
     pub zero: Zeroing,
@@ -102,6 +109,11 @@ impl Laser {
 
     /// The refractive index the instrument divides by.
     pub fn assumed_index(&self) -> Real {
+        self.assumed_index_in(&self.air)
+    }
+
+    /// The refractive index the instrument divides by when the true air is `air`.
+    fn assumed_index_in(&self, air: &Air) -> Real {
         match self.compensation {
             AirCompensation::Off => Air::STANDARD.refractive_index(HENE_WAVELENGTH_UM),
             AirCompensation::Sensors {
@@ -109,9 +121,9 @@ impl Laser {
                 pressure_offset,
                 humidity_offset,
             } => Air {
-                temperature: self.air.temperature + temperature_offset,
-                pressure: self.air.pressure + pressure_offset,
-                humidity: self.air.humidity + humidity_offset,
+                temperature: air.temperature + temperature_offset,
+                pressure: air.pressure + pressure_offset,
+                humidity: air.humidity + humidity_offset,
             }
             .refractive_index(HENE_WAVELENGTH_UM),
         }
@@ -127,24 +139,55 @@ impl Laser {
         targets: &[Real],
         rng: &mut ChaCha8Rng,
     ) -> PositioningTable {
+        self.measure_in_air(visits, poses, None, targets, rng)
+    }
+
+    /// [`Laser::measure`] with the air temperature (°C) at each visit, when it changes during
+    /// the test (pressure and humidity stay as set). The interferometer counts the optical
+    /// path change, dead path included — `n(t)·(L_dead + L(t)) − n(t₀)·(L_dead + L(t₀))` — and
+    /// divides by the index it assumes at the reading, so a change of the air between the zero
+    /// and a reading leaves `L_dead·Δn/n` in it however good the compensation.
+    pub fn measure_in_air(
+        &self,
+        visits: &[Visit],
+        poses: &[Pose],
+        air_temperatures: Option<&[Real]>,
+        targets: &[Real],
+        rng: &mut ChaCha8Rng,
+    ) -> PositioningTable {
         assert_eq!(visits.len(), poses.len(), "one pose per visit");
+        if let Some(temperatures) = air_temperatures {
+            assert_eq!(
+                temperatures.len(),
+                visits.len(),
+                "one air temperature per visit"
+            );
+        }
         let beam = self.beam_direction();
-        let scale = self.air.refractive_index(HENE_WAVELENGTH_UM) / self.assumed_index();
+        let air_at = |i: usize| Air {
+            temperature: air_temperatures.map_or(self.air.temperature, |t| t[i]),
+            ..self.air
+        };
         let material = self
             .material
             .map_or(1.0, |m| 1.0 - m.expansion * (m.measured_temperature - 20.0));
         let mut readings = Vec::with_capacity(visits.len());
-        // The reading is zeroed at each run's first reading: (run, reflector there, its target).
-        let mut zero: Option<(usize, Vector, Real)> = None;
-        for (visit, pose) in visits.iter().zip(poses) {
+        // The reading is zeroed at a run's first reading (or the test's): (run, reflector there,
+        // its target, the true index then).
+        let mut zero: Option<(usize, Vector, Real, Real)> = None;
+        for (i, (visit, pose)) in visits.iter().zip(poses).enumerate() {
             let here = pose.transform_point3(self.beam_offset);
             let target = targets[visit.point.target];
-            let new_run = zero.is_none_or(|(run, _, _)| run != visit.point.run);
+            let air = air_at(i);
+            let n_true = air.refractive_index(HENE_WAVELENGTH_UM);
+            let new_run = zero.is_none_or(|(run, ..)| run != visit.point.run);
             if zero.is_none() || (new_run && self.zero == Zeroing::EachRun) {
-                zero = Some((visit.point.run, here, target));
+                zero = Some((visit.point.run, here, target, n_true));
             }
-            let (_, origin, first_target) = zero.expect("set above");
-            let optical = scale * beam.dot(here - origin);
+            let (_, origin, first_target, n_zero) = zero.expect("set above");
+            let travel = beam.dot(here - origin);
+            let optical_change = n_true * (self.dead_path + travel) - n_zero * self.dead_path;
+            let optical = optical_change / self.assumed_index_in(&air);
             let mut reading = optical * material;
             if self.noise > 0.0 {
                 reading += self.noise * standard_normal(rng);

@@ -71,7 +71,14 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
                 );
                 let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
                 let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
-                let mut table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
+                // The laser's air is the machine's air, at each reading.
+                let air: Vec<Real> = records
+                    .iter()
+                    .map(|r| setup.thermal.ambient.at(r.visit.time))
+                    .collect();
+                let mut table =
+                    test.laser
+                        .measure_in_air(&visits, &poses, Some(&air), &test.targets, &mut rng);
                 table.sensors = setup
                     .sensors
                     .iter()

@@ -13,12 +13,14 @@
 //! | `spindle_housing` | 20 000 | 8 | column front 5 | — |
 //! | `column_front`, `column_back` | 200 000 each | 20 each | each other 15 | — |
 //! | `bed` | 500 000 | 40 | | — |
+//! | `table` | 100 000 | 10 | X nut 2 | — |
 //!
-//! With them an axis idling at 4 800 mm/min warms its nut by 4.6 °C and its screw by 3.1 °C
-//! (steady state), the screw reaching 63 % of that after 51 min and stable after about 3 h
+//! With them an axis idling at 4 800 mm/min warms its nut by 3.4 °C and its screw by 2.4 °C
+//! (steady state), the screw reaching 63 % of that after 49 min and stable after about 3 h
 //! (Lu 2012 Ch. 3 and 5 report warm-ups of 2.5–3 h); `tests/thermal_twin.rs` checks it. Friction heat is taken proportional to speed (Coulomb
 //! friction); heat is spread evenly within a node. Thermal errors: each linear axis's screw
-//! expands with 11.7 ppm/K from its fixed end (at the axis zero unless set otherwise), the
+//! expands with 11.7 ppm/K (steel, unless set otherwise) from its fixed end (at the axis zero
+//! unless set otherwise), the
 //! spindle grows 1 µm/K, and the column tilts the head by 2 µrad per K of front–back difference.
 
 use super::errors::{ThermalErrors, ThermalTerm, ThermalTermError};
@@ -91,6 +93,25 @@ pub struct HeatSource {
     pub coefficient: Real,
 }
 
+/// A ball screw's thermal facts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScrewSpec {
+    /// Axis position of the fixed (thrust-bearing) end (m).
+    pub fixed_end: Real,
+    /// Expansion coefficient (1/K).
+    pub expansion: Real,
+}
+
+impl Default for ScrewSpec {
+    /// Fixed end at the axis zero, steel.
+    fn default() -> ScrewSpec {
+        ScrewSpec {
+            fixed_end: 0.0,
+            expansion: 11.7e-6,
+        }
+    }
+}
+
 /// A machine's thermal model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MachineThermal {
@@ -108,12 +129,13 @@ pub struct MachineThermal {
 
 impl MachineThermal {
     /// The default model (see the module docs) for `machine`, starting at the ambient mean.
-    /// `fixed_ends` gives, per linear axis, the axis position of its screw's fixed end (m);
-    /// axes not listed have it at their zero.
+    /// `screws` gives, per linear axis, the axis position of its screw's fixed end (m) and its
+    /// expansion coefficient (1/K); axes not listed have the fixed end at their zero and
+    /// 11.7e-6/K.
     pub fn ballscrew_default(
         machine: &Machine,
         ambient: Ambient,
-        fixed_ends: &[(Axis, Real)],
+        screws: &[(Axis, ScrewSpec)],
     ) -> Result<MachineThermal, ThermalTermError> {
         let mut nodes = Vec::new();
         let mut links: Vec<(String, String, Real)> = Vec::new();
@@ -141,9 +163,13 @@ impl MachineThermal {
         nodes.push(node("column_front".into(), 200_000.0, 20.0));
         nodes.push(node("column_back".into(), 200_000.0, 20.0));
         nodes.push(node("bed".into(), 500_000.0, 40.0));
+        nodes.push(node("table".into(), 100_000.0, 10.0));
         links.push(("spindle_bearing".into(), "spindle_housing".into(), 10.0));
         links.push(("spindle_housing".into(), "column_front".into(), 5.0));
         links.push(("column_front".into(), "column_back".into(), 15.0));
+        if linear.contains(&Axis::X) {
+            links.push(("x_nut".into(), "table".into(), 2.0));
+        }
         let link_refs: Vec<(&str, &str, Real)> = links
             .iter()
             .map(|(a, b, g)| (a.as_str(), b.as_str(), *g))
@@ -165,15 +191,15 @@ impl MachineThermal {
                 driver: HeatDriver::AxisSpeed(*axis),
                 coefficient: 150.0,
             });
-            let fixed_end = fixed_ends
+            let spec = screws
                 .iter()
                 .find(|(f, _)| f == axis)
-                .map_or(0.0, |(_, e)| *e);
+                .map_or(ScrewSpec::default(), |(_, s)| *s);
             terms.push(ThermalTerm::ScrewExpansion {
                 axis: *axis,
                 screw: index(&format!("{a}_screw")),
-                expansion: 11.7e-6,
-                fixed_end,
+                expansion: spec.expansion,
+                fixed_end: spec.fixed_end,
                 reference: ambient.mean,
             });
         }

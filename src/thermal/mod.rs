@@ -7,6 +7,6 @@ mod network;
 mod sensor;
 
 pub use errors::{ThermalErrors, ThermalTerm, ThermalTermError};
-pub use machine::{Ambient, HeatDriver, HeatSource, MachineThermal};
+pub use machine::{Ambient, HeatDriver, HeatSource, MachineThermal, ScrewSpec};
 pub use network::{ThermalNetwork, ThermalNetworkError, ThermalNode, ThermalStepper};
 pub use sensor::{SensorSpec, TemperatureSensor};

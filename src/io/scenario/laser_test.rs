@@ -20,6 +20,8 @@
 //! air = { temperature_degc = 20.0, pressure_hpa = 1013.25, humidity_pct = 50.0 }
 //! sensor_offsets = { temperature_degc = 0.0, pressure_hpa = 0.0, humidity_pct = 0.0 }
 //! material = { expansion_ppm_per_degc = 11.7, temperature_degc = 20.0 }   # NDE, optional
+//! dead_path_mm = 100.0                # beam length at the zero (matters when the air changes)
+//! zero = "each_run"                   # or "once" (drift tests)
 //! ```
 
 use super::{Context, ScenarioError, ScenarioErrorKind};
@@ -95,6 +97,8 @@ pub(super) struct RawLaser {
     /// `each_run` (default) or `once`.
     #[serde(default)]
     zero: Option<Spanned<String>>,
+    #[serde(default)]
+    dead_path_mm: Option<Spanned<Real>>,
 }
 
 fn default_resolution() -> Spanned<Real> {
@@ -320,6 +324,7 @@ pub(super) fn laser_for(
                 humidity_offset: 0.0,
             },
             material: None,
+            dead_path: 0.0,
             zero: Zeroing::EachRun,
         }),
     }
@@ -452,6 +457,10 @@ fn laser_spec(
         }
         None => None,
     };
+    let dead_path = match &l.dead_path_mm {
+        Some(v) => non_negative(*v.get_ref(), v.span(), "dead_path_mm")? * M_PER_MM,
+        None => 0.0,
+    };
     let zero = match l.zero.as_ref().map(|z| z.get_ref().as_str()) {
         None | Some("each_run") => Zeroing::EachRun,
         Some("once") => Zeroing::Once,
@@ -473,6 +482,7 @@ fn laser_spec(
         air,
         compensation,
         material,
+        dead_path,
         zero,
     })
 }

@@ -10,6 +10,7 @@
 //! oscillation = { amplitude_degc = 0.2, period_min = 3.0 }   # e.g. an air conditioner
 //! steps = [{ at_min = 120.0, by_degc = 1.0 }]
 //! fixed_end_mm = { x = 760.0 }              # where each screw's thrust bearing is (default 0)
+//! expansion_ppm_per_degc = { x = 11.7 }     # each screw's expansion (default 11.7, steel)
 //! max_interval_s = 60.0                     # longest interval the heat inputs are held over
 //! sensors = [{ node = "x_nut", noise_degc = 0.05, resolution_degc = 0.1, lag_s = 20.0, offset_degc = 0.0 }]
 //!
@@ -28,7 +29,7 @@ use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real, seeded_rng};
 use crate::program::{LinearCycle, Program, Step};
-use crate::thermal::{Ambient, MachineThermal, SensorSpec, TemperatureSensor};
+use crate::thermal::{Ambient, MachineThermal, ScrewSpec, SensorSpec, TemperatureSensor};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use toml::Spanned;
@@ -47,6 +48,8 @@ pub(super) struct RawThermal {
     steps: Vec<RawStep>,
     #[serde(default)]
     fixed_end_mm: BTreeMap<String, Real>,
+    #[serde(default)]
+    expansion_ppm_per_degc: BTreeMap<String, Real>,
     #[serde(default = "sixty")]
     max_interval_s: Real,
     #[serde(default)]
@@ -235,20 +238,37 @@ pub(super) fn thermal_setup(
         daily_peak: t.daily_peak_h * 3600.0,
         oscillation,
     };
-    let mut fixed_ends = Vec::new();
-    for (key, value) in &t.fixed_end_mm {
-        let axis = match key.as_str() {
-            "x" => Axis::X,
-            "y" => Axis::Y,
-            "z" => Axis::Z,
-            other => return Err(fail(format!("fixed_end_mm.{other}: expected x, y or z"))),
-        };
-        if !value.is_finite() {
-            return Err(fail(format!("fixed_end_mm.{key}: not a finite number")));
+    let mut screws: Vec<(Axis, ScrewSpec)> = Vec::new();
+    let axis_of = |key: &str, table: &str| match key {
+        "x" => Ok(Axis::X),
+        "y" => Ok(Axis::Y),
+        "z" => Ok(Axis::Z),
+        other => Err(fail(format!("{table}.{other}: expected x, y or z"))),
+    };
+    for (table, values) in [
+        ("fixed_end_mm", &t.fixed_end_mm),
+        ("expansion_ppm_per_degc", &t.expansion_ppm_per_degc),
+    ] {
+        for (key, value) in values {
+            let axis = axis_of(key, table)?;
+            if !value.is_finite() {
+                return Err(fail(format!("{table}.{key}: not a finite number")));
+            }
+            let index = match screws.iter().position(|(a, _)| *a == axis) {
+                Some(i) => i,
+                None => {
+                    screws.push((axis, ScrewSpec::default()));
+                    screws.len() - 1
+                }
+            };
+            if table == "fixed_end_mm" {
+                screws[index].1.fixed_end = value * M_PER_MM;
+            } else {
+                screws[index].1.expansion = value * 1e-6;
+            }
         }
-        fixed_ends.push((axis, value * M_PER_MM));
     }
-    let thermal = MachineThermal::ballscrew_default(machine, ambient, &fixed_ends)
+    let thermal = MachineThermal::ballscrew_default(machine, ambient, &screws)
         .map_err(|e| fail(e.to_string()))?;
     let mut sensors = Vec::new();
     for s in &t.sensors {
