@@ -194,3 +194,16 @@ fn five_axis_map_columns_match_hand_values() {
         }
     }
 }
+
+#[test]
+fn every_bundled_scenario_is_deterministic() {
+    // Same scenario and seed ⇒ the same bytes in every file, noise and sensors included.
+    for entry in std::fs::read_dir(scenario_path("")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let first = run_scenario(&Scenario::load(&path).unwrap()).unwrap();
+            let second = run_scenario(&Scenario::load(&path).unwrap()).unwrap();
+            assert_eq!(first, second, "{}", path.display());
+        }
+    }
+}
