@@ -394,6 +394,7 @@ fn the_dead_path_drifts_with_the_air_even_when_compensated() {
         &visits,
         &poses,
         Some(&[20.0, 21.0]),
+        None,
         &[0.0],
         &mut seeded_rng(1, "laser"),
     );
@@ -420,6 +421,7 @@ fn the_dead_path_drifts_with_the_air_even_when_compensated() {
         &visits,
         &poses,
         Some(&[20.0, 21.0]),
+        None,
         &[0.0],
         &mut seeded_rng(1, "laser"),
     );

@@ -407,3 +407,58 @@ fn the_linear_motion_scenario_drift_follows_the_screw_temperature() {
         }
     }
 }
+
+#[test]
+fn material_compensation_on_the_screw_hides_its_expansion() {
+    // The warm-up experiment again, with the laser's NDE sensor on the X screw and the screw's
+    // own 11.7 ppm/K: the reading is scaled by 1 - α·(T_screw - 20), which undoes the screw's
+    // expansion α·ΔT·(x - x₀) to second order (α²ΔT² ~ 1e-9). The 20 µm warm-up drift vanishes,
+    // which is why ISO 230-3 §7.2.5 forbids NDE in drift tests. Between the first and last runs
+    // at 755 mm only the noise of two readings remains (5 × 28 nm + 2 nm).
+    use mtwin::io::{Scenario, run_scenario};
+    let original = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/vmc3_warmup_laser.toml"
+    ))
+    .unwrap();
+    let text = original
+        .replace("machine = \"../models/vmc3.urdf\"", &format!("machine = '{}/models/vmc3.urdf'", env!("CARGO_MANIFEST_DIR")))
+        .replace("compensation = \"sensors\"", "compensation = \"sensors\"\nmaterial = { expansion_ppm_per_degc = 11.7, node = \"x_screw\" }");
+    assert_ne!(text, original);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("nde.toml");
+    std::fs::write(&path, text).unwrap();
+    let output = run_scenario(&Scenario::load(&path).unwrap()).unwrap();
+    let csv = String::from_utf8(
+        output
+            .files
+            .iter()
+            .find(|(n, _)| n == "positioning.csv")
+            .unwrap()
+            .1
+            .clone(),
+    )
+    .unwrap();
+    let rows: Vec<Vec<String>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    let at = |row: usize| rows[row][4].parse::<f64>().unwrap();
+    assert_eq!(rows[15][3], "755.000000");
+    let change = at(6 * 32 + 15) - at(15);
+    assert!(
+        change.abs() < 5.0 * 0.028 + 0.002,
+        "drift with NDE {change} µm"
+    );
+    // A node the thermal model lacks is refused.
+    std::fs::write(
+        &path,
+        std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("node = \"x_screw\"", "node = \"x_scale\""),
+    )
+    .unwrap();
+    let error = Scenario::load(&path).unwrap_err();
+    assert!(error.to_string().contains("x_scale"), "{error}");
+}

@@ -139,11 +139,12 @@ impl Laser {
         targets: &[Real],
         rng: &mut ChaCha8Rng,
     ) -> PositioningTable {
-        self.measure_in_air(visits, poses, None, targets, rng)
+        self.measure_in_air(visits, poses, None, None, targets, rng)
     }
 
     /// [`Laser::measure`] with the air temperature (°C) at each visit, when it changes during
-    /// the test (pressure and humidity stay as set). The interferometer counts the optical
+    /// the test (pressure and humidity stay as set), and the material sensor's reading (°C) at
+    /// each visit for material compensation, when it follows the machine. The interferometer counts the optical
     /// path change, dead path included — `n(t)·(L_dead + L(t)) − n(t₀)·(L_dead + L(t₀))` — and
     /// divides by the index it assumes at the reading, so a change of the air between the zero
     /// and a reading leaves `L_dead·Δn/n` in it however good the compensation.
@@ -152,10 +153,18 @@ impl Laser {
         visits: &[Visit],
         poses: &[Pose],
         air_temperatures: Option<&[Real]>,
+        material_temperatures: Option<&[Real]>,
         targets: &[Real],
         rng: &mut ChaCha8Rng,
     ) -> PositioningTable {
         assert_eq!(visits.len(), poses.len(), "one pose per visit");
+        if let Some(temperatures) = material_temperatures {
+            assert_eq!(
+                temperatures.len(),
+                visits.len(),
+                "one material temperature per visit"
+            );
+        }
         if let Some(temperatures) = air_temperatures {
             assert_eq!(
                 temperatures.len(),
@@ -168,9 +177,12 @@ impl Laser {
             temperature: air_temperatures.map_or(self.air.temperature, |t| t[i]),
             ..self.air
         };
-        let material = self
-            .material
-            .map_or(1.0, |m| 1.0 - m.expansion * (m.measured_temperature - 20.0));
+        let material = |i: usize| {
+            self.material.map_or(1.0, |m| {
+                let measured = material_temperatures.map_or(m.measured_temperature, |t| t[i]);
+                1.0 - m.expansion * (measured - 20.0)
+            })
+        };
         let mut readings = Vec::with_capacity(visits.len());
         // The reading is zeroed at a run's first reading (or the test's): (run, reflector there,
         // its target, the true index then).
@@ -188,7 +200,7 @@ impl Laser {
             let travel = beam.dot(here - origin);
             let optical_change = n_true * (self.dead_path + travel) - n_zero * self.dead_path;
             let optical = optical_change / self.assumed_index_in(&air);
-            let mut reading = optical * material;
+            let mut reading = optical * material(i);
             if self.noise > 0.0 {
                 reading += self.noise * standard_normal(rng);
             }

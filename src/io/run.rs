@@ -76,9 +76,27 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
                     .iter()
                     .map(|r| setup.thermal.ambient.at(r.visit.time))
                     .collect();
-                let mut table =
-                    test.laser
-                        .measure_in_air(&visits, &poses, Some(&air), &test.targets, &mut rng);
+                // The material (NDE) sensor, when it sits on a node, reads it at each reading.
+                let material: Option<Vec<Real>> =
+                    test.material_sensor.as_ref().map(|(name, offset)| {
+                        let node = setup
+                            .thermal
+                            .network
+                            .node(name)
+                            .expect("checked when the scenario was loaded");
+                        records
+                            .iter()
+                            .map(|r| r.temperatures[node] + offset)
+                            .collect()
+                    });
+                let mut table = test.laser.measure_in_air(
+                    &visits,
+                    &poses,
+                    Some(&air),
+                    material.as_deref(),
+                    &test.targets,
+                    &mut rng,
+                );
                 table.sensors = setup
                     .sensors
                     .iter()

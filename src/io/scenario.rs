@@ -571,6 +571,19 @@ impl Scenario {
         } else {
             None
         };
+        if let Some((node, _)) = laser_test.as_ref().and_then(|t| t.material_sensor.as_ref()) {
+            let known = thermal
+                .as_ref()
+                .is_some_and(|t| t.thermal.network.node(node).is_some());
+            if !known {
+                let span = raw.laser.as_ref().map(|l| l.span());
+                return Err(context.error(
+                    span,
+                    ScenarioErrorKind::Value,
+                    format!("laser.material.node: \"{node}\" is not a node of the [thermal] model (a material sensor on a node needs one)"),
+                ));
+            }
+        }
         if volumetric.is_none() && laser_test.is_none() {
             return Err(context.error(
                 None,

@@ -113,11 +113,16 @@ struct RawAir {
     humidity_pct: Option<Real>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 struct RawMaterial {
     expansion_ppm_per_degc: Real,
-    temperature_degc: Real,
+    /// A fixed material temperature…
+    temperature_degc: Option<Real>,
+    /// …or a sensor on a node of the thermal model, with its offset.
+    node: Option<String>,
+    #[serde(default)]
+    offset_degc: Real,
 }
 
 /// A linear positioning test and the laser that measures it.
@@ -132,6 +137,9 @@ pub struct LaserTest {
     pub program: Program,
     /// The instrument.
     pub laser: Laser,
+    /// The material sensor of NDE compensation, when it sits on a node of the thermal model:
+    /// (node name, sensor offset °C).
+    pub material_sensor: Option<(String, Real)>,
 }
 
 pub(super) fn laser_test(
@@ -294,39 +302,45 @@ pub(super) fn laser_test(
         dwell,
         rest,
     };
+    let (laser, material_sensor) = laser_for(context, axis, laser)?;
     Ok(LaserTest {
         program: cycle.program(),
         runs: cycle.runs,
         targets: cycle.targets,
-        laser: laser_for(context, axis, laser)?,
+        laser,
+        material_sensor,
     })
 }
 
-/// The laser of the `[laser]` section on `axis`, or an ideal one (1 nm resolution, no noise,
-/// exact air compensation, reflector at the tool tip) without the section.
+/// The laser of the `[laser]` section on `axis` with its material sensor's node, or an ideal
+/// laser (1 nm resolution, no noise, exact air compensation, reflector at the tool tip) without
+/// the section.
 pub(super) fn laser_for(
     context: &Context<'_>,
     axis: Axis,
     raw: Option<&Spanned<RawLaser>>,
-) -> Result<Laser, ScenarioError> {
+) -> Result<(Laser, Option<(String, Real)>), ScenarioError> {
     match raw {
         Some(raw) => laser_spec(context, axis, raw),
-        None => Ok(Laser {
-            axis,
-            beam_offset: Vector::ZERO,
-            misalignment: [0.0, 0.0],
-            resolution: 1e-9,
-            noise: 0.0,
-            air: Air::STANDARD,
-            compensation: AirCompensation::Sensors {
-                temperature_offset: 0.0,
-                pressure_offset: 0.0,
-                humidity_offset: 0.0,
+        None => Ok((
+            Laser {
+                axis,
+                beam_offset: Vector::ZERO,
+                misalignment: [0.0, 0.0],
+                resolution: 1e-9,
+                noise: 0.0,
+                air: Air::STANDARD,
+                compensation: AirCompensation::Sensors {
+                    temperature_offset: 0.0,
+                    pressure_offset: 0.0,
+                    humidity_offset: 0.0,
+                },
+                material: None,
+                dead_path: 0.0,
+                zero: Zeroing::EachRun,
             },
-            material: None,
-            dead_path: 0.0,
-            zero: Zeroing::EachRun,
-        }),
+            None,
+        )),
     }
 }
 
@@ -334,7 +348,7 @@ fn laser_spec(
     context: &Context<'_>,
     axis: Axis,
     raw: &Spanned<RawLaser>,
-) -> Result<Laser, ScenarioError> {
+) -> Result<(Laser, Option<(String, Real)>), ScenarioError> {
     let l = raw.get_ref();
     let fail = |span: std::ops::Range<usize>, key: &str, message: String| {
         let span = if span.is_empty() { raw.span() } else { span };
@@ -439,23 +453,36 @@ fn laser_spec(
             ));
         }
     };
-    let material = match &l.material {
+    let (material, material_sensor) = match &l.material {
         Some(m) => {
             let RawMaterial {
                 expansion_ppm_per_degc,
                 temperature_degc,
-            } = *m.get_ref();
-            finite(
-                &[expansion_ppm_per_degc, temperature_degc],
-                m.span(),
-                "material",
-            )?;
-            Some(MaterialCompensation {
-                expansion: expansion_ppm_per_degc * 1e-6,
-                measured_temperature: temperature_degc,
-            })
+                node,
+                offset_degc,
+            } = m.get_ref().clone();
+            finite(&[expansion_ppm_per_degc, offset_degc], m.span(), "material")?;
+            let sensor = match (temperature_degc, node) {
+                (Some(t), None) if t.is_finite() => None,
+                (None, Some(node)) => Some((node, offset_degc)),
+                _ => {
+                    return Err(fail(
+                        m.span(),
+                        "material",
+                        "give either temperature_degc or node (a thermal-model node)".into(),
+                    ));
+                }
+            };
+            let fixed = temperature_degc.unwrap_or(20.0);
+            (
+                Some(MaterialCompensation {
+                    expansion: expansion_ppm_per_degc * 1e-6,
+                    measured_temperature: fixed,
+                }),
+                sensor,
+            )
         }
-        None => None,
+        None => (None, None),
     };
     let dead_path = match &l.dead_path_mm {
         Some(v) => non_negative(*v.get_ref(), v.span(), "dead_path_mm")? * M_PER_MM,
@@ -473,7 +500,7 @@ fn laser_spec(
             ));
         }
     };
-    Ok(Laser {
+    let laser = Laser {
         axis,
         beam_offset,
         misalignment,
@@ -484,5 +511,6 @@ fn laser_spec(
         material,
         dead_path,
         zero,
-    })
+    };
+    Ok((laser, material_sensor))
 }

@@ -450,11 +450,13 @@ pub(super) fn warmup_test(
     }
     let mut start = rest;
     start[axis] = ends[0];
+    let (laser, material_sensor) = laser_for(context, axis, laser)?;
     Ok(LaserTest {
         program: Program { start, steps },
         targets: cycle.targets,
         runs: w.runs,
-        laser: laser_for(context, axis, laser)?,
+        laser,
+        material_sensor,
     })
 }
 
@@ -595,7 +597,7 @@ pub(super) fn linear_motion_test(
     };
     let program = test.program();
     let runs = crate::program::visits(&program.timeline(Real::INFINITY)).len() / 2;
-    let mut laser = laser_for(context, axis, laser)?;
+    let (mut laser, _) = laser_for(context, axis, laser)?;
     laser.zero = crate::instruments::laser::Zeroing::Once;
     laser.material = None;
     Ok(LaserTest {
@@ -603,5 +605,6 @@ pub(super) fn linear_motion_test(
         targets: vec![p1, p2],
         runs,
         laser,
+        material_sensor: None,
     })
 }
