@@ -4,7 +4,7 @@ use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
 use mtwin::analysis::iso230_2;
 use mtwin::analysis::thermal_series::thermal_series;
-use mtwin::io::{PositioningTable, Scenario, run_scenario, write_outputs};
+use mtwin::io::{DriftTable, PositioningTable, Scenario, run_scenario, write_outputs};
 use mtwin::machine::{Machine, Side};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -43,6 +43,9 @@ enum Command {
         /// Print JSON with stable keys instead of the report for people.
         #[arg(long)]
         json: bool,
+        /// For `drift`: the duration of the performance test the ETVE is for (min).
+        #[arg(long, value_name = "MIN", default_value_t = 60.0)]
+        etve_min: f64,
     },
 }
 
@@ -50,6 +53,9 @@ enum Command {
 enum TableKind {
     /// Linear positioning deviations (laser interferometer), evaluated to ISO 230-2:2014.
     Positioning,
+    /// Displacement channels against time (time_min, <channel>_um or _urad,
+    /// temp_<sensor>_degc), evaluated to ISO 230-3:2007: drift ranges, stop criterion, ETVE.
+    Drift,
 }
 
 fn main() -> ExitCode {
@@ -76,9 +82,28 @@ fn execute(cli: Cli) -> Result<()> {
         }
         Command::Check { file } => check(&file),
         Command::Analyze {
+            kind: TableKind::Drift,
+            file,
+            json,
+            etve_min,
+        } => {
+            if !(etve_min.is_finite() && etve_min > 0.0) {
+                bail!("--etve-min must be a positive number of minutes, got {etve_min}");
+            }
+            let table = DriftTable::read(&file)?;
+            let report = mtwin::analysis::iso230_3::drift_report(&table, etve_min * 60.0);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{}", drift_text(&report));
+            }
+            Ok(())
+        }
+        Command::Analyze {
             kind: TableKind::Positioning,
             file,
             json,
+            ..
         } => {
             let table = PositioningTable::read(&file)?;
             match iso230_2::evaluate(&table) {
@@ -160,4 +185,46 @@ fn describe(machine: &Machine) {
         };
         println!("  {}  {side:<9}  {travel}", info.axis);
     }
+}
+
+/// The drift report for people.
+fn drift_text(report: &serde_json::Value) -> String {
+    let mut out = format!(
+        "ISO 230-3:2007 drift, ETVE for a {} min test{}\n\n{:>12} {:>14} {:>14} {:>10} {:>12} {:>16} {:>10}\n",
+        report["etve_duration_min"],
+        report["ambient_sensor"]
+            .as_str()
+            .map_or_else(String::new, |s| format!(" (ambient: {s})")),
+        "channel",
+        "first 60 min",
+        "whole record",
+        "stop min",
+        "ETVE",
+        "window min",
+        "ΔT °C"
+    );
+    let cell = |v: &serde_json::Value| {
+        v.as_f64()
+            .map_or_else(|| "-".to_string(), |x| format!("{x:.3}"))
+    };
+    for c in report["channels"].as_array().into_iter().flatten() {
+        let unit = c["unit"].as_str().unwrap_or("");
+        let window = c["etve_window_min"].as_array().map_or_else(
+            || "-".into(),
+            |w| format!("{}-{}", cell(&w[0]), cell(&w[1])),
+        );
+        out += &format!(
+            "{:>12} {:>10} {unit:<4}{:>10} {unit:<4}{:>10} {:>8} {unit:<4}{:>16} {:>10}\n",
+            c["name"].as_str().unwrap_or(""),
+            cell(&c["range_60"]),
+            cell(&c["range"]),
+            c["stop_min"]
+                .as_f64()
+                .map_or_else(|| "-".into(), |m| format!("{m:.0}")),
+            cell(&c["etve"]),
+            window,
+            cell(&c["etve_ambient_range_degc"]),
+        );
+    }
+    out
 }

@@ -68,3 +68,57 @@ fn etve_finds_the_worst_window() {
     // A two-hour test sees the same 1.5 µm (no other change), from the first window holding it.
     assert!((etve(&drift, 7200.0).unwrap().0 - 1.5e-6).abs() < 1e-15);
 }
+
+#[test]
+fn analyze_drift_reproduces_the_iso_230_3_etve_example() {
+    // ISO 230-3 Figure 4, as far as its printed values go: ETVE(X; 1,1 °C) = 0,0015 mm in the
+    // window 90-150 min and ETVE(A) = 3″ = 14.5 µrad in 110-170 min, for a one-hour test.
+    // Built here as ramps in those windows (flat elsewhere), the air rising 1.1 °C over 90-150.
+    use mtwin::analysis::iso230_3::drift_report;
+    use mtwin::io::DriftTable;
+    let mut text = String::from("time_min,x1_um,a_urad,temp_air_degc\n");
+    for m in (0..=300).step_by(5) {
+        let m = m as f64;
+        let ramp = |from: f64| ((m - from) / 60.0).clamp(0.0, 1.0);
+        text += &format!(
+            "{m},{},{},{}\n",
+            0.2 + 1.5 * ramp(90.0),
+            14.5 * ramp(110.0),
+            20.0 + 1.1 * ramp(90.0)
+        );
+    }
+    let table = DriftTable::parse(text.as_bytes(), "etve.csv").unwrap();
+    let report = drift_report(&table, 3600.0);
+    let x = &report["channels"][0];
+    assert_eq!(
+        (x["name"].as_str(), x["unit"].as_str()),
+        (Some("x1"), Some("um"))
+    );
+    assert!((x["etve"].as_f64().unwrap() - 1.5).abs() < 1e-9);
+    assert_eq!(x["etve_window_min"], serde_json::json!([90.0, 150.0]));
+    assert!((x["etve_ambient_range_degc"].as_f64().unwrap() - 1.1).abs() < 1e-9);
+    let a = &report["channels"][1];
+    assert!((a["etve"].as_f64().unwrap() - 14.5).abs() < 1e-9 && a["unit"] == "urad");
+    assert_eq!(a["etve_window_min"], serde_json::json!([110.0, 170.0]));
+}
+
+#[test]
+fn drift_tables_name_their_bad_input() {
+    use mtwin::io::DriftTable;
+    for (text, words) in [
+        ("x_um\n1\n2\n", "time_min"),
+        ("time_min,x\n0,1\n1,2\n", "unknown column `x`"),
+        ("time_min\n0\n1\n", "no displacement column"),
+        ("time_min,x_um\n0,1\n0,2\n", "increase"),
+        ("time_min,x_um\n0,1\n1,nan\n", "finite"),
+        ("time_min,x_um\n0,1\n", "two rows"),
+    ] {
+        let error = DriftTable::parse(text.as_bytes(), "d.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.starts_with("d.csv") && error.contains(words),
+            "{error} should mention {words}"
+        );
+    }
+}

@@ -43,14 +43,14 @@ pub fn drift_ranges(record: &[(Real, Real)]) -> Option<(Real, Real)> {
 
 /// The first time at which the test could have stopped: the change over the last 60 min is
 /// less than 15 % of the largest drift in the first hour,
-/// `|d(t) − d(t − 60 min)| < 0.15 · max_{first hour} |d|`. `None` if never (or the record is
-/// shorter than two hours). The value at t − 60 min is interpolated linearly.
+/// `|d(t) − d(t − 60 min)| < 0.15 · max_{first hour} |d − d(start)|`. `None` if never (or the
+/// record is shorter than two hours). The value at t − 60 min is interpolated linearly.
 pub fn stop_time(record: &[(Real, Real)]) -> Option<Real> {
-    let start = record.first()?.0;
+    let (start, zero) = *record.first()?;
     let first_hour = record
         .iter()
         .filter(|(t, _)| *t <= start + HOUR)
-        .map(|(_, d)| d.abs())
+        .map(|(_, d)| (d - zero).abs())
         .fold(0.0, Real::max);
     record
         .iter()
@@ -93,4 +93,49 @@ fn interpolate(record: &[(Real, Real)], t: Real) -> Option<Real> {
     }
     let ((t0, d0), (t1, d1)) = (record[after - 1], record[after]);
     Some(d0 + (d1 - d0) * (t - t0) / (t1 - t0))
+}
+
+/// The ISO 230-3 report of a drift table: per channel the range over the first 60 min and the
+/// whole record, when the 15 % stop criterion was met, and the ETVE for a test of
+/// `etve_duration` s with its window and the ambient range inside it (the first temperature
+/// column). JSON keys: `kind` ("drift"), `etve_duration_min`, `channels` (each `name`, `unit`
+/// ("um" or "urad"), `range_60`, `range`, `stop_min`, `etve`, `etve_window_min` [start, end],
+/// `etve_ambient_range_degc`).
+pub fn drift_report(table: &crate::io::DriftTable, etve_duration: Real) -> serde_json::Value {
+    use serde_json::json;
+    let ambient = table.temperatures.first();
+    let channels: Vec<serde_json::Value> = table
+        .channels
+        .iter()
+        .map(|channel| {
+            let record: Vec<(Real, Real)> = table.times.iter().copied().zip(channel.values.iter().copied()).collect();
+            let scale = 1e6; // m → µm, rad → µrad
+            let round = |v: Real| (v * scale * 1e6).round() / 1e6;
+            let ranges = drift_ranges(&record);
+            let worst = etve(&record, etve_duration);
+            let ambient_range = worst.and_then(|(_, start)| {
+                let (_, values) = ambient?;
+                let inside = table.times.iter().zip(values).filter(|(t, _)| **t >= start && **t <= start + etve_duration + 1e-9);
+                let (lo, hi) = inside.fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), (_, v)| (lo.min(*v), hi.max(*v)));
+                Some(((hi - lo) * 1e6).round() / 1e6)
+            });
+            json!({
+                "name": channel.name,
+                "unit": if channel.angular { "urad" } else { "um" },
+                "range_60": ranges.map(|r| round(r.0)),
+                "range": ranges.map(|r| round(r.1)),
+                "stop_min": stop_time(&record).map(|t| t / 60.0),
+                "etve": worst.map(|w| round(w.0)),
+                "etve_window_min": worst.map(|(_, start)| [start / 60.0, (start + etve_duration) / 60.0]),
+                "etve_ambient_range_degc": ambient_range,
+            })
+        })
+        .collect();
+    json!({
+        "kind": "drift",
+        "standard": "ISO 230-3:2007",
+        "etve_duration_min": etve_duration / 60.0,
+        "ambient_sensor": ambient.map(|(name, _)| name.clone()),
+        "channels": channels,
+    })
 }

@@ -1,13 +1,15 @@
 //! Files: scenarios in; measurement tables, truth and manifests out.
 //!
-//! The measurement-table modules (`positioning`) depend only on [`crate::math`] and
+//! The measurement-table modules (`positioning`, `drift`) depend only on [`crate::math`] and
 //! [`crate::machine`], so instruments, analyses and discovery all use them; `run` sits on top
 //! of everything.
 
+mod drift;
 mod positioning;
 mod run;
 mod scenario;
 
+pub use drift::{DriftChannel, DriftTable, DriftTableError};
 pub use positioning::{Approach, PositioningReading, PositioningTable, TableError};
 pub use run::{RunError, RunOutput, run_scenario, write_outputs};
 pub use scenario::{
