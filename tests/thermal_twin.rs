@@ -5,7 +5,7 @@
 
 use mtwin::errors::ErrorModel;
 use mtwin::instruments::Air;
-use mtwin::instruments::laser::{AirCompensation, Laser, Zeroing};
+use mtwin::instruments::laser::{AirCompensation, Laser, Mounting, Zeroing};
 use mtwin::io::Approach;
 use mtwin::machine::{Axis, AxisValues, Machine, Workspace};
 use mtwin::math::{Vector, seeded_rng};
@@ -137,6 +137,7 @@ fn warm_up_deviations_follow_position_times_screw_temperature_rise() {
         material: None,
         dead_path: 0.0,
         zero: Zeroing::EachRun,
+        mounting: Mounting::InterferometerOnWorkpiece,
     };
     let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
     let poses: Vec<_> = records.iter().map(|r| r.pose).collect();

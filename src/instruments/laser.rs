@@ -84,6 +84,19 @@ pub struct Laser {
     /// Zero the reading at the first reading of each run (positioning tests) or only once, at
     /// the very first reading (drift tests, ISO 230-3).
     pub zero: Zeroing,
+    /// Which side carries the interferometer.
+    pub mounting: Mounting,
+}
+
+/// Which side carries the interferometer (and the beam with it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mounting {
+    /// Interferometer on the workpiece side, reflector on the tool at `beam_offset` from the tip.
+    InterferometerOnWorkpiece,
+    /// Interferometer on the tool side, its beam fixed in the tool frame; the reflector is fixed
+    /// on the workpiece where the point `beam_offset` from the tip was at the zero. The
+    /// instrument is set to count positive when the tool moves positively.
+    InterferometerOnTool,
 }
 
 /// When the laser's reading is set to zero.
@@ -186,7 +199,7 @@ impl Laser {
         let mut readings = Vec::with_capacity(visits.len());
         // The reading is zeroed at a run's first reading (or the test's): (run, reflector there,
         // its target, the true index then).
-        let mut zero: Option<(usize, Vector, Real, Real)> = None;
+        let mut zero: Option<(usize, Vector, Real, Real, Vector)> = None;
         for (i, (visit, pose)) in visits.iter().zip(poses).enumerate() {
             let here = pose.transform_point3(self.beam_offset);
             let target = targets[visit.point.target];
@@ -194,10 +207,19 @@ impl Laser {
             let n_true = air.refractive_index(HENE_WAVELENGTH_UM);
             let new_run = zero.is_none_or(|(run, ..)| run != visit.point.run);
             if zero.is_none() || (new_run && self.zero == Zeroing::EachRun) {
-                zero = Some((visit.point.run, here, target, n_true));
+                let in_tool = crate::math::rigid_inverse(pose).transform_point3(here);
+                zero = Some((visit.point.run, here, target, n_true, in_tool));
             }
-            let (_, origin, first_target, n_zero) = zero.expect("set above");
-            let travel = beam.dot(here - origin);
+            let (_, origin, first_target, n_zero, origin_in_tool) = zero.expect("set above");
+            let travel = match self.mounting {
+                Mounting::InterferometerOnWorkpiece => beam.dot(here - origin),
+                // The reflector stays at `origin` on the workpiece; seen from the tool it moves
+                // opposite to the tool, along the tool-fixed beam.
+                Mounting::InterferometerOnTool => {
+                    let tool_from_workpiece = crate::math::rigid_inverse(pose);
+                    -beam.dot(tool_from_workpiece.transform_point3(origin) - origin_in_tool)
+                }
+            };
             let optical_change = n_true * (self.dead_path + travel) - n_zero * self.dead_path;
             let optical = optical_change / self.assumed_index_in(&air);
             let mut reading = optical * material(i);

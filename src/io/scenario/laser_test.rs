@@ -22,11 +22,12 @@
 //! material = { expansion_ppm_per_degc = 11.7, temperature_degc = 20.0 }   # NDE, optional
 //! dead_path_mm = 100.0                # beam length at the zero (matters when the air changes)
 //! zero = "each_run"                   # or "once" (drift tests)
+//! interferometer_on = "workpiece"     # or "tool" (the reverse set-up)
 //! ```
 
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::instruments::Air;
-use crate::instruments::laser::{AirCompensation, Laser, MaterialCompensation, Zeroing};
+use crate::instruments::laser::{AirCompensation, Laser, MaterialCompensation, Mounting, Zeroing};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, RAD_PER_DEG, RAD_PER_URAD, Real, Vector, seeded_rng};
 use crate::program::{LinearCycle, Program, irregular_targets};
@@ -99,6 +100,9 @@ pub(super) struct RawLaser {
     zero: Option<Spanned<String>>,
     #[serde(default)]
     dead_path_mm: Option<Spanned<Real>>,
+    /// `workpiece` (default) or `tool`.
+    #[serde(default)]
+    interferometer_on: Option<Spanned<String>>,
 }
 
 fn default_resolution() -> Spanned<Real> {
@@ -338,6 +342,7 @@ pub(super) fn laser_for(
                 material: None,
                 dead_path: 0.0,
                 zero: Zeroing::EachRun,
+                mounting: Mounting::InterferometerOnWorkpiece,
             },
             None,
         )),
@@ -500,6 +505,18 @@ fn laser_spec(
             ));
         }
     };
+    let mounting = match l.interferometer_on.as_ref().map(|m| m.get_ref().as_str()) {
+        None | Some("workpiece") => Mounting::InterferometerOnWorkpiece,
+        Some("tool") => Mounting::InterferometerOnTool,
+        Some(other) => {
+            let span = l.interferometer_on.as_ref().map_or(0..0, |m| m.span());
+            return Err(fail(
+                span,
+                "interferometer_on",
+                format!("\"{other}\": expected \"workpiece\" or \"tool\""),
+            ));
+        }
+    };
     let laser = Laser {
         axis,
         beam_offset,
@@ -511,6 +528,7 @@ fn laser_spec(
         material,
         dead_path,
         zero,
+        mounting,
     };
     Ok((laser, material_sensor))
 }
