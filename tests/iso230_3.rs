@@ -122,3 +122,24 @@ fn drift_tables_name_their_bad_input() {
         );
     }
 }
+
+#[test]
+fn etve_covers_the_window_that_ends_at_the_last_sample() {
+    // Samples every 7 min from 0 to 98 min, flat but for +10 µm at the last one; a 50 min test.
+    // The window 48-98 min (ending at the last sample, starting between samples) holds the
+    // step: ETVE = 10 µm.
+    let drift: Vec<(f64, f64)> = (0..=14)
+        .map(|k| (k as f64 * 420.0, if k == 14 { 10e-6 } else { 0.0 }))
+        .collect();
+    let (value, start) = etve(&drift, 3000.0).unwrap();
+    assert!((value - 10e-6).abs() < 1e-15, "{value}");
+    assert!((start - (5880.0 - 3000.0)).abs() < 1e-6, "{start}");
+}
+
+#[test]
+fn an_oscillation_that_never_settles_never_meets_the_stop_criterion() {
+    // ±10 µm with a 60 min period: d(t) = d(t - 60 min) at every t, but within each hour the
+    // drift still changes by 20 µm, more than 15 % of the first hour's 10 µm.
+    let drift = record(300, |t| 10e-6 * (std::f64::consts::TAU * t / 3600.0).sin());
+    assert_eq!(stop_time(&drift), None);
+}

@@ -150,7 +150,8 @@ fn sensor_lags_offsets_and_quantises() {
         time_constant: 20.0,
     };
     let mut sensor = TemperatureSensor::new(spec, 20.0, seeded_rng(1, "nut"));
-    let reading = sensor.read(30.0, 20.0);
+    sensor.follow(30.0, 30.0, 20.0);
+    let reading = sensor.read(30.0);
     assert!((reading - (30.0 - 10.0 * (-1.0f64).exp())).abs() < 1e-12);
     // Offset 0.3 °C and 0.1 °C resolution on a settled 25.04 °C node: 25.34 → 25.3.
     let spec = SensorSpec {
@@ -161,7 +162,7 @@ fn sensor_lags_offsets_and_quantises() {
         time_constant: 0.0,
     };
     let mut sensor = TemperatureSensor::new(spec, 25.04, seeded_rng(1, "air"));
-    assert!((sensor.read(25.04, 1.0) - 25.3).abs() < 1e-12);
+    assert!((sensor.read(25.04) - 25.3).abs() < 1e-12);
 }
 
 #[test]
@@ -175,9 +176,7 @@ fn sensor_noise_has_its_standard_deviation_and_depends_only_on_the_seed() {
     };
     let readings = |seed: u64| {
         let mut sensor = TemperatureSensor::new(spec.clone(), 20.0, seeded_rng(seed, "column"));
-        (0..20000)
-            .map(|_| sensor.read(20.0, 1.0))
-            .collect::<Vec<_>>()
+        (0..20000).map(|_| sensor.read(20.0)).collect::<Vec<_>>()
     };
     let a = readings(3);
     assert_eq!(a, readings(3));
@@ -304,6 +303,34 @@ mod thermal_errors {
         assert_eq!(
             ThermalErrors::new(&machine, 2, vec![missing]).unwrap_err(),
             ThermalTermError::Node(3)
+        );
+    }
+}
+
+#[test]
+fn sensor_lag_behind_a_ramp_is_tau_times_the_rate_whatever_the_step() {
+    // A node rising at 0.01 °C/s for 10 min, a 120 s lag: the first-order hold is exact for a
+    // ramp, so after the transient the sensor trails by τ·r = 1.2 °C (less the transient
+    // τ·r·e^(-t/τ) = 1.2·e^(-5) = 0.008 °C still left at 600 s), with 1 s steps or 60 s steps.
+    let spec = SensorSpec {
+        name: "nut".into(),
+        offset: 0.0,
+        noise: 0.0,
+        resolution: 0.0,
+        time_constant: 120.0,
+    };
+    for dt in [1.0, 60.0, 600.0] {
+        let mut sensor = TemperatureSensor::new(spec.clone(), 20.0, seeded_rng(1, "nut"));
+        let mut t = 0.0;
+        while t < 600.0 - 1e-9 {
+            sensor.follow(20.0 + 0.01 * t, 20.0 + 0.01 * (t + dt), dt);
+            t += dt;
+        }
+        let lag = 26.0 - sensor.read(26.0);
+        let expected = 1.2 * (1.0 - (-5.0f64).exp());
+        assert!(
+            (lag - expected).abs() < 1e-9,
+            "dt = {dt}: lag {lag} vs {expected}"
         );
     }
 }

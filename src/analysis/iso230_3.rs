@@ -41,10 +41,10 @@ pub fn drift_ranges(record: &[(Real, Real)]) -> Option<(Real, Real)> {
     ))
 }
 
-/// The first time at which the test could have stopped: the change over the last 60 min is
-/// less than 15 % of the largest drift in the first hour,
-/// `|d(t) − d(t − 60 min)| < 0.15 · max_{first hour} |d − d(start)|`. `None` if never (or the
-/// record is shorter than two hours). The value at t − 60 min is interpolated linearly.
+/// The first time at which the test could have stopped: the change during the last 60 min
+/// (the range of d over [t − 60 min, t]) is less than 15 % of the largest drift in the first
+/// hour, `max |d − d(start)|`. `None` if never (or the record is shorter than two hours). The
+/// value at t − 60 min is interpolated linearly. The whole record is scanned, cool-down included.
 pub fn stop_time(record: &[(Real, Real)]) -> Option<Real> {
     let (start, zero) = *record.first()?;
     let first_hour = record
@@ -55,34 +55,76 @@ pub fn stop_time(record: &[(Real, Real)]) -> Option<Real> {
     record
         .iter()
         .filter(|(t, _)| *t >= start + 2.0 * HOUR)
-        .find(|(t, d)| {
-            interpolate(record, t - HOUR)
-                .is_some_and(|before| (d - before).abs() < 0.15 * first_hour)
+        .find(|(t, _)| {
+            // The change within the last hour: the range of the samples in it and of the value
+            // interpolated at its start (for a monotonic drift, |d(t) − d(t − 60 min)|).
+            let Some(before) = interpolate(record, t - HOUR) else {
+                return false;
+            };
+            let inside = record
+                .iter()
+                .filter(|(u, _)| *u > t - HOUR && *u <= *t)
+                .map(|(_, d)| *d);
+            let (lo, hi) = inside.fold((before, before), |(lo, hi), d| (lo.min(d), hi.max(d)));
+            hi - lo < 0.15 * first_hour
         })
         .map(|(t, _)| *t)
 }
 
 /// The ETVE for a performance test lasting `duration` s: the largest range of `d` within any
-/// window of that length (windows starting at each sample), and that window's start.
+/// window of that length inside the record — windows starting at a sample and windows ending at
+/// one, so the record's last sample is covered — and that window's start. Sliding monotonic
+/// queues keep it O(n log n).
 pub fn etve(record: &[(Real, Real)], duration: Real) -> Option<(Real, Real)> {
-    let end = record.last()?.0;
-    record
+    let (first, end) = (record.first()?.0, record.last()?.0);
+    let eps = 1e-9 * (1.0 + end.abs());
+    let mut starts: Vec<Real> = record
         .iter()
-        .filter(|(t, _)| *t + duration <= end + 1e-9)
-        .map(|&(s, _)| {
-            let inside = record
+        .map(|(t, _)| *t)
+        .filter(|t| t + duration <= end + eps)
+        .chain(
+            record
                 .iter()
-                .filter(|(t, _)| *t >= s && *t <= s + duration + 1e-9)
-                .map(|(_, d)| *d);
-            let (lo, hi) = inside.fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), d| {
-                (lo.min(d), hi.max(d))
-            });
-            (hi - lo, s)
-        })
-        .fold(None, |best: Option<(Real, Real)>, (range, s)| match best {
-            Some((r, _)) if r >= range => best,
-            _ => Some((range, s)),
-        })
+                .map(|(t, _)| t - duration)
+                .filter(|s| *s >= first - eps),
+        )
+        .collect();
+    starts.sort_by(Real::total_cmp);
+    starts.dedup_by(|a, b| (*a - *b).abs() <= eps);
+    let (mut entered, mut left) = (0, 0);
+    let mut highs: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut lows: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut best: Option<(Real, Real)> = None;
+    for s in starts {
+        while entered < record.len() && record[entered].0 <= s + duration + eps {
+            let d = record[entered].1;
+            while highs.back().is_some_and(|&k| record[k].1 <= d) {
+                highs.pop_back();
+            }
+            while lows.back().is_some_and(|&k| record[k].1 >= d) {
+                lows.pop_back();
+            }
+            highs.push_back(entered);
+            lows.push_back(entered);
+            entered += 1;
+        }
+        while left < record.len() && record[left].0 < s - eps {
+            left += 1;
+        }
+        while highs.front().is_some_and(|&k| k < left) {
+            highs.pop_front();
+        }
+        while lows.front().is_some_and(|&k| k < left) {
+            lows.pop_front();
+        }
+        if let (Some(&hi), Some(&lo)) = (highs.front(), lows.front()) {
+            let range = record[hi].1 - record[lo].1;
+            if best.is_none_or(|(r, _)| range > r) {
+                best = Some((range, s));
+            }
+        }
+    }
+    best
 }
 
 /// `d` at time `t`, linearly interpolated between samples.

@@ -128,7 +128,9 @@ pub struct MachineThermal {
 }
 
 impl MachineThermal {
-    /// The default model (see the module docs) for `machine`, starting at the ambient mean.
+    /// The default model (see the module docs) for `machine`, every node starting at the air's
+    /// temperature at time zero. The screws and the spindle have their nominal length at the
+    /// ambient mean (the thermal errors are zero for a machine at the mean air temperature).
     /// `screws` gives, per linear axis, the axis position of its screw's fixed end (m) and its
     /// expansion coefficient (1/K); axes not listed have the fixed end at their zero and
     /// 11.7e-6/K.

@@ -1,5 +1,7 @@
 //! Temperature sensors on network nodes: first-order lag (a thermocouple in its sheath and
-//! glue), calibration offset, white noise and quantisation, in that order.
+//! glue), calibration offset, white noise and quantisation, in that order. The lag follows the
+//! node between readings ([`TemperatureSensor::follow`]); noise is drawn only when a reading is
+//! taken ([`TemperatureSensor::read`]), so the stream does not depend on the step length.
 
 use crate::math::{Real, standard_normal};
 use rand_chacha::ChaCha8Rng;
@@ -51,12 +53,25 @@ impl TemperatureSensor {
         }
     }
 
-    /// Follows the node temperature `node` (°C, held over the step) for `dt` seconds — exactly:
-    /// the lag closes `1 − exp(−dt/τ)` of the gap — and returns the reading.
-    pub fn read(&mut self, node: Real, dt: Real) -> Real {
+    /// Follows its node for `dt` seconds while the node goes from `from` to `to` °C, exactly
+    /// for a node changing linearly over the step (first-order hold): with `r = (to − from)/dt`,
+    /// the lagged temperature becomes `to − τr + (s − from + τr)·e^(−dt/τ)`, so a steady ramp
+    /// leaves the lag `τ·r` whatever the step length. No reading is taken.
+    pub fn follow(&mut self, from: Real, to: Real, dt: Real) {
         let tau = self.spec.time_constant;
-        self.lagged = if tau > 0.0 {
-            node + (self.lagged - node) * (-dt / tau).exp()
+        self.lagged = if tau > 0.0 && dt > 0.0 {
+            let ramp = tau * (to - from) / dt;
+            to - ramp + (self.lagged - from + ramp) * (-dt / tau).exp()
+        } else {
+            to
+        };
+    }
+
+    /// A reading now: the lagged temperature (the node's, `node` °C, when the sensor has no lag)
+    /// plus the offset and the noise, quantised. Draws one noise value per reading.
+    pub fn read(&mut self, node: Real) -> Real {
+        let value = if self.spec.time_constant > 0.0 {
+            self.lagged
         } else {
             node
         };
@@ -65,7 +80,7 @@ impl TemperatureSensor {
         } else {
             0.0
         };
-        let value = self.lagged + self.spec.offset + noise;
+        let value = value + self.spec.offset + noise;
         let q = self.spec.resolution;
         if q > 0.0 {
             (value / q).round() * q
