@@ -216,12 +216,12 @@ fn drift_text(report: &serde_json::Value) -> String {
         out += &format!(
             "{:>12} {:>10} {unit:<4}{:>10} {unit:<4}{:>10} {:>8} {unit:<4}{:>16} {:>10}\n",
             c["name"].as_str().unwrap_or(""),
-            cell(&c["range_60"]),
-            cell(&c["range"]),
+            cell(&c[format!("range_60_{unit}")]),
+            cell(&c[format!("range_{unit}")]),
             c["stop_min"]
                 .as_f64()
                 .map_or_else(|| "-".into(), |m| format!("{m:.0}")),
-            cell(&c["etve"]),
+            cell(&c[format!("etve_{unit}")]),
             window,
             cell(&c["etve_ambient_range_degc"]),
         );

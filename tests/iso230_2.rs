@@ -269,3 +269,35 @@ fn thermal_series_reports_each_run_and_the_drift_of_every_target() {
             .is_none()
     );
 }
+
+#[test]
+fn bidirectional_repeatability_takes_the_unidirectional_one_when_larger() {
+    // At 0 mm: up -2 -1 0 1 2 µm (s↑ = √2.5, R↑ᵢ = 4√2.5 = 6.325), down 0 0 0 0 0 (s↓ = 0),
+    // Bᵢ = 0, so 2s↑ + 2s↓ + |Bᵢ| = 2√2.5 = 3.162 < R↑ᵢ: Rᵢ = R↑ᵢ. At 100 mm all zero. R = 6.325.
+    let mut text = String::from("target_mm,deviation_um,direction,run\n");
+    for (run, up) in [-2.0, -1.0, 0.0, 1.0, 2.0].iter().enumerate() {
+        text += &format!("0,{up},+,{run}\n100,0,+,{run}\n100,0,-,{run}\n0,0,-,{run}\n");
+    }
+    let result = evaluate(&parse(&text)).unwrap();
+    let r = 4.0 * 2.5f64.sqrt();
+    close(
+        result.targets[0].both.map(|b| b.repeatability),
+        r,
+        "Rᵢ at 0 mm",
+    );
+    close(result.both.map(|b| b.repeatability), r, "R");
+}
+
+#[test]
+fn a_run_reading_a_target_twice_the_same_way_is_refused() {
+    let text = "target_mm,deviation_um,run\n0,1,a\n0,2,a\n10,1,a\n0,1,b\n10,1,b\n";
+    assert!(matches!(
+        evaluate(&parse(text)),
+        Err(Iso230_2Error::RepeatedReading { .. })
+    ));
+    let duplicate = PositioningTable::parse(
+        b"target_mm,deviation_um,temp_a_degc,temp_a_degc\n0,1,20,20\n",
+        "d.csv",
+    );
+    assert!(duplicate.unwrap_err().to_string().contains("twice"));
+}

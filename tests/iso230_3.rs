@@ -94,11 +94,11 @@ fn analyze_drift_reproduces_the_iso_230_3_etve_example() {
         (x["name"].as_str(), x["unit"].as_str()),
         (Some("x1"), Some("um"))
     );
-    assert!((x["etve"].as_f64().unwrap() - 1.5).abs() < 1e-9);
+    assert!((x["etve_um"].as_f64().unwrap() - 1.5).abs() < 1e-9);
     assert_eq!(x["etve_window_min"], serde_json::json!([90.0, 150.0]));
     assert!((x["etve_ambient_range_degc"].as_f64().unwrap() - 1.1).abs() < 1e-9);
     let a = &report["channels"][1];
-    assert!((a["etve"].as_f64().unwrap() - 14.5).abs() < 1e-9 && a["unit"] == "urad");
+    assert!((a["etve_urad"].as_f64().unwrap() - 14.5).abs() < 1e-9 && a["unit"] == "urad");
     assert_eq!(a["etve_window_min"], serde_json::json!([110.0, 170.0]));
 }
 

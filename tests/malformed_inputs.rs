@@ -1176,3 +1176,32 @@ fn one_laser_test_per_scenario_and_a_laser_needs_one() {
         Some("laser"),
     );
 }
+
+#[test]
+fn drift_tests_refuse_laser_settings_that_would_spoil_them() {
+    // ISO 230-3 §7.2.5: air compensation on, NDE off. A linear-motion test with
+    // `compensation = "off"` is refused at that key's line.
+    let text = format!(
+        "schema = 1\nmachine = '{}'\nseed = 1\n\n[thermal]\n\n[iso230_3_linear]\naxis = \"X\"\ntargets_mm = [20.0, 740.0]\ncycling_min = 130.0\n\n[laser]\ncompensation = \"off\"\n",
+        model("vmc3.urdf")
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("compensation = \"off\""),
+        Some("laser.compensation"),
+    );
+    // With [thermal] the laser's air is the machine's: an air temperature in [laser] is refused.
+    let text = text.replace(
+        "compensation = \"off\"",
+        "air = { temperature_degc = 25.0 }",
+    );
+    let (error, _) = scenario_error(&text);
+    assert!(
+        error.to_string().contains("laser.air.temperature_degc"),
+        "{error}"
+    );
+}

@@ -463,3 +463,81 @@ fn material_compensation_on_the_screw_hides_its_expansion() {
     let error = Scenario::load(&path).unwrap_err();
     assert!(error.to_string().contains("x_scale"), "{error}");
 }
+
+#[test]
+fn heat_inputs_follow_the_axis_and_spindle_speeds() {
+    // 250 W per m/s into the X nut and 150 W per m/s into its motor: at 0.08 m/s, 20 W and 12 W;
+    // the spindle bearing takes 0.05 W per rad/s: 50 W at 1000 rad/s; nothing else is heated.
+    let machine = vmc3();
+    let thermal =
+        MachineThermal::ballscrew_default(&machine, Ambient::constant(20.0), &[]).unwrap();
+    let mut speeds = AxisValues::ZERO;
+    speeds[Axis::X] = 0.08;
+    let mut powers = vec![0.0; thermal.network.nodes().len()];
+    thermal.powers(&speeds, 1000.0, &mut powers);
+    let node = |name: &str| powers[thermal.network.node(name).unwrap()];
+    assert!((node("x_nut") - 20.0).abs() < 1e-12 && (node("x_motor") - 12.0).abs() < 1e-12);
+    assert!((node("spindle_bearing") - 50.0).abs() < 1e-12);
+    assert!((powers.iter().sum::<f64>() - 82.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_programme_heats_a_node_as_the_closed_form_says() {
+    // One node (1000 J/K, 2 W/K to 20 °C air) heated by 250 W per m/s of X. X moves 0.6 m at
+    // 0.01 m/s (2.5 W for 60 s), then dwells 440 s: T(60) = 20 + 1.25·(1 - e^(-60/500)), and
+    // T(500) = 20 + (T(60) - 20)·e^(-440/500). Intervals of 7 s or 1000 s give the same.
+    use mtwin::thermal::{HeatDriver, HeatSource, ThermalErrors, ThermalNetwork, ThermalNode};
+    let machine = vmc3();
+    let network = ThermalNetwork::new(
+        vec![ThermalNode {
+            name: "x_nut".into(),
+            capacity: 1000.0,
+            to_ambient: 2.0,
+        }],
+        &[],
+    )
+    .unwrap();
+    let thermal = MachineThermal {
+        errors: ThermalErrors::new(&machine, 1, vec![]).unwrap(),
+        network,
+        sources: vec![HeatSource {
+            node: 0,
+            driver: HeatDriver::AxisSpeed(Axis::X),
+            coefficient: 250.0,
+        }],
+        ambient: Ambient::constant(20.0),
+        initial: 20.0,
+    };
+    let program = Program {
+        start: AxisValues::ZERO,
+        steps: vec![
+            Step::Move {
+                to: vec![(Axis::X, 0.6)],
+                feed: 0.01,
+            },
+            Step::Dwell(440.0),
+            Step::Measure(MeasurePoint {
+                run: 0,
+                target: 0,
+                approach: Approach::Up,
+            }),
+        ],
+    };
+    let twin = Twin {
+        errors: ErrorModel::empty(&machine),
+        machine,
+    };
+    let t60 = 20.0 + 1.25 * (1.0 - (-60.0f64 / 500.0).exp());
+    let expected = 20.0 + (t60 - 20.0) * (-440.0f64 / 500.0).exp();
+    for max_interval in [7.0, 1000.0] {
+        let record = run_thermal(&twin, &thermal, &program, max_interval, &mut [])
+            .pop()
+            .unwrap();
+        assert!((record.visit.time - 500.0).abs() < 1e-9);
+        assert!(
+            (record.temperatures[0] - expected).abs() < 1e-9,
+            "{max_interval}: {} vs {expected}",
+            record.temperatures[0]
+        );
+    }
+}

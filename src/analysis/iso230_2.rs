@@ -103,6 +103,18 @@ pub struct Iso230_2 {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Iso230_2Error {
+    /// A run reads a target twice in the same direction (ISO 230-2: one reading per run).
+    #[error(
+        "run \"{run}\" reads target {target_mm} mm twice in the {direction} direction: ISO 230-2 takes one reading per run"
+    )]
+    RepeatedReading {
+        /// The run label.
+        run: String,
+        /// The target (mm).
+        target_mm: Real,
+        /// `+` or `-`.
+        direction: char,
+    },
     /// Fewer than two targets.
     #[error("{0} target position(s): an evaluation needs at least two")]
     TooFewTargets(usize),
@@ -138,6 +150,18 @@ pub fn evaluate(table: &PositioningTable) -> Result<Iso230_2, Iso230_2Error> {
     positions.dedup_by(|a, b| (*a - *b).abs() < SAME_TARGET);
     if positions.len() < 2 {
         return Err(Iso230_2Error::TooFewTargets(positions.len()));
+    }
+    // One reading per run, target and direction.
+    for (k, a) in table.readings.iter().enumerate() {
+        if let Some(b) = table.readings[..k].iter().find(|b| {
+            b.run == a.run && b.approach == a.approach && (b.target - a.target).abs() < SAME_TARGET
+        }) {
+            return Err(Iso230_2Error::RepeatedReading {
+                run: table.runs[b.run].clone(),
+                target_mm: a.target * 1e3,
+                direction: if a.approach == Approach::Up { '+' } else { '-' },
+            });
+        }
     }
     let directions: Vec<Approach> = [Approach::Up, Approach::Down]
         .into_iter()

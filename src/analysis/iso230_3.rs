@@ -141,8 +141,8 @@ fn interpolate(record: &[(Real, Real)], t: Real) -> Option<Real> {
 /// whole record, when the 15 % stop criterion was met, and the ETVE for a test of
 /// `etve_duration` s with its window and the ambient range inside it (the first temperature
 /// column). JSON keys: `kind` ("drift"), `etve_duration_min`, `channels` (each `name`, `unit`
-/// ("um" or "urad"), `range_60`, `range`, `stop_min`, `etve`, `etve_window_min` [start, end],
-/// `etve_ambient_range_degc`).
+/// ("um" or "urad"), `range_60_<unit>`, `range_<unit>`, `stop_min`, `etve_<unit>`,
+/// `etve_window_min` [start, end], `etve_ambient_range_degc`, `note`).
 pub fn drift_report(table: &crate::io::DriftTable, etve_duration: Real) -> serde_json::Value {
     use serde_json::json;
     let ambient = table.temperatures.first();
@@ -161,16 +161,19 @@ pub fn drift_report(table: &crate::io::DriftTable, etve_duration: Real) -> serde
                 let (lo, hi) = inside.fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), (_, v)| (lo.min(*v), hi.max(*v)));
                 Some(((hi - lo) * 1e6).round() / 1e6)
             });
-            json!({
+            let unit = if channel.angular { "urad" } else { "um" };
+            let mut entry = json!({
                 "name": channel.name,
-                "unit": if channel.angular { "urad" } else { "um" },
-                "range_60": ranges.map(|r| round(r.0)),
-                "range": ranges.map(|r| round(r.1)),
+                "unit": unit,
                 "stop_min": stop_time(&record).map(|t| t / 60.0),
-                "etve": worst.map(|w| round(w.0)),
                 "etve_window_min": worst.map(|(_, start)| [start / 60.0, (start + etve_duration) / 60.0]),
                 "etve_ambient_range_degc": ambient_range,
-            })
+                "note": worst.is_none().then_some("the record is shorter than the ETVE test"),
+            });
+            entry[format!("range_60_{unit}")] = json!(ranges.map(|r| round(r.0)));
+            entry[format!("range_{unit}")] = json!(ranges.map(|r| round(r.1)));
+            entry[format!("etve_{unit}")] = json!(worst.map(|w| round(w.0)));
+            entry
         })
         .collect();
     json!({

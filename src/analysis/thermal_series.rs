@@ -2,9 +2,10 @@
 //! times or temperatures, each with its error curve, and the drift of every target against
 //! time and temperature.
 //!
-//! A table is a thermal series when it has at least two runs and either a `temp_<sensor>_degc`
-//! column or run times spread over at least [`MIN_SERIES_SPAN_MIN`] minutes (a plain ISO 230-2
-//! test of a few minutes is not one). A run's time and temperatures are the means over its readings. The drift of
+//! A table is a thermal series when it has at least two runs and either run times spread over
+//! at least [`MIN_SERIES_SPAN_MIN`] minutes or a sensor whose run temperatures spread over at
+//! least [`MIN_SERIES_SPREAD_DEGC`] (a plain ISO 230-2 test of a few minutes, temperatures
+//! recorded as the standard asks, is not one). A run's time and temperatures are the means over its readings. The drift of
 //! a target (in one direction) is its mean deviation in each run minus that in the first run
 //! that reached it; its sensitivity to a sensor is the least-squares slope of the deviation
 //! against that sensor's run temperature.
@@ -34,14 +35,15 @@ pub struct TargetDrift {
     pub approach: Approach,
     /// Per run that reached it: (run index, deviation − deviation in its first run) (m).
     pub drift: Vec<(usize, Real)>,
-    /// max − min of the drift (m).
+    /// max − min of the drift (m), negative when the larger excursion from the first run is
+    /// downwards.
     pub range: Real,
     /// ISO 230-3 drift range over the first 60 min, signed (m), when runs are timed.
     pub range_first_hour: Option<Real>,
     /// When the ISO 230-3 stop criterion was first met (s), when runs are timed.
     pub stop_time: Option<Real>,
     /// Least-squares slope of the deviation against each sensor's run temperature (m/°C);
-    /// `None` when that sensor did not change between the runs.
+    /// `None` when that sensor's run temperatures span less than [`MIN_SERIES_SPREAD_DEGC`].
     pub slopes: Vec<Option<Real>>,
 }
 
@@ -62,13 +64,37 @@ const SAME_TARGET: Real = 1e-9;
 /// The spread of run times (min) that makes a timed table a thermal series.
 pub const MIN_SERIES_SPAN_MIN: Real = 30.0;
 
+/// The spread of a sensor's run temperatures (°C) that makes a table a thermal series, and below
+/// which no slope against that sensor is reported (it would fit noise and quantisation).
+pub const MIN_SERIES_SPREAD_DEGC: Real = 0.5;
+
 /// The thermal series of `table`, if it is one.
 pub fn thermal_series(table: &PositioningTable) -> Option<ThermalSeries> {
     let times = table.readings.iter().filter_map(|r| r.time);
     let span =
         times.clone().fold(Real::NEG_INFINITY, Real::max) - times.fold(Real::INFINITY, Real::min);
-    let thermal = !table.sensors.is_empty() || span >= MIN_SERIES_SPAN_MIN * 60.0;
-    if !thermal || table.runs.len() < 2 {
+    if table.runs.len() < 2 {
+        return None;
+    }
+    // The spread of each sensor's run-mean temperature.
+    let spreads: Vec<Real> = (0..table.sensors.len())
+        .map(|k| {
+            let means = (0..table.runs.len()).filter_map(|run| {
+                let values: Vec<Real> = table
+                    .readings
+                    .iter()
+                    .filter(|r| r.run == run)
+                    .map(|r| r.temperatures[k])
+                    .collect();
+                (!values.is_empty()).then(|| values.iter().sum::<Real>() / values.len() as Real)
+            });
+            means.clone().fold(Real::NEG_INFINITY, Real::max)
+                - means.fold(Real::INFINITY, Real::min)
+        })
+        .collect();
+    let thermal =
+        span >= MIN_SERIES_SPAN_MIN * 60.0 || spreads.iter().any(|s| *s >= MIN_SERIES_SPREAD_DEGC);
+    if !thermal {
         return None;
     }
     let mut keys: Vec<(Real, Approach)> = table
@@ -128,18 +154,22 @@ pub fn thermal_series(table: &PositioningTable) -> Option<ThermalSeries> {
             let first = visits.first().map_or(0.0, |v| v.1);
             let drift: Vec<(usize, Real)> =
                 visits.iter().map(|&(run, d)| (run, d - first)).collect();
-            let range = drift
-                .iter()
-                .map(|d| d.1)
-                .fold(Real::NEG_INFINITY, Real::max)
-                - drift.iter().map(|d| d.1).fold(Real::INFINITY, Real::min);
+            // Signed like ISO 230-3's ranges: by the larger excursion from the first run.
+            let by_run: Vec<(Real, Real)> =
+                drift.iter().map(|&(run, d)| (run as Real, d)).collect();
+            let range = super::iso230_3::signed_range(&by_run, Real::NEG_INFINITY, Real::INFINITY)
+                .unwrap_or(0.0);
             let slopes = (0..table.sensors.len())
                 .map(|k| {
-                    slope(
-                        visits
-                            .iter()
-                            .map(|&(run, d)| (runs[run].temperatures[k], d)),
-                    )
+                    (spreads[k] >= MIN_SERIES_SPREAD_DEGC)
+                        .then(|| {
+                            slope(
+                                visits
+                                    .iter()
+                                    .map(|&(run, d)| (runs[run].temperatures[k], d)),
+                            )
+                        })
+                        .flatten()
                 })
                 .collect();
             let timed: Vec<(Real, Real)> = drift
@@ -208,11 +238,11 @@ impl ThermalSeries {
                     .sensors
                     .iter()
                     .zip(&run.temperatures)
-                    .map(|(s, t)| (s.clone(), json!(t)))
+                    .map(|(s, t)| (s.clone(), json!((t * 1e6).round() / 1e6)))
                     .collect();
                 json!({
                     "run": run.label,
-                    "time_min": run.time.map(|t| t / 60.0),
+                    "time_min": run.time.map(|t| (t / 60.0 * 1e6).round() / 1e6),
                     "temperatures_degc": temperatures,
                     "points": run.points.iter().map(|&(t, a, d)| json!({
                         "target_mm": mm(t), "direction": sign(a), "deviation_um": um(d)

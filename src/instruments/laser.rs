@@ -65,8 +65,8 @@ pub struct Laser {
     pub axis: Axis,
     /// Reflector position relative to the tool tip, tool frame (m): the Abbe offset.
     pub beam_offset: Vector,
-    /// Beam tilt from the axis (rad) about the two other coordinate axes, in ISO order
-    /// (e.g. about Y and Z for an X beam).
+    /// Beam tilt from the axis (rad) towards the two other coordinate axes, in ISO order
+    /// (an X beam tilted towards Y, then towards Z).
     pub misalignment: [Real; 2],
     /// Resolution (m).
     pub resolution: Real,
@@ -109,7 +109,8 @@ pub enum Zeroing {
 }
 
 impl Laser {
-    /// The beam direction in the workpiece frame: the axis direction tilted by the misalignment.
+    /// The beam direction in the workpiece frame: the axis direction plus the misalignment
+    /// towards the other two axes, normalised.
     pub fn beam_direction(&self) -> Vector {
         let along = self.axis.unit();
         let across: Vec<Vector> = Vector::AXES

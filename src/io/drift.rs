@@ -82,6 +82,7 @@ impl DriftTable {
             } else if let Some(sensor) = name
                 .strip_prefix("temp_")
                 .and_then(|r| r.strip_suffix("_degc"))
+                .filter(|s| !s.is_empty())
             {
                 sensors.push((index, sensor.to_string()));
             } else if let Some(channel) = name.strip_suffix("_urad").filter(|c| !c.is_empty()) {

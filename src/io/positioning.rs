@@ -128,6 +128,9 @@ impl PositioningTable {
                 .and_then(|rest| rest.strip_suffix("_degc"))
             {
                 Some(sensor) if !sensor.is_empty() => {
+                    if sensors.iter().any(|s| s == sensor) {
+                        return Err(fail(Some(1), format!("column `{name}` appears twice")));
+                    }
                     sensors.push(sensor.to_string());
                     sensor_columns.push(index);
                 }

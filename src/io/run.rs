@@ -217,12 +217,26 @@ fn truth(scenario: &Scenario) -> Value {
             "air": { "temperature_degc": laser.air.temperature, "pressure_hpa": laser.air.pressure / 100.0, "humidity_pct": laser.air.humidity },
             "refractive_index_true": laser.air.refractive_index(crate::instruments::HENE_WAVELENGTH_UM),
             "refractive_index_assumed": laser.assumed_index(),
+            "resolution_nm": laser.resolution * 1e9,
+            "noise_nm": laser.noise * 1e9,
+            "dead_path_mm": laser.dead_path * 1e3,
+            "zero": format!("{:?}", laser.zero),
+            "interferometer_on": format!("{:?}", laser.mounting),
+            "compensation": format!("{:?}", laser.compensation),
+            "material": laser.material.map(|m| json!({
+                "expansion_ppm_per_degc": m.expansion * 1e6,
+                "temperature_degc": m.measured_temperature,
+                "sensor_node": test.material_sensor.as_ref().map(|(node, _)| node.clone()),
+                "sensor_offset_degc": test.material_sensor.as_ref().map(|(_, offset)| *offset),
+            })),
         })
     });
+    let thermal_model = scenario.thermal.as_ref().map(thermal_model);
     json!({
         "machine": machine.name(),
         "seed": scenario.seed,
         "laser_test": laser_test,
+        "thermal_model": thermal_model,
         "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
                        motions of the tool relative to the workpiece in the frame of their axis; location errors \
                        (E?0?) are the axis line itself, actual - nominal, zero at the axis zero (ISO 230-1 names)",
@@ -231,8 +245,39 @@ fn truth(scenario: &Scenario) -> Value {
     })
 }
 
-/// The true node temperatures at every measurement: `{nodes: [names], time_min: [..],
-/// temperatures_degc: [[per node] per measurement]}`.
+/// The injected thermal model: nodes, links, heat sources, thermal error terms, air, sensors.
+fn thermal_model(setup: &crate::io::ThermalSetup) -> Value {
+    let thermal = &setup.thermal;
+    let name = |i: usize| thermal.network.nodes()[i].name.clone();
+    json!({
+        "initial_degc": thermal.initial,
+        "nodes": thermal.network.nodes().iter().map(|n| json!({
+            "name": n.name, "capacity_j_per_k": n.capacity, "to_ambient_w_per_k": n.to_ambient,
+        })).collect::<Vec<_>>(),
+        "links": thermal.network.links().iter().map(|&(i, j, g)| json!({
+            "nodes": [name(i), name(j)], "conductance_w_per_k": g,
+        })).collect::<Vec<_>>(),
+        "sources": thermal.sources.iter().map(|s| json!({
+            "node": name(s.node), "driver": format!("{:?}", s.driver), "w_per_unit_speed": s.coefficient,
+        })).collect::<Vec<_>>(),
+        "terms": thermal.errors.terms().map(|t| format!("{t:?}")).collect::<Vec<_>>(),
+        "ambient": {
+            "mean_degc": thermal.ambient.mean,
+            "steps": thermal.ambient.steps.iter().map(|(t, d)| json!({"at_min": t / 60.0, "by_degc": d})).collect::<Vec<_>>(),
+            "daily_amplitude_degc": thermal.ambient.daily_amplitude,
+            "daily_peak_h": thermal.ambient.daily_peak / 3600.0,
+            "oscillation": thermal.ambient.oscillation.map(|(a, p)| json!({"amplitude_degc": a, "period_min": p / 60.0})),
+        },
+        "max_interval_s": setup.max_interval,
+        "sensors": setup.sensors.iter().map(|(node, spec)| json!({
+            "name": spec.name, "node": name(*node), "offset_degc": spec.offset, "noise_degc": spec.noise,
+            "resolution_degc": spec.resolution, "lag_s": spec.time_constant,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// The true node temperatures and air at every measurement: `{nodes: [names], time_min: [..],
+/// air_degc: [..], temperatures_degc: [[per node] per measurement]}`.
 fn thermal_states(
     setup: &crate::io::ThermalSetup,
     records: &[crate::twin::ThermalRecord],
@@ -241,6 +286,7 @@ fn thermal_states(
     json!({
         "nodes": setup.thermal.network.nodes().iter().map(|n| n.name.clone()).collect::<Vec<_>>(),
         "time_min": records.iter().map(|r| round(r.visit.time / 60.0)).collect::<Vec<_>>(),
+        "air_degc": records.iter().map(|r| round(setup.thermal.ambient.at(r.visit.time))).collect::<Vec<_>>(),
         "temperatures_degc": records.iter().map(|r| r.temperatures.iter().map(|t| round(*t)).collect::<Vec<_>>()).collect::<Vec<_>>(),
     })
 }

@@ -571,6 +571,47 @@ impl Scenario {
         } else {
             None
         };
+        if let (Some(setup), Some(test)) = (&thermal, &laser_test) {
+            let duration: Real = test
+                .program
+                .timeline(Real::INFINITY)
+                .iter()
+                .map(|e| match e {
+                    crate::program::Event::Interval(i) => i.duration,
+                    crate::program::Event::Measure(_) => 0.0,
+                })
+                .sum();
+            if duration / setup.max_interval > 5e6 {
+                return Err(context.error(
+                    raw.thermal.as_ref().map(|t| t.span()),
+                    ScenarioErrorKind::Value,
+                    format!(
+                        "thermal.max_interval_s: {:.1} h in steps of {} s is more than five million steps",
+                        duration / 3600.0,
+                        setup.max_interval
+                    ),
+                ));
+            }
+        }
+        if let (Some(_), Some(span)) = (
+            &thermal,
+            raw.laser
+                .as_ref()
+                .and_then(laser_test::air_temperature_given),
+        ) {
+            return Err(context.error(
+                Some(span),
+                ScenarioErrorKind::Value,
+                "laser.air.temperature_degc: with [thermal] the laser's air is the machine's air (its ambient); set it there",
+            ));
+        }
+        if let (Some(section), None) = (&raw.thermal, &laser_test) {
+            return Err(context.error(
+                Some(section.span()),
+                ScenarioErrorKind::Nothing,
+                "thermal: nothing in this scenario uses the thermal model; add a laser test ([iso230_2], [warmup] or [iso230_3_linear])",
+            ));
+        }
         if let Some((node, _)) = laser_test.as_ref().and_then(|t| t.material_sensor.as_ref()) {
             let known = thermal
                 .as_ref()

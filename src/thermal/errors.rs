@@ -11,8 +11,11 @@
 //! - **Spindle growth**: the spindle nose grows towards the workpiece, moving the tool tip along
 //!   −z of the tool frame by `k·(T − T_ref)`.
 //! - **Column tilt**: a front–back temperature difference bends the column; modelled as a tilt
-//!   of the head about X, `EAZ += c·(T_front − T_back)`, which the chain turns into Y and Z
-//!   errors with the head's lever arm. Simplified: a uniform tilt, no S-shaped bending.
+//!   of the head about X, `EAZ += c·(T_front − T_back)`, acting at the Z slot (after the Z
+//!   travel), which the chain turns into Y and Z errors with the head's lever arm. "Front" is
+//!   the column's face towards the workpiece; the sign of `c` says which way the head turns.
+//!   Simplified: a uniform tilt of the head only — the bending shift of the head (about ε·H/2
+//!   for a column of height H) and the tilt of the Z guideways themselves are not modelled.
 
 use crate::machine::{Axis, Machine, MachineState};
 use crate::math::Real;

@@ -104,6 +104,11 @@ impl ThermalNetwork {
         &self.nodes
     }
 
+    /// The links between nodes: `(i, j, conductance W/K)` with `i < j`.
+    pub fn links(&self) -> &[(usize, usize, Real)] {
+        &self.links
+    }
+
     /// The index of a node.
     pub fn node(&self, name: &str) -> Option<usize> {
         self.nodes.iter().position(|n| n.name == name)

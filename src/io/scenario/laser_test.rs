@@ -13,7 +13,7 @@
 //!
 //! [laser]
 //! beam_offset_mm = [0.0, 0.0, 60.0]   # reflector from the tool tip, tool frame (Abbe offset)
-//! misalignment_urad = [0.0, 0.0]      # beam tilt about the two other axes (cosine error)
+//! misalignment_urad = [0.0, 0.0]      # beam tilt towards the two other axes, ISO order (cosine error)
 //! resolution_nm = 1.0
 //! noise_nm = 10.0
 //! compensation = "sensors"            # or "off": standard air assumed
@@ -162,18 +162,13 @@ pub(super) fn laser_test(
             format!("{key}: {message}"),
         )
     };
-    let axis = match t.axis.get_ref().as_str() {
-        "X" => Axis::X,
-        "Y" => Axis::Y,
-        "Z" => Axis::Z,
-        other => {
-            return Err(fail(
-                t.axis.span(),
-                "iso230_2.axis",
-                format!("\"{other}\": expected \"X\", \"Y\" or \"Z\""),
-            ));
-        }
-    };
+    let axis = super::thermal_test::linear_axis(t.axis.get_ref()).ok_or_else(|| {
+        fail(
+            t.axis.span(),
+            "iso230_2.axis",
+            format!("\"{}\": expected \"X\", \"Y\" or \"Z\"", t.axis.get_ref()),
+        )
+    })?;
     let info = machine.axis(axis).expect("every machine has X, Y, Z");
     let (lower, upper) = info.limits.expect("linear axes have limits");
     let RawTargets { from, to, count } = *t.targets_mm.get_ref();
@@ -185,11 +180,11 @@ pub(super) fn laser_test(
             "from and to must be finite with from < to".into(),
         ));
     }
-    if count < 2 {
+    if !(2..=10_000).contains(&count) {
         return Err(fail(
             targets_span,
             "iso230_2.targets_mm",
-            format!("count must be at least 2, got {count}"),
+            format!("count must be 2 to 10000, got {count}"),
         ));
     }
     let positive =
@@ -217,11 +212,11 @@ pub(super) fn laser_test(
     let feed = positive(&t.feed_mm_per_min, "iso230_2.feed_mm_per_min", false)? * M_PER_MM / 60.0;
     let dwell = positive(&t.dwell_s, "iso230_2.dwell_s", true)?;
     let runs = *t.runs.get_ref();
-    if runs < 2 {
+    if !(2..=1000).contains(&runs) {
         return Err(fail(
             t.runs.span(),
             "iso230_2.runs",
-            format!("repeatability needs at least 2 runs (ISO 230-2: 5), got {runs}"),
+            format!("repeatability needs 2 to 1000 runs (ISO 230-2: 5), got {runs}"),
         ));
     }
     let (start, end) = (from * M_PER_MM - overrun, to * M_PER_MM + overrun);
@@ -306,7 +301,11 @@ pub(super) fn laser_test(
         dwell,
         rest,
     };
-    let (laser, material_sensor) = laser_for(context, axis, laser)?;
+    let given_zero = zero_given(laser);
+    let (mut laser, material_sensor) = laser_for(context, axis, laser)?;
+    if !given_zero {
+        laser.zero = Zeroing::Once; // ISO 230-2 practice: one datum for the whole test
+    }
     Ok(LaserTest {
         program: cycle.program(),
         runs: cycle.runs,
@@ -314,6 +313,42 @@ pub(super) fn laser_test(
         laser,
         material_sensor,
     })
+}
+
+/// The first key of `[laser]` that a drift test (ISO 230-3 §7.2.5: air compensation on, NDE
+/// off, zeroed once at the start) cannot honour, with its span and why.
+pub(super) fn drift_conflict(raw: &Spanned<RawLaser>) -> Option<(std::ops::Range<usize>, String)> {
+    let l = raw.get_ref();
+    if let Some(c) = l.compensation.as_ref().filter(|c| c.get_ref() == "off") {
+        return Some((
+            c.span(),
+            "laser.compensation: a drift test uses the air compensation (ISO 230-3 §7.2.5)".into(),
+        ));
+    }
+    if let Some(m) = &l.material {
+        return Some((m.span(), "laser.material: a drift test does not use NDE, which would hide the scale's expansion (ISO 230-3 §7.2.5)".into()));
+    }
+    if let Some(z) = l.zero.as_ref().filter(|z| z.get_ref() != "once") {
+        return Some((
+            z.span(),
+            "laser.zero: a drift test is zeroed once, at the start".into(),
+        ));
+    }
+    None
+}
+
+/// The span of `[laser] air.temperature_degc`, when given.
+pub(super) fn air_temperature_given(raw: &Spanned<RawLaser>) -> Option<std::ops::Range<usize>> {
+    let l = raw.get_ref();
+    l.air
+        .as_ref()
+        .filter(|a| a.get_ref().temperature_degc.is_some())
+        .map(|a| a.span())
+}
+
+/// Whether `[laser]` says when to zero.
+fn zero_given(raw: Option<&Spanned<RawLaser>>) -> bool {
+    raw.is_some_and(|r| r.get_ref().zero.is_some())
 }
 
 /// The laser of the `[laser]` section on `axis` with its material sensor's node, or an ideal
@@ -442,6 +477,22 @@ fn laser_spec(
         l.sensor_offsets.as_ref().map_or(0..0, |a| a.span()),
         "sensor_offsets",
     )?;
+    let assumed = Air {
+        temperature: air.temperature + offset_values[0],
+        pressure: air.pressure + offset_values[1] * 100.0,
+        humidity: air.humidity + offset_values[2],
+    };
+    let plausible_assumed = (-10.0..=60.0).contains(&assumed.temperature)
+        && (50_000.0..=120_000.0).contains(&assumed.pressure)
+        && (0.0..=100.0).contains(&assumed.humidity);
+    if !plausible_assumed {
+        let span = l.sensor_offsets.as_ref().map_or(0..0, |a| a.span());
+        return Err(fail(
+            span,
+            "sensor_offsets",
+            "the sensors would read beyond -10..60 °C, 500..1200 hPa or 0..100 %RH".into(),
+        ));
+    }
     let compensation = match l.compensation.as_ref().map(|c| c.get_ref().as_str()) {
         None | Some("sensors") => AirCompensation::Sensors {
             temperature_offset: offset_values[0],

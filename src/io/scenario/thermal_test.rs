@@ -297,6 +297,14 @@ pub(super) fn thermal_setup(
             )));
         }
         let name = s.name.clone().unwrap_or_else(|| s.node.clone());
+        if sensors
+            .iter()
+            .any(|(_, spec): &(usize, SensorSpec)| spec.name == name)
+        {
+            return Err(fail(format!(
+                "sensors: two sensors are named \"{name}\"; give one a `name`"
+            )));
+        }
         if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
             return Err(fail(format!(
                 "sensors: name \"{name}\" must be letters, digits and _ (it becomes temp_{name}_degc)"
@@ -335,17 +343,15 @@ pub(super) fn warmup_test(
             format!("warmup.{message}"),
         )
     };
-    let axis = match w.axis.get_ref().as_str() {
-        "X" => Axis::X,
-        "Y" => Axis::Y,
-        "Z" => Axis::Z,
-        other => {
-            return Err(fail(
-                w.axis.span(),
-                format!("axis: \"{other}\": expected \"X\", \"Y\" or \"Z\""),
-            ));
-        }
-    };
+    let axis = linear_axis(w.axis.get_ref()).ok_or_else(|| {
+        fail(
+            w.axis.span(),
+            format!(
+                "axis: \"{}\": expected \"X\", \"Y\" or \"Z\"",
+                w.axis.get_ref()
+            ),
+        )
+    })?;
     let info = machine.axis(axis).expect("every machine has X, Y, Z");
     let RawTargets { from, to, step } = *w.targets_mm.get_ref();
     let span = w.targets_mm.span();
@@ -378,50 +384,40 @@ pub(super) fn warmup_test(
         ));
     }
     let timing = [w.feed_mm_per_min, w.dwell_s];
-    if !timing.iter().all(|v| v.is_finite()) || w.feed_mm_per_min <= 0.0 || w.dwell_s < 0.0 {
+    if !timing.iter().all(|v| v.is_finite())
+        || w.feed_mm_per_min <= 0.0
+        || !(0.0..=3600.0).contains(&w.dwell_s)
+    {
         return Err(fail(
             raw.span(),
-            "feed_mm_per_min must be positive and dwell_s not negative".into(),
+            "feed_mm_per_min must be positive and dwell_s 0 to 3600 s".into(),
         ));
     }
-    if w.runs < 2 {
-        return Err(fail(
-            raw.span(),
-            format!("runs: at least 2, got {}", w.runs),
-        ));
+    if !(2..=1000).contains(&w.runs) {
+        return Err(fail(raw.span(), format!("runs: 2 to 1000, got {}", w.runs)));
     }
     let idle = *w.idle.get_ref();
     let idle_ok = [idle.from_mm, idle.to_mm, idle.feed_mm_per_min, idle.minutes]
         .iter()
         .all(|v| v.is_finite())
         && idle.feed_mm_per_min > 0.0
-        && idle.minutes >= 0.0
+        && (0.0..=14_400.0).contains(&idle.minutes)
         && info.within_travel(idle.from_mm * M_PER_MM)
         && info.within_travel(idle.to_mm * M_PER_MM);
     if !idle_ok {
         return Err(fail(
             w.idle.span(),
-            format!("idle: a stroke within the travel of {axis}, a positive feed, minutes ≥ 0"),
+            format!(
+                "idle: a stroke within the travel of {axis}, a positive feed, 0 to 14400 minutes"
+            ),
         ));
     }
-    let mut rest = AxisValues::ZERO;
-    for (other, value) in [(Axis::X, w.x_mm), (Axis::Y, w.y_mm), (Axis::Z, w.z_mm)] {
-        let info = machine.axis(other).expect("linear axes");
-        let (lower, upper) = info.limits.expect("linear axes have limits");
-        let position = value.map_or((lower + upper) / 2.0, |v| v * M_PER_MM);
-        if other != axis {
-            if !info.within_travel(position) {
-                return Err(fail(
-                    raw.span(),
-                    format!(
-                        "{}_mm: outside the travel of {other}",
-                        other.letter().to_ascii_lowercase()
-                    ),
-                ));
-            }
-            rest[other] = position;
-        }
-    }
+    let rest = rest_positions(
+        machine,
+        axis,
+        [(Axis::X, w.x_mm), (Axis::Y, w.y_mm), (Axis::Z, w.z_mm)],
+    )
+    .map_err(|message| fail(raw.span(), message))?;
     let cycle = LinearCycle {
         axis,
         targets,
@@ -509,7 +505,7 @@ fn sixty_min() -> Real {
 }
 
 /// The `[iso230_3_linear]` test as a laser test. ISO 230-3 §7.2.5: air compensation on, NDE off,
-/// and all readings zeroed once at the start — the laser is set so whatever `[laser]` says.
+/// all readings zeroed once at the start; `[laser]` keys that say otherwise are refused.
 pub(super) fn linear_motion_test(
     context: &Context<'_>,
     machine: &Machine,
@@ -524,17 +520,15 @@ pub(super) fn linear_motion_test(
             format!("iso230_3_linear.{message}"),
         )
     };
-    let axis = match m.axis.get_ref().as_str() {
-        "X" => Axis::X,
-        "Y" => Axis::Y,
-        "Z" => Axis::Z,
-        other => {
-            return Err(fail(
-                m.axis.span(),
-                format!("axis: \"{other}\": expected \"X\", \"Y\" or \"Z\""),
-            ));
-        }
-    };
+    let axis = linear_axis(m.axis.get_ref()).ok_or_else(|| {
+        fail(
+            m.axis.span(),
+            format!(
+                "axis: \"{}\": expected \"X\", \"Y\" or \"Z\"",
+                m.axis.get_ref()
+            ),
+        )
+    })?;
     let info = machine.axis(axis).expect("every machine has X, Y, Z");
     let [p1, p2] = m.targets_mm.get_ref().map(|t| t * M_PER_MM);
     if !(p1.is_finite()
@@ -557,32 +551,44 @@ pub(super) fn linear_motion_test(
     ];
     let valid = numbers.iter().all(|v| v.is_finite())
         && m.feed_mm_per_min > 0.0
-        && m.dwell_s >= 0.0
+        && (0.0..=3600.0).contains(&m.dwell_s)
         && m.cycling_min > 0.0
-        && m.cooldown_min >= 0.0
+        && m.cycling_min <= 14_400.0
+        && (0.0..=14_400.0).contains(&m.cooldown_min)
         && m.visit_every_min > 0.0
         && m.read_every >= 1;
     if !valid {
-        return Err(fail(raw.span(), "feed, cycling and visit interval positive; dwell and cool-down not negative; read_every ≥ 1".into()));
+        return Err(fail(raw.span(), "feed, cycling (at most 14400 min) and visit interval positive; dwell 0 to 3600 s; cool-down 0 to 14400 min; read_every ≥ 1".into()));
     }
-    let mut rest = AxisValues::ZERO;
-    for (other, value) in [(Axis::X, m.x_mm), (Axis::Y, m.y_mm), (Axis::Z, m.z_mm)] {
-        if other == axis {
-            continue;
-        }
-        let info = machine.axis(other).expect("linear axes");
-        let (lower, upper) = info.limits.expect("linear axes have limits");
-        let position = value.map_or((lower + upper) / 2.0, |v| v * M_PER_MM);
-        if !info.within_travel(position) {
-            return Err(fail(
-                raw.span(),
-                format!(
-                    "{}_mm: outside the travel of {other}",
-                    other.letter().to_ascii_lowercase()
-                ),
-            ));
-        }
-        rest[other] = position;
+    let rest = rest_positions(
+        machine,
+        axis,
+        [(Axis::X, m.x_mm), (Axis::Y, m.y_mm), (Axis::Z, m.z_mm)],
+    )
+    .map_err(|message| fail(raw.span(), message))?;
+    let cycle_s = 2.0 * ((p2 - p1) / (m.feed_mm_per_min * M_PER_MM / 60.0) + m.dwell_s);
+    if m.cycling_min * 60.0 / cycle_s > 1e6 {
+        return Err(fail(
+            raw.span(),
+            format!(
+                "cycling_min: {:.0} cycles of {cycle_s:.3} s; at most a million",
+                m.cycling_min * 60.0 / cycle_s
+            ),
+        ));
+    }
+    // A cool-down visit goes from mid-travel to P1, to P2 and back: it must fit its interval,
+    // and the cool-down must hold at least one.
+    let visit_s = 2.0 * (p2 - p1) / (m.feed_mm_per_min * M_PER_MM / 60.0) + 2.0 * m.dwell_s;
+    if m.cooldown_min > 0.0
+        && (m.visit_every_min * 60.0 < visit_s || m.visit_every_min > m.cooldown_min)
+    {
+        return Err(fail(
+            raw.span(),
+            format!(
+                "visit_every_min: a cool-down visit takes {:.2} min; visit_every_min must be at least that and at most cooldown_min",
+                visit_s / 60.0
+            ),
+        ));
     }
     let test = crate::program::LinearMotionTest {
         axis,
@@ -597,9 +603,11 @@ pub(super) fn linear_motion_test(
     };
     let program = test.program();
     let runs = crate::program::visits(&program.timeline(Real::INFINITY)).len() / 2;
+    if let Some((span, message)) = laser.and_then(super::laser_test::drift_conflict) {
+        return Err(context.error(Some(span), ScenarioErrorKind::Value, message));
+    }
     let (mut laser, _) = laser_for(context, axis, laser)?;
     laser.zero = crate::instruments::laser::Zeroing::Once;
-    laser.material = None;
     Ok(LaserTest {
         program,
         targets: vec![p1, p2],
@@ -607,4 +615,46 @@ pub(super) fn linear_motion_test(
         laser,
         material_sensor: None,
     })
+}
+
+/// Where the linear axes other than `axis` stand during a test: as given (mm), else at
+/// mid-travel. A position for the axis under test is refused (its positions are the test's).
+fn rest_positions(
+    machine: &Machine,
+    axis: Axis,
+    given: [(Axis, Option<Real>); 3],
+) -> Result<AxisValues, String> {
+    let mut rest = AxisValues::ZERO;
+    for (other, value) in given {
+        let key = format!("{}_mm", other.letter().to_ascii_lowercase());
+        if other == axis {
+            if value.is_some() {
+                return Err(format!(
+                    "{key}: {axis} is the axis under test; its positions come from the test"
+                ));
+            }
+            continue;
+        }
+        let info = machine.axis(other).expect("every machine has X, Y, Z");
+        let (lower, upper) = info.limits.expect("linear axes have limits");
+        let position = value.map_or((lower + upper) / 2.0, |v| v * M_PER_MM);
+        if !info.within_travel(position) {
+            return Err(format!(
+                "{key}: {} mm is outside the travel of {other}",
+                position / M_PER_MM
+            ));
+        }
+        rest[other] = position;
+    }
+    Ok(rest)
+}
+
+/// The linear axis named `X`, `Y` or `Z`.
+pub(super) fn linear_axis(name: &str) -> Option<Axis> {
+    match name {
+        "X" => Some(Axis::X),
+        "Y" => Some(Axis::Y),
+        "Z" => Some(Axis::Z),
+        _ => None,
+    }
 }
