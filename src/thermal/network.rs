@@ -152,6 +152,9 @@ fn input(power: &[Real], ambient: Real) -> DVector<Real> {
     DVector::from_iterator(power.len() + 1, power.iter().copied().chain([ambient]))
 }
 
+/// How many step lengths a [`ThermalStepper`] keeps the exact step matrices of.
+const MAX_CACHED_STEPS: usize = 64;
+
 /// Integrates a [`ThermalNetwork`]: the temperatures, and a cache of the exact step matrices
 /// per step length.
 #[derive(Clone, Debug)]
@@ -198,6 +201,11 @@ impl ThermalStepper {
             return;
         }
         let (a, b) = (&self.a, &self.b);
+        // A programme has few distinct step lengths; should one have many, start the cache afresh
+        // rather than let it grow (each entry is an (n+m)² matrix exponential).
+        if self.cache.len() >= MAX_CACHED_STEPS && !self.cache.contains_key(&dt.to_bits()) {
+            self.cache.clear();
+        }
         let (phi, gamma) = self.cache.entry(dt.to_bits()).or_insert_with(|| {
             let m = n + b.ncols();
             let mut augmented = DMatrix::zeros(m, m);
