@@ -8,6 +8,7 @@
 //! | `<channel>_urad` | | an angular displacement (µrad) |
 //! | `temp_<sensor>_degc` | no | temperatures (°C); the first is taken as the ambient |
 
+use super::table::{TableError, csv_reader, read_file};
 use crate::math::{M_PER_UM, RAD_PER_URAD, Real};
 use std::path::Path;
 
@@ -33,39 +34,17 @@ pub struct DriftTable {
     pub temperatures: Vec<(String, Vec<Real>)>,
 }
 
-/// Why a drift table was rejected; the message names the file, line and column.
-#[derive(Debug, thiserror::Error)]
-#[error("{file}{}: {message}", .line.map(|l| format!(":{l}")).unwrap_or_default())]
-pub struct DriftTableError {
-    file: String,
-    line: Option<u64>,
-    message: String,
-}
-
 impl DriftTable {
     /// Reads a drift table file.
-    pub fn read(path: impl AsRef<Path>) -> Result<DriftTable, DriftTableError> {
-        let path = path.as_ref();
-        let file = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| DriftTableError {
-            file: file.clone(),
-            line: None,
-            message: format!("cannot read: {e}"),
-        })?;
+    pub fn read(path: impl AsRef<Path>) -> Result<DriftTable, TableError> {
+        let (bytes, file) = read_file(path.as_ref())?;
         DriftTable::parse(&bytes, &file)
     }
 
     /// Reads a drift table from bytes; `file` names it in messages.
-    pub fn parse(bytes: &[u8], file: &str) -> Result<DriftTable, DriftTableError> {
-        let fail = |line: Option<u64>, message: String| DriftTableError {
-            file: file.to_string(),
-            line,
-            message,
-        };
-        let mut reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .from_reader(bytes);
+    pub fn parse(bytes: &[u8], file: &str) -> Result<DriftTable, TableError> {
+        let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
+        let mut reader = csv_reader(bytes);
         let header = reader
             .headers()
             .map_err(|e| fail(Some(1), format!("cannot read the header: {e}")))?
@@ -130,7 +109,7 @@ impl DriftTable {
                 )
             })?;
             let line = record.position().map(|p| p.line());
-            let number = |index: usize| -> Result<Real, DriftTableError> {
+            let number = |index: usize| -> Result<Real, TableError> {
                 let text = &record[index];
                 match text.parse::<Real>() {
                     Ok(v) if v.is_finite() => Ok(v),

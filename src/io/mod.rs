@@ -8,11 +8,13 @@ mod drift;
 mod positioning;
 mod run;
 mod scenario;
+mod table;
 
-pub use drift::{DriftChannel, DriftTable, DriftTableError};
-pub use positioning::{Approach, PositioningReading, PositioningTable, TableError};
+pub use drift::{DriftChannel, DriftTable};
+pub use positioning::{Approach, PositioningReading, PositioningTable};
 pub use run::{RunError, RunOutput, run_scenario, write_outputs};
 pub use scenario::{
     ErrorSpec, HarmonicSpec, InterpolationSpec, LaserTest, SCHEMA_VERSION, Scenario, ScenarioError,
     ScenarioErrorKind, TableSpec, ThermalSetup, VolumetricSpec,
 };
+pub use table::TableError;

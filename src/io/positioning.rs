@@ -15,6 +15,7 @@
 //! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
 //! reading at a target in a direction belongs to run k.
 
+use super::table::{TableError, csv_reader, read_file};
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 use std::path::Path;
@@ -60,22 +61,6 @@ pub struct PositioningTable {
     pub readings: Vec<PositioningReading>,
 }
 
-/// Why a positioning table was rejected; the message names the file, line and column.
-#[derive(Debug, thiserror::Error)]
-#[error("{file}{}: {message}", .line.map(|l| format!(":{l}")).unwrap_or_default())]
-pub struct TableError {
-    file: String,
-    line: Option<u64>,
-    message: String,
-}
-
-impl TableError {
-    /// The 1-based line of the file the error is at, if any.
-    pub fn line(&self) -> Option<u64> {
-        self.line
-    }
-}
-
 const KNOWN: [&str; 6] = [
     "target_mm",
     "deviation_um",
@@ -88,27 +73,14 @@ const KNOWN: [&str; 6] = [
 impl PositioningTable {
     /// Reads a positioning table file.
     pub fn read(path: impl AsRef<Path>) -> Result<PositioningTable, TableError> {
-        let path = path.as_ref();
-        let file = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| TableError {
-            file: file.clone(),
-            line: None,
-            message: format!("cannot read: {e}"),
-        })?;
+        let (bytes, file) = read_file(path.as_ref())?;
         PositioningTable::parse(&bytes, &file)
     }
 
     /// Reads a positioning table from bytes; `file` names it in messages.
     pub fn parse(bytes: &[u8], file: &str) -> Result<PositioningTable, TableError> {
-        let fail = |line: Option<u64>, message: String| TableError {
-            file: file.to_string(),
-            line,
-            message,
-        };
-        let mut reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .comment(Some(b'#'))
-            .from_reader(bytes);
+        let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
+        let mut reader = csv_reader(bytes);
         let header = reader
             .headers()
             .map_err(|e| fail(Some(1), format!("cannot read the header: {e}")))?

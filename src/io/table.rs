@@ -1,0 +1,45 @@
+//! What every measurement-table reader shares: the error that names the file, line and column,
+//! reading the file, and the CSV dialect (a header row, trimmed fields, `#` comment lines).
+
+use std::path::Path;
+
+/// Why a measurement table was rejected; the message names the file, line and column.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{}: {message}", .line.map(|l| format!(":{l}")).unwrap_or_default())]
+pub struct TableError {
+    file: String,
+    line: Option<u64>,
+    message: String,
+}
+
+impl TableError {
+    /// An error at `line` (1-based) of `file`.
+    pub(crate) fn new(file: &str, line: Option<u64>, message: String) -> TableError {
+        TableError {
+            file: file.to_string(),
+            line,
+            message,
+        }
+    }
+
+    /// The 1-based line of the file the error is at, if any.
+    pub fn line(&self) -> Option<u64> {
+        self.line
+    }
+}
+
+/// The bytes of a table file and its name for messages.
+pub(crate) fn read_file(path: &Path) -> Result<(Vec<u8>, String), TableError> {
+    let file = path.display().to_string();
+    std::fs::read(path)
+        .map(|bytes| (bytes, file.clone()))
+        .map_err(|e| TableError::new(&file, None, format!("cannot read: {e}")))
+}
+
+/// A CSV reader in the tables' dialect.
+pub(crate) fn csv_reader(bytes: &[u8]) -> csv::Reader<&[u8]> {
+    csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(bytes)
+}
