@@ -1205,3 +1205,32 @@ fn drift_tests_refuse_laser_settings_that_would_spoil_them() {
         "{error}"
     );
 }
+
+#[test]
+fn thermal_section_errors_point_at_their_key() {
+    // A bad key inside [thermal] or [warmup] is reported at its own line, not the section's.
+    let text = replace_once(
+        &warmup_scenario(),
+        "[thermal]\n",
+        "[thermal]\nmax_interval_s = 0.0\n",
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("max_interval_s = 0.0"),
+        Some("thermal.max_interval_s"),
+    );
+    let text = replace_once(&warmup_scenario(), "runs = 2", "runs = 1");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("runs = 1"),
+        Some("warmup.runs"),
+    );
+}

@@ -297,10 +297,34 @@ impl Context<'_> {
 }
 
 impl Context<'_> {
+    /// An error about the key its message starts with (`key: …`, `key.field: …` or
+    /// `key must …`), at that key's line in the section starting at `section.start` (the
+    /// section's own line if the key is not found there).
+    pub(super) fn section_error(
+        &self,
+        section: std::ops::Range<usize>,
+        kind: ScenarioErrorKind,
+        prefix: &str,
+        message: String,
+    ) -> ScenarioError {
+        let key: String = message
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '.')
+            .collect();
+        let mut error = self.error(Some(section.clone()), kind, format!("{prefix}{message}"));
+        if let Some(line) = (!key.is_empty())
+            .then(|| self.key_line(section.start, &key))
+            .flatten()
+        {
+            error.line = Some(line);
+        }
+        error
+    }
+
     /// The 1-based line of `key` (a path inside a table such as `table.positions_mm` or
     /// `harmonic[1].period_mm`; its last field is searched for) in the table that starts at byte
     /// `table_start`: the table's own lines, up to the next `[header]`.
-    fn key_line(&self, table_start: usize, key: &str) -> Option<usize> {
+    pub(super) fn key_line(&self, table_start: usize, key: &str) -> Option<usize> {
         let field = key.rsplit('.').next()?.split('[').next()?;
         let occurrence: usize = key
             .split_once("harmonic[")

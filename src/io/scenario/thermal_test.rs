@@ -185,11 +185,7 @@ pub(super) fn thermal_setup(
 ) -> Result<ThermalSetup, ScenarioError> {
     let t = raw.get_ref();
     let fail = |message: String| {
-        context.error(
-            Some(raw.span()),
-            ScenarioErrorKind::Value,
-            format!("thermal: {message}"),
-        )
+        context.section_error(raw.span(), ScenarioErrorKind::Value, "thermal.", message)
     };
     let numbers = [
         t.ambient_degc,
@@ -337,10 +333,15 @@ pub(super) fn warmup_test(
 ) -> Result<LaserTest, ScenarioError> {
     let w = raw.get_ref();
     let fail = |span: std::ops::Range<usize>, message: String| {
-        context.error(
-            Some(span),
+        context.section_error(
+            if span == raw.span() {
+                span
+            } else {
+                span.start..span.start
+            },
             ScenarioErrorKind::Value,
-            format!("warmup.{message}"),
+            "warmup.",
+            message,
         )
     };
     let axis = linear_axis(w.axis.get_ref()).ok_or_else(|| {
@@ -514,10 +515,15 @@ pub(super) fn linear_motion_test(
 ) -> Result<LaserTest, ScenarioError> {
     let m = raw.get_ref();
     let fail = |span: std::ops::Range<usize>, message: String| {
-        context.error(
-            Some(span),
+        context.section_error(
+            if span == raw.span() {
+                span
+            } else {
+                span.start..span.start
+            },
             ScenarioErrorKind::Value,
-            format!("iso230_3_linear.{message}"),
+            "iso230_3_linear.",
+            message,
         )
     };
     let axis = linear_axis(m.axis.get_ref()).ok_or_else(|| {
