@@ -333,16 +333,7 @@ pub(super) fn warmup_test(
 ) -> Result<LaserTest, ScenarioError> {
     let w = raw.get_ref();
     let fail = |span: std::ops::Range<usize>, message: String| {
-        context.section_error(
-            if span == raw.span() {
-                span
-            } else {
-                span.start..span.start
-            },
-            ScenarioErrorKind::Value,
-            "warmup.",
-            message,
-        )
+        context.section_error(span, ScenarioErrorKind::Value, "warmup.", message)
     };
     let axis = linear_axis(w.axis.get_ref()).ok_or_else(|| {
         fail(
@@ -515,16 +506,7 @@ pub(super) fn linear_motion_test(
 ) -> Result<LaserTest, ScenarioError> {
     let m = raw.get_ref();
     let fail = |span: std::ops::Range<usize>, message: String| {
-        context.section_error(
-            if span == raw.span() {
-                span
-            } else {
-                span.start..span.start
-            },
-            ScenarioErrorKind::Value,
-            "iso230_3_linear.",
-            message,
-        )
+        context.section_error(span, ScenarioErrorKind::Value, "iso230_3_linear.", message)
     };
     let axis = linear_axis(m.axis.get_ref()).ok_or_else(|| {
         fail(
