@@ -3,8 +3,9 @@
 //! A virtual machine tool whose errors are known exactly. Machines come from URDF
 //! ([`machine`]); ISO 230-1 geometric errors are injected ([`errors`]); the twin evaluates the
 //! tool pose relative to the workpiece, nominal and actual ([`twin`]); analyses compute the
-//! standards' figures from measurement tables ([`analysis`]); scenarios, tables and outputs
-//! are files ([`io`]).
+//! standards' figures from measurement tables ([`analysis`]); discovery extends the model
+//! where measured data show it wrong ([`discovery`]); scenarios, tables and outputs are files
+//! ([`io`]).
 //!
 //! Conventions (see `design.md`): SI and `f64` inside, mm/µm/µrad/° at the file boundary with
 //! the unit in every name; a deviation is actual − nominal; frames are named `a_from_b`.
@@ -19,6 +20,7 @@
 //! ```
 
 pub mod analysis;
+pub mod discovery;
 pub mod errors;
 pub mod instruments;
 pub mod io;

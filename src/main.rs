@@ -1,9 +1,10 @@
 //! `mtwin`: the command line of the machine-tool twin (a thin layer over the library).
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use mtwin::analysis::iso230_2;
 use mtwin::analysis::thermal_series::thermal_series;
+use mtwin::discovery::{PositioningOptions, discover_positioning};
 use mtwin::io::{DriftTable, PositioningTable, Scenario, run_scenario, write_outputs};
 use mtwin::machine::{Machine, Side};
 use std::path::{Path, PathBuf};
@@ -47,6 +48,48 @@ enum Command {
         #[arg(long, value_name = "MIN", default_value_t = 60.0)]
         etve_min: f64,
     },
+    /// Model discovery: fit the twin's base model to a measurement table, show what it leaves,
+    /// and add effects from the library while they lower the held-out RMS more than noise can.
+    ///
+    /// positioning: the base model is a reference error profile (piecewise linear through the
+    /// targets of the coldest run, or the first without temperatures; its values fitted to all
+    /// runs) plus the nominal thermal expansion of the axis, position × (temperature − the
+    /// reference run's temperature) × the nominal coefficient. Effects: reversal,
+    /// reversal_position, reversal_thermal, thermal_lag, thermal_scale, thermal_offset,
+    /// second_heat_source, periodic, nonlinear_scale, time_drift. Held-out data: one run at a
+    /// time with three runs or more, else contiguous blocks in time.
+    #[command(verbatim_doc_comment)]
+    Discover {
+        /// What the table holds: `positioning` (the table of `analyze positioning`).
+        kind: DiscoverKind,
+        /// The table (CSV with a header).
+        file: PathBuf,
+        /// Print JSON with stable keys instead of the report for people.
+        #[arg(long)]
+        json: bool,
+        /// Write the extended model as a scenario fragment (TOML) that `mtwin run` accepts.
+        #[arg(long, value_name = "FILE.toml")]
+        write_model: Option<PathBuf>,
+        /// With --write-model: the scenario of the machine the table was measured on; the
+        /// fragment extends it, so `mtwin run FILE.toml` simulates the extended twin.
+        #[arg(long, value_name = "SCENARIO.toml", requires = "write_model")]
+        extends: Option<PathBuf>,
+        /// Nominal expansion coefficient of the axis in the base model (µm/(m·°C)).
+        #[arg(long, value_name = "PPM", default_value_t = 11.7)]
+        expansion_ppm_per_degc: f64,
+        /// The temperature column to use (`<sensor>` of temp_<sensor>_degc); default the first.
+        #[arg(long, value_name = "NAME")]
+        sensor: Option<String>,
+        /// Shortest period the cyclic-error search considers (mm).
+        #[arg(long, value_name = "MM", default_value_t = 2.0)]
+        min_period_mm: f64,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum DiscoverKind {
+    /// Linear positioning deviations (laser interferometer).
+    Positioning,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -81,6 +124,61 @@ fn execute(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Check { file } => check(&file),
+        Command::Discover {
+            kind: DiscoverKind::Positioning,
+            file,
+            json,
+            write_model,
+            extends,
+            expansion_ppm_per_degc,
+            sensor,
+            min_period_mm,
+        } => {
+            if !expansion_ppm_per_degc.is_finite() {
+                bail!(
+                    "--expansion-ppm-per-degc must be a finite number, got {expansion_ppm_per_degc}"
+                );
+            }
+            if !(min_period_mm.is_finite() && min_period_mm > 0.0) {
+                bail!(
+                    "--min-period-mm must be a positive number of millimetres, got {min_period_mm}"
+                );
+            }
+            let table = PositioningTable::read(&file)?;
+            let options = PositioningOptions {
+                expansion: expansion_ppm_per_degc * 1e-6,
+                sensor,
+                min_period: min_period_mm * 1e-3,
+                ..PositioningOptions::default()
+            };
+            let discovery =
+                discover_positioning(&table, options, |what| eprintln!("discover: {what}"))
+                    .with_context(|| format!("{}", file.display()))?;
+            if let Some(path) = &write_model {
+                let base = match &extends {
+                    Some(base) => {
+                        Scenario::load(base)?;
+                        Some(relative_path(base, path)?)
+                    }
+                    None => None,
+                };
+                let source = file.file_name().map_or_else(
+                    || file.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                let fragment = discovery.to_scenario_fragment(&source, base.as_deref())?;
+                write_atomically(path, fragment.as_bytes())?;
+            }
+            if json {
+                println!("{}", serde_json::to_string_pretty(&discovery.to_json())?);
+            } else {
+                print!("{}", discovery.to_text());
+                if let Some(path) = &write_model {
+                    println!("\nExtended model written to {}", path.display());
+                }
+            }
+            Ok(())
+        }
         Command::Analyze {
             kind: TableKind::Drift,
             file,
@@ -227,4 +325,40 @@ fn drift_text(report: &serde_json::Value) -> String {
         );
     }
     out
+}
+
+/// Writes `bytes` to `path` through a temporary file beside it, so a failure leaves no
+/// partial file.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let name = path
+        .file_name()
+        .with_context(|| format!("{}: not a file name", path.display()))?;
+    let temporary = path.with_file_name(format!(".{}.partial", name.to_string_lossy()));
+    std::fs::write(&temporary, bytes)
+        .with_context(|| format!("cannot write {}", temporary.display()))?;
+    std::fs::rename(&temporary, path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// `target` as a path relative to the folder that will hold `file` (both must exist but `file`).
+fn relative_path(target: &Path, file: &Path) -> Result<String> {
+    let folder = match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let absolute = |p: &Path| {
+        p.canonicalize()
+            .with_context(|| format!("cannot resolve {}", p.display()))
+    };
+    let (target, folder) = (absolute(target)?, absolute(folder)?);
+    let common = target
+        .components()
+        .zip(folder.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut relative = PathBuf::new();
+    for _ in folder.components().skip(common) {
+        relative.push("..");
+    }
+    relative.extend(target.components().skip(common));
+    Ok(relative.to_string_lossy().replace('\\', "/"))
 }

@@ -9,4 +9,4 @@ mod sensor;
 pub use errors::{ThermalErrors, ThermalTerm, ThermalTermError};
 pub use machine::{Ambient, HeatDriver, HeatSource, MachineThermal, ScrewSpec};
 pub use network::{ThermalNetwork, ThermalNetworkError, ThermalNode, ThermalStepper};
-pub use sensor::{SensorSpec, TemperatureSensor};
+pub use sensor::{SensorSpec, TemperatureSensor, first_order_lag};

@@ -58,13 +58,7 @@ impl TemperatureSensor {
     /// the lagged temperature becomes `to − τr + (s − from + τr)·e^(−dt/τ)`, so a steady ramp
     /// leaves the lag `τ·r` whatever the step length. No reading is taken.
     pub fn follow(&mut self, from: Real, to: Real, dt: Real) {
-        let tau = self.spec.time_constant;
-        self.lagged = if tau > 0.0 && dt > 0.0 {
-            let ramp = tau * (to - from) / dt;
-            to - ramp + (self.lagged - from + ramp) * (-dt / tau).exp()
-        } else {
-            to
-        };
+        self.lagged = first_order_lag(self.lagged, from, to, dt, self.spec.time_constant);
     }
 
     /// A reading now: the lagged temperature (the node's, `node` °C, when the sensor has no lag)
@@ -92,5 +86,18 @@ impl TemperatureSensor {
     /// The spec.
     pub fn spec(&self) -> &SensorSpec {
         &self.spec
+    }
+}
+
+/// One step of a first-order lag with time constant `tau` (s) following a signal that goes
+/// linearly from `from` to `to` over `dt` seconds (exact first-order hold): with
+/// `r = (to − from)/dt`, the lagged value `lagged` becomes `to − τr + (lagged − from + τr)·e^(−dt/τ)`.
+/// With `tau` or `dt` zero the lag catches up at once.
+pub fn first_order_lag(lagged: Real, from: Real, to: Real, dt: Real, tau: Real) -> Real {
+    if tau > 0.0 && dt > 0.0 {
+        let ramp = tau * (to - from) / dt;
+        to - ramp + (lagged - from + ramp) * (-dt / tau).exp()
+    } else {
+        to
     }
 }

@@ -1,0 +1,286 @@
+//! The measurement-independent part of discovery: held-out scoring and forward selection.
+//!
+//! A [`Problem`] knows its samples, its base model and its library of effects; the engine
+//! scores any set of effects by cross-validation (every fit inside a fold sees only that
+//! fold's training samples) and adds effects one at a time while the held-out gain is larger
+//! than noise can explain ([`passes`]).
+
+use crate::math::Real;
+
+/// How samples are split for cross-validation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Folds {
+    /// What the split is, for reports (e.g. `leave-one-run-out`).
+    pub scheme: String,
+    /// The fold of every sample.
+    pub of_sample: Vec<usize>,
+    /// The number of folds.
+    pub count: usize,
+}
+
+impl Folds {
+    /// One fold per group (e.g. per run).
+    pub fn leave_one_group_out(groups: &[usize], scheme: &str) -> Folds {
+        Folds {
+            scheme: scheme.into(),
+            of_sample: groups.to_vec(),
+            count: groups.iter().max().map_or(0, |g| g + 1),
+        }
+    }
+
+    /// `k` contiguous blocks of `order` (sample indices in the order they were taken), as
+    /// equal as possible.
+    pub fn contiguous(order: &[usize], k: usize) -> Folds {
+        let n = order.len();
+        let k = k.min(n).max(1);
+        let mut of_sample = vec![0; n];
+        for (position, &sample) in order.iter().enumerate() {
+            of_sample[sample] = position * k / n;
+        }
+        Folds {
+            scheme: format!("contiguous {k}-fold"),
+            of_sample,
+            count: k,
+        }
+    }
+
+    /// The training mask of fold `k` (every sample not in it).
+    pub fn training(&self, k: usize) -> Vec<bool> {
+        self.of_sample.iter().map(|&f| f != k).collect()
+    }
+}
+
+/// A measurement whose model can be extended by effects.
+pub trait Problem {
+    /// An effect of the library.
+    type Effect: Copy + Eq + std::fmt::Debug;
+    /// A fitted model.
+    type Fit;
+
+    /// The number of samples.
+    fn n_samples(&self) -> usize;
+    /// The cross-validation split.
+    fn folds(&self) -> &Folds;
+    /// Fits the base model plus `effects` on the samples where `train` is true (every free
+    /// parameter, linear or searched, from those samples only).
+    fn fit(&self, effects: &[Self::Effect], train: &[bool]) -> Self::Fit;
+    /// Measured − predicted for every sample (in the problem's unit).
+    fn residuals(&self, fit: &Self::Fit) -> Vec<Real>;
+    /// The effects worth testing next, each with the evidence from the residual diagnostics
+    /// that proposes it (effects already in the model are not proposed).
+    fn proposals(&self, effects: &[Self::Effect], fit: &Self::Fit) -> Vec<(Self::Effect, String)>;
+}
+
+/// How well a set of effects predicts the data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Score {
+    /// RMS residual of the fit to all samples.
+    pub rms: Real,
+    /// RMS of the held-out residuals over all folds.
+    pub cv_rms: Real,
+    /// Mean squared held-out residual of each fold.
+    pub fold_mse: Vec<Real>,
+}
+
+/// Scores `effects` on `problem`: the fit to all data and the held-out residuals.
+pub fn score<P: Problem>(problem: &P, effects: &[P::Effect]) -> (Score, P::Fit) {
+    let n = problem.n_samples();
+    let full = problem.fit(effects, &vec![true; n]);
+    let rms = rms(&problem.residuals(&full));
+    let folds = problem.folds();
+    let mut sum = vec![0.0; folds.count];
+    let mut count = vec![0usize; folds.count];
+    for k in 0..folds.count {
+        let fit = problem.fit(effects, &folds.training(k));
+        let residuals = problem.residuals(&fit);
+        for (i, r) in residuals.iter().enumerate() {
+            if folds.of_sample[i] == k {
+                sum[k] += r * r;
+                count[k] += 1;
+            }
+        }
+    }
+    let total: Real = sum.iter().sum();
+    let cv_rms = (total / n.max(1) as Real).sqrt();
+    let fold_mse = sum
+        .iter()
+        .zip(&count)
+        .map(|(s, &c)| if c > 0 { s / c as Real } else { 0.0 })
+        .collect();
+    (
+        Score {
+            rms,
+            cv_rms,
+            fold_mse,
+        },
+        full,
+    )
+}
+
+/// Root mean square.
+pub fn rms(values: &[Real]) -> Real {
+    if values.is_empty() {
+        return 0.0;
+    }
+    (values.iter().map(|v| v * v).sum::<Real>() / values.len() as Real).sqrt()
+}
+
+/// The smallest held-out gain accepted, relative to the current held-out RMS.
+pub const MIN_RELATIVE_GAIN: Real = 0.05;
+/// The smallest paired t statistic over folds accepted: mean over folds of
+/// ln(held-out mean square before / after), divided by its standard error. The logarithm
+/// makes folds comparable when an effect shows more in some runs than in others (a warm-up
+/// hardly shows in the cold run).
+pub const MIN_FOLD_T: Real = 2.5;
+/// The acceptance rule in words, for reports.
+pub const RULE: &str = "accept the candidate with the lowest held-out RMS if it lowers the held-out RMS by at least 5 % \
+     and the per-fold log ratio of held-out mean squares (before/after) has a paired t statistic of at least 2.5; \
+     stop when no candidate passes";
+
+/// Whether `candidate` improves on `current` by more than noise can explain (see [`RULE`]).
+pub fn passes(current: &Score, candidate: &Score) -> bool {
+    if current.cv_rms <= 0.0 || candidate.cv_rms > current.cv_rms * (1.0 - MIN_RELATIVE_GAIN) {
+        return false;
+    }
+    let log =
+        |v: &[Real]| -> Vec<Real> { v.iter().map(|m| m.max(Real::MIN_POSITIVE).ln()).collect() };
+    paired_t(&log(&current.fold_mse), &log(&candidate.fold_mse)) >= MIN_FOLD_T
+}
+
+/// The paired t statistic of `before − after` over folds (+∞ when every fold drops by the
+/// same positive amount).
+pub fn paired_t(before: &[Real], after: &[Real]) -> Real {
+    let d: Vec<Real> = before.iter().zip(after).map(|(b, a)| b - a).collect();
+    let k = d.len() as Real;
+    if d.len() < 2 {
+        return 0.0;
+    }
+    let mean = d.iter().sum::<Real>() / k;
+    let variance = d.iter().map(|x| (x - mean).powi(2)).sum::<Real>() / (k - 1.0);
+    let standard_error = (variance / k).sqrt();
+    if standard_error > 0.0 {
+        mean / standard_error
+    } else if mean > 0.0 {
+        Real::INFINITY
+    } else {
+        0.0
+    }
+}
+
+/// One accepted effect.
+#[derive(Clone, Debug)]
+pub struct Accepted<E, F> {
+    /// The effect.
+    pub effect: E,
+    /// What in the residual proposed it.
+    pub evidence: String,
+    /// The model's score with it.
+    pub score: Score,
+    /// The model fitted to all data with it (and every effect before it).
+    pub fit: F,
+}
+
+/// The outcome of forward selection.
+#[derive(Clone, Debug)]
+pub struct Selection<E, F> {
+    /// The base model's score and fit.
+    pub baseline: (Score, F),
+    /// Accepted effects, in order of acceptance.
+    pub steps: Vec<Accepted<E, F>>,
+    /// The candidates of the last round, none of which passed, with their held-out RMS.
+    pub rejected: Vec<(E, Real)>,
+}
+
+impl<E: Copy, F> Selection<E, F> {
+    /// The accepted effects in order.
+    pub fn effects(&self) -> Vec<E> {
+        self.steps.iter().map(|s| s.effect).collect()
+    }
+
+    /// The final model's score and fit.
+    pub fn last(&self) -> (&Score, &F) {
+        match self.steps.last() {
+            Some(step) => (&step.score, &step.fit),
+            None => (&self.baseline.0, &self.baseline.1),
+        }
+    }
+}
+
+/// Forward selection: from the base model, test every proposed effect by held-out RMS, accept
+/// the best one that [`passes`], repeat until none does. `progress` hears about each round.
+pub fn forward_selection<P: Problem>(
+    problem: &P,
+    mut progress: impl FnMut(&str),
+) -> Selection<P::Effect, P::Fit> {
+    let baseline = score(problem, &[]);
+    let mut steps: Vec<Accepted<P::Effect, P::Fit>> = Vec::new();
+    let mut effects: Vec<P::Effect> = Vec::new();
+    loop {
+        let (current, current_fit) = match steps.last() {
+            Some(step) => (&step.score, &step.fit),
+            None => (&baseline.0, &baseline.1),
+        };
+        let proposals = problem.proposals(&effects, current_fit);
+        let mut tested = Vec::new();
+        for (effect, evidence) in proposals {
+            progress(&format!("testing {effect:?}"));
+            let mut trial = effects.clone();
+            trial.push(effect);
+            let (candidate, fit) = score(problem, &trial);
+            tested.push((effect, evidence, candidate, fit));
+        }
+        let best = tested
+            .iter()
+            .enumerate()
+            .filter(|(_, (_, _, s, _))| passes(current, s))
+            .min_by(|a, b| a.1.2.cv_rms.total_cmp(&b.1.2.cv_rms))
+            .map(|(i, _)| i);
+        match best {
+            Some(i) => {
+                let (effect, evidence, score, fit) = tested.swap_remove(i);
+                effects.push(effect);
+                steps.push(Accepted {
+                    effect,
+                    evidence,
+                    score,
+                    fit,
+                });
+            }
+            None => {
+                let rejected = tested
+                    .into_iter()
+                    .map(|(e, _, s, _)| (e, s.cv_rms))
+                    .collect();
+                return Selection {
+                    baseline,
+                    steps,
+                    rejected,
+                };
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contiguous_folds_are_blocks_in_time_order() {
+        // Samples taken in the order 2, 0, 1, 3, 4, 5 into 3 folds of 2.
+        let folds = Folds::contiguous(&[2, 0, 1, 3, 4, 5], 3);
+        assert_eq!(folds.of_sample, vec![0, 1, 0, 1, 2, 2]);
+        assert_eq!(
+            folds.training(1),
+            vec![true, false, true, false, true, true]
+        );
+    }
+
+    #[test]
+    fn paired_t_matches_a_hand_computation() {
+        // d = (3, 1, 2): mean 2, sample sd 1, se 1/√3, t = 2√3.
+        let t = paired_t(&[4.0, 2.0, 3.0], &[1.0, 1.0, 1.0]);
+        assert!((t - 2.0 * 3.0_f64.sqrt()).abs() < 1e-12);
+        assert_eq!(paired_t(&[2.0, 2.0], &[1.0, 1.0]), Real::INFINITY);
+    }
+}

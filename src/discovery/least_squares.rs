@@ -1,0 +1,122 @@
+//! Linear least squares for the discovery engine: column-scaled SVD with a rank cut, so that
+//! terms the data cannot tell apart (a polynomial sampled only at the profile's knots, an
+//! offset when every run has one temperature) get the minimum-norm share instead of blowing up.
+
+use crate::math::Real;
+use nalgebra::{DMatrix, DVector};
+
+/// Singular values below this fraction of the largest are treated as zero (columns are first
+/// scaled to unit norm, so this is a relative collinearity bound, well above f64 round-off).
+const RANK_TOLERANCE: Real = 1e-9;
+
+/// A design matrix built column by column over the rows selected for a fit.
+#[derive(Clone, Debug, Default)]
+pub struct Design {
+    rows: usize,
+    columns: Vec<Vec<Real>>,
+}
+
+impl Design {
+    /// An empty design for `rows` rows.
+    pub fn new(rows: usize) -> Design {
+        Design {
+            rows,
+            columns: Vec::new(),
+        }
+    }
+
+    /// Appends a column (one value per row).
+    pub fn push(&mut self, column: Vec<Real>) {
+        debug_assert_eq!(column.len(), self.rows);
+        self.columns.push(column);
+    }
+
+    /// The number of columns.
+    pub fn len(&self) -> usize {
+        self.columns.len()
+    }
+
+    /// Whether there are no columns.
+    pub fn is_empty(&self) -> bool {
+        self.columns.is_empty()
+    }
+
+    /// The coefficients minimising ‖y − A·c‖ (minimum norm within the rank cut).
+    pub fn solve(&self, y: &[Real]) -> Vec<Real> {
+        let columns = self.columns.len();
+        if columns == 0 || self.rows == 0 {
+            return vec![0.0; columns];
+        }
+        let norms: Vec<Real> = self
+            .columns
+            .iter()
+            .map(|c| c.iter().map(|v| v * v).sum::<Real>().sqrt())
+            .collect();
+        let scale = |j: usize| if norms[j] > 0.0 { 1.0 / norms[j] } else { 0.0 };
+        let a = DMatrix::from_fn(self.rows, columns, |i, j| self.columns[j][i] * scale(j));
+        let b = DVector::from_column_slice(y);
+        let svd = a.svd(true, true);
+        let largest = svd.singular_values.max();
+        let solution = svd
+            .solve(&b, largest * RANK_TOLERANCE)
+            .expect("both factors were computed");
+        (0..columns).map(|j| solution[j] * scale(j)).collect()
+    }
+}
+
+/// The minimum of `f` over `[low, high]` by golden-section search (`iterations` shrinks the
+/// bracket by 0.618 each); returns (argument, value).
+pub fn golden_minimum(
+    mut f: impl FnMut(Real) -> Real,
+    mut low: Real,
+    mut high: Real,
+    iterations: usize,
+) -> (Real, Real) {
+    let ratio = (5.0_f64.sqrt() - 1.0) / 2.0;
+    let mut a = high - ratio * (high - low);
+    let mut b = low + ratio * (high - low);
+    let (mut fa, mut fb) = (f(a), f(b));
+    for _ in 0..iterations {
+        if fa <= fb {
+            high = b;
+            b = a;
+            fb = fa;
+            a = high - ratio * (high - low);
+            fa = f(a);
+        } else {
+            low = a;
+            a = b;
+            fa = fb;
+            b = low + ratio * (high - low);
+            fb = f(b);
+        }
+    }
+    if fa <= fb { (a, fa) } else { (b, fb) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recovers_a_line_and_splits_collinear_columns_evenly() {
+        // y = 2 + 3x exactly: recovered to round-off.
+        let x: Vec<Real> = (0..10).map(|i| i as Real).collect();
+        let y: Vec<Real> = x.iter().map(|x| 2.0 + 3.0 * x).collect();
+        let mut design = Design::new(10);
+        design.push(vec![1.0; 10]);
+        design.push(x.clone());
+        let c = design.solve(&y);
+        assert!((c[0] - 2.0).abs() < 1e-12 && (c[1] - 3.0).abs() < 1e-12);
+        // The same column twice: the minimum-norm answer shares the coefficient equally.
+        design.push(x);
+        let c = design.solve(&y);
+        assert!((c[1] - 1.5).abs() < 1e-9 && (c[2] - 1.5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn golden_section_finds_a_parabola_minimum() {
+        let (x, fx) = golden_minimum(|x| (x - 0.3).powi(2) + 1.0, -1.0, 2.0, 60);
+        assert!((x - 0.3).abs() < 1e-6 && (fx - 1.0).abs() < 1e-12);
+    }
+}

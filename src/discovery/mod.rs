@@ -1,0 +1,17 @@
+//! Model discovery: show what the twin's model of a measurement gets wrong, name the physical
+//! cause, extend the model and measure the gain on data the fit did not see.
+//!
+//! The [`engine`] is independent of the measurement: a [`engine::Problem`] supplies a base
+//! model, a library of effects with rules that propose them from residual diagnostics, and
+//! fits that use only a fold's training samples; the engine scores by cross-validated RMS and
+//! selects forward. [`positioning`] is the first problem (laser positioning tables); ball-bar,
+//! spindle, R-test and drift tables plug into the same engine.
+
+pub mod engine;
+pub mod least_squares;
+pub mod positioning;
+
+pub use positioning::{
+    DiscoveryError, PositioningDiscovery, PositioningEffect, PositioningOptions,
+    discover_positioning,
+};
