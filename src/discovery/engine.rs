@@ -55,7 +55,7 @@ pub trait Problem {
     /// An effect of the library.
     type Effect: Copy + Eq + std::fmt::Debug;
     /// A fitted model.
-    type Fit;
+    type Fit: Clone;
 
     /// The number of samples.
     fn n_samples(&self) -> usize;
@@ -178,6 +178,8 @@ pub struct Accepted<E, F> {
     pub score: Score,
     /// The model fitted to all data with it (and every effect before it).
     pub fit: F,
+    /// The effect it was accepted with, when neither passed alone but the pair did.
+    pub together_with: Option<E>,
 }
 
 /// The outcome of forward selection.
@@ -207,7 +209,10 @@ impl<E: Copy, F> Selection<E, F> {
 }
 
 /// Forward selection: from the base model, test every proposed effect by held-out RMS, accept
-/// the best one that [`passes`], repeat until none does. `progress` hears about each round.
+/// the best one that [`passes`]; when none does, accept the best pair of proposed effects that
+/// passes (two terms that only together explain the residual, e.g. a sensor that warms both
+/// sooner and more than the screw); repeat until nothing passes. `progress` hears about each
+/// test.
 pub fn forward_selection<P: Problem>(
     problem: &P,
     mut progress: impl FnMut(&str),
@@ -221,7 +226,7 @@ pub fn forward_selection<P: Problem>(
             None => (&baseline.0, &baseline.1),
         };
         let proposals = problem.proposals(&effects, current_fit);
-        let mut tested = Vec::new();
+        let mut tested: Tested<P> = Vec::new();
         for (effect, evidence) in proposals {
             progress(&format!("testing {effect:?}"));
             let mut trial = effects.clone();
@@ -244,9 +249,35 @@ pub fn forward_selection<P: Problem>(
                     evidence,
                     score,
                     fit,
+                    together_with: None,
                 });
             }
             None => {
+                if let Some((first, second)) = best_pair(problem, &effects, current, &tested) {
+                    // Both enter: the first with its own score (what it does alone), the
+                    // second with the pair's, so each step reads "the model up to here".
+                    let (a, b) = (tested[first].0, tested[second].0);
+                    let (score, fit) = score(problem, &[effects.as_slice(), &[a, b]].concat());
+                    let take = |i: usize| tested[i].clone();
+                    let (_, evidence_a, score_a, fit_a) = take(first);
+                    let (_, evidence_b, _, _) = take(second);
+                    effects.extend([a, b]);
+                    steps.push(Accepted {
+                        effect: a,
+                        evidence: evidence_a,
+                        score: score_a,
+                        fit: fit_a,
+                        together_with: Some(b),
+                    });
+                    steps.push(Accepted {
+                        effect: b,
+                        evidence: evidence_b,
+                        score,
+                        fit,
+                        together_with: Some(a),
+                    });
+                    continue;
+                }
                 let rejected = tested
                     .into_iter()
                     .map(|(e, _, s, _)| (e, s.cv_rms))
@@ -259,6 +290,35 @@ pub fn forward_selection<P: Problem>(
             }
         }
     }
+}
+
+/// Tested candidates: effect, evidence, score, fit.
+type Tested<P> = Vec<(<P as Problem>::Effect, String, Score, <P as Problem>::Fit)>;
+
+/// The indices of the best pair of `tested` that [`passes`] against `current`.
+fn best_pair<P: Problem>(
+    problem: &P,
+    effects: &[P::Effect],
+    current: &Score,
+    tested: &Tested<P>,
+) -> Option<(usize, usize)> {
+    let mut best: Option<(usize, usize, Real)> = None;
+    for i in 0..tested.len() {
+        for j in i + 1..tested.len() {
+            let trial = [effects, &[tested[i].0, tested[j].0]].concat();
+            let (pair, _) = score(problem, &trial);
+            if passes(current, &pair) && best.is_none_or(|(_, _, cv)| pair.cv_rms < cv) {
+                // The better of the two alone goes first.
+                let (a, b) = if tested[i].2.cv_rms <= tested[j].2.cv_rms {
+                    (i, j)
+                } else {
+                    (j, i)
+                };
+                best = Some((a, b, pair.cv_rms));
+            }
+        }
+    }
+    best.map(|(a, b, _)| (a, b))
 }
 
 #[cfg(test)]

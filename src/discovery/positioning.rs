@@ -1303,6 +1303,7 @@ impl PositioningDiscovery {
                 previous = step.score.cv_rms;
                 json!({
                     "effect": step.effect.id(),
+                    "together_with": step.together_with.map(PositioningEffect::id),
                     "cause": step.effect.cause(),
                     "evidence": step.evidence,
                     "params": params_json(&step.fit.params(step.effect)),
@@ -1468,8 +1469,14 @@ impl PositioningDiscovery {
                 .map(|(k, v)| format!("{k} = {v:.3}"))
                 .collect::<Vec<_>>()
                 .join(", ");
+            let together = step.together_with.map_or_else(String::new, |other| {
+                format!(
+                    " (accepted together with {}: neither passes alone)",
+                    other.id()
+                )
+            });
             out.push_str(&format!(
-                "  + {}: {params}\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)\n",
+                "  + {}{together}: {params}\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)\n",
                 step.effect.id(),
                 step.effect.cause(),
                 um(step.score.cv_rms),
