@@ -260,11 +260,148 @@ fn run_vmc3_manifest_hashes_inputs_and_outputs() {
 
 #[test]
 fn help_for_each_subcommand() {
-    for (subcommand, mentions) in [("run", "--out"), ("check", "<FILE>")] {
+    for (subcommand, mentions) in [
+        ("run", "--out"),
+        ("check", "<FILE>"),
+        ("discover", "reference error profile"),
+    ] {
         let output = mtwin(&[subcommand.as_ref(), "--help".as_ref()]);
         assert!(output.status.success(), "{subcommand} --help");
         let stdout = text(&output.stdout);
         assert!(stdout.contains("Usage"), "{stdout}");
         assert!(stdout.contains(mentions), "{stdout}");
     }
+}
+
+/// Simulates the warm-up laser scenario (lost motion 4 µm hidden in EXX; the screw warms later
+/// and less than the nut sensor) and discovers it from the table alone.
+fn discover_warmup(dir: &Path, extra: &[&std::ffi::OsStr]) -> (Output, PathBuf) {
+    let out = dir.join("warmup");
+    let scenario = root().join("scenarios/vmc3_warmup_laser.toml");
+    assert!(run(&scenario, &out).status.success());
+    let table = out.join("positioning.csv");
+    let mut args: Vec<&std::ffi::OsStr> = vec![
+        "discover".as_ref(),
+        "positioning".as_ref(),
+        table.as_os_str(),
+    ];
+    args.extend_from_slice(extra);
+    (mtwin(&args), table)
+}
+
+#[test]
+fn discover_finds_the_lost_motion_hidden_in_a_simulated_warm_up() {
+    let dir = TempDir::new().unwrap();
+    let (output, _) = discover_warmup(dir.path(), &["--json".as_ref()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(report["kind"], "positioning");
+    assert_eq!(report["n_runs"], 7);
+    assert_eq!(report["n_samples"], 7 * 2 * 16);
+    let steps = report["steps"].as_array().unwrap();
+    assert_eq!(steps[0]["effect"], "reversal", "{report:#}");
+    // The scenario's EXX reversal_um = 4.0; the profile carries the rest of the error.
+    let lost_motion = steps[0]["params"]["lost_motion_um"].as_f64().unwrap();
+    assert!((lost_motion - 4.0).abs() < 0.3, "{lost_motion}");
+    // The nut sensor over-reads the screw's warming: the thermal terms must enter too and
+    // lower the held-out RMS below a third of the base model's.
+    let effects: Vec<&str> = steps
+        .iter()
+        .map(|s| s["effect"].as_str().unwrap())
+        .collect();
+    assert!(effects.contains(&"thermal_scale"), "{effects:?}");
+    let base = report["baseline"]["cv_rms_um"].as_f64().unwrap();
+    let last = report["final"]["cv_rms_um"].as_f64().unwrap();
+    assert!(last < base / 3.0, "{base} -> {last}");
+}
+
+#[test]
+fn discover_writes_a_model_that_run_simulates_again() {
+    let dir = TempDir::new().unwrap();
+    let model = dir.path().join("model.toml");
+    let base = root().join("scenarios/vmc3_warmup_laser.toml");
+    let (output, _) = discover_warmup(
+        dir.path(),
+        &[
+            "--write-model".as_ref(),
+            model.as_os_str(),
+            "--extends".as_ref(),
+            base.as_os_str(),
+        ],
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let fragment = std::fs::read_to_string(&model).unwrap();
+    assert!(
+        fragment.contains("[errors.EXX]") && fragment.contains("reversal_um = "),
+        "{fragment}"
+    );
+    let again = dir.path().join("again");
+    let output = run(&model, &again);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    // The extended twin's EXX is the discovered one (profile table + lost motion), replacing
+    // the scenario's polynomial; the rest of the scenario (the warm-up test) is inherited.
+    let truth = read_json(&again.join("truth.json"));
+    let terms = &truth["errors"]["EXX"]["terms"];
+    assert!(terms.get("polynomial_um").is_none(), "{terms}");
+    assert_eq!(terms["table"]["positions_mm"].as_array().unwrap().len(), 16);
+    let lost_motion = terms["reversal_um"].as_f64().unwrap();
+    assert!((lost_motion - 4.0).abs() < 0.3, "{lost_motion}");
+    assert!(again.join("positioning.csv").exists());
+}
+
+#[test]
+fn discover_rejects_bad_input_naming_it_and_writes_nothing() {
+    let dir = TempDir::new().unwrap();
+    let table = dir.path().join("bad.csv");
+    std::fs::write(&table, "target_mm,deviation_um\n0,1\n100,nan\n").unwrap();
+    let model = dir.path().join("model.toml");
+    let output = mtwin(&[
+        "discover".as_ref(),
+        "positioning".as_ref(),
+        table.as_os_str(),
+        "--write-model".as_ref(),
+        model.as_os_str(),
+    ]);
+    assert!(!output.status.success());
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("bad.csv") && stderr.contains("deviation_um"),
+        "{stderr}"
+    );
+    assert!(!model.exists());
+
+    // A valid table without an axis column cannot name the error to write.
+    let rows: String = (0..12)
+        .map(|k| format!("{},{}\n", k * 50, 0.01 * k as f64))
+        .collect();
+    std::fs::write(&table, format!("target_mm,deviation_um\n{rows}")).unwrap();
+    let output = mtwin(&[
+        "discover".as_ref(),
+        "positioning".as_ref(),
+        table.as_os_str(),
+        "--write-model".as_ref(),
+        model.as_os_str(),
+    ]);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("axis column"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!model.exists());
+
+    // An unknown sensor is named with the columns the file has.
+    let output = mtwin(&[
+        "discover".as_ref(),
+        "positioning".as_ref(),
+        table.as_os_str(),
+        "--sensor".as_ref(),
+        "spindle".as_ref(),
+    ]);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("temp_spindle_degc"),
+        "{}",
+        text(&output.stderr)
+    );
 }

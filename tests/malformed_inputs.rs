@@ -1234,3 +1234,82 @@ fn thermal_section_errors_point_at_their_key() {
         Some("warmup.runs"),
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// Scenarios that extend another (`extends`)
+// ---------------------------------------------------------------------------------------
+
+/// Loads `text` as `extension.toml` beside a copy of the shipped vmc3 volumetric scenario
+/// (`base.toml`, with the machine path adjusted); returns the result and the extension's path.
+fn load_extension(text: &str) -> (Result<Scenario, ScenarioError>, String) {
+    let dir = TempDir::new().unwrap();
+    let base = include_str!("../scenarios/vmc3_volumetric.toml");
+    let machine = format!("{}/models/vmc3.urdf", env!("CARGO_MANIFEST_DIR"));
+    let base = replace_once(base, "\"../models/vmc3.urdf\"", &format!("{machine:?}"));
+    write(&dir, "base.toml", &base);
+    let path = write(&dir, "extension.toml", text);
+    (Scenario::load(&path), path)
+}
+
+#[test]
+fn extension_replaces_the_base_errors_by_name() {
+    let text = "schema = 1\nextends = \"base.toml\"\n\n[errors.EXX]\nreversal_um = 3.0\n";
+    let (scenario, _) = load_extension(text);
+    let scenario = scenario.expect("a valid extension");
+    let exx = scenario
+        .twin
+        .errors
+        .parameters()
+        .iter()
+        .find(|p| p.name.to_string() == "EXX")
+        .expect("EXX");
+    // Only the extension's term: the reversal moves the reading by −v/2 travelling positive.
+    let up = exx.function.value(0.1, mtwin::machine::Direction::Positive);
+    assert!((up + 1.5e-6).abs() < 1e-15, "{up}");
+    assert!(scenario.volumetric.is_some(), "the rest is inherited");
+}
+
+#[test]
+fn extension_with_a_key_it_may_not_set() {
+    let text = "schema = 1\nextends = \"base.toml\"\nseed = 4\n";
+    let (error, path) = load_extension(text);
+    let error = error.expect_err("seed belongs to the base");
+    assert_eq!(error.kind(), ScenarioErrorKind::UnknownKey);
+    assert!(
+        error.to_string().contains(&path) && error.to_string().contains("seed"),
+        "{error}"
+    );
+}
+
+#[test]
+fn extension_of_a_missing_base() {
+    let text = "schema = 1\nextends = \"nowhere.toml\"\n";
+    let (error, path) = load_extension(text);
+    let error = error.expect_err("no base");
+    assert_eq!(error.kind(), ScenarioErrorKind::Io);
+    assert_eq!(error.line(), Some(2));
+    let message = error.to_string();
+    assert!(
+        message.contains(&path) && message.contains("nowhere.toml"),
+        "{message}"
+    );
+}
+
+#[test]
+fn extension_with_a_bad_error_names_its_own_line() {
+    let text = "schema = 1\nextends = \"base.toml\"\n\n[errors.EXX]\nreversal_urad = 3.0\n";
+    let (error, path) = load_extension(text);
+    let error = error.expect_err("wrong unit");
+    assert_eq!(error.kind(), ScenarioErrorKind::Units);
+    assert_eq!(error.line(), Some(line_of(text, "reversal_urad")));
+    assert!(error.to_string().contains(&path), "{error}");
+}
+
+#[test]
+fn extension_that_extends_itself() {
+    let text = "schema = 1\nextends = \"extension.toml\"\n";
+    let (error, _) = load_extension(text);
+    let error = error.expect_err("a cycle");
+    assert_eq!(error.kind(), ScenarioErrorKind::Value);
+    assert!(error.to_string().contains("deep"), "{error}");
+}

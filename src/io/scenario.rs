@@ -194,6 +194,28 @@ struct SchemaOnly {
 }
 
 #[derive(Deserialize)]
+struct ExtendsOnly {
+    extends: Option<toml::Value>,
+}
+
+/// How many scenarios deep `extends` may go.
+const MAX_EXTENDS_DEPTH: usize = 8;
+
+/// A scenario that extends another: only its errors (and description) differ.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawExtension {
+    /// Checked before this struct is read.
+    #[serde(rename = "schema")]
+    _schema: i64,
+    extends: Spanned<String>,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+}
+
+#[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScenario {
     /// Checked before this struct is read.
@@ -360,8 +382,17 @@ impl Context<'_> {
 
 impl Scenario {
     /// Reads and validates a scenario file, its machine and its errors, without running it.
+    ///
+    /// A scenario with `extends = "BASE.toml"` (relative to itself) is the base scenario with
+    /// its own `[errors.*]` sections replacing the base's of the same name (and its
+    /// `description`, if given); nothing else may be set. This is how `mtwin discover
+    /// --write-model` hands an extended model back to `mtwin run`.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
-        let path = path.as_ref();
+        Scenario::load_at(path.as_ref(), 0)
+    }
+
+    /// [`Scenario::load`], `depth` files down a chain of `extends`.
+    fn load_at(path: &Path, depth: usize) -> Result<Scenario, ScenarioError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
             file: file.clone(),
@@ -423,6 +454,11 @@ impl Scenario {
             }
             Some(_) => {}
         }
+        let probe: ExtendsOnly = toml::from_str(&text).map_err(toml_error)?;
+        if probe.extends.is_some() {
+            let raw: RawExtension = toml::from_str(&text).map_err(toml_error)?;
+            return Scenario::extend(path, &text, &context, raw, depth);
+        }
         let raw: RawScenario = toml::from_str(&text).map_err(toml_error)?;
 
         let machine_file = path
@@ -450,97 +486,7 @@ impl Scenario {
         let machine = Machine::from_urdf_str(machine_source, &machine_file.display().to_string())
             .map_err(|e| machine_error(e.to_string()))?;
 
-        let mut parameters = Vec::new();
-        let mut error_specs = BTreeMap::new();
-        for (name, spec) in &raw.errors {
-            let at = Some(name.span());
-            let parameter: ParameterName = name.get_ref().parse().map_err(|message| {
-                context.error(
-                    at.clone(),
-                    ScenarioErrorKind::Parameter,
-                    format!("errors.{}: {message}", name.get_ref()),
-                )
-            })?;
-            let argument = parameter
-                .axis()
-                .filter(|_| matches!(parameter, ParameterName::Component { .. }));
-            if let Some(axis) = parameter.axis().filter(|axis| !machine.has_axis(*axis)) {
-                return Err(context.error(
-                    at,
-                    ScenarioErrorKind::Parameter,
-                    format!(
-                        "errors.{parameter}: machine \"{}\" has no axis {axis}",
-                        machine.name()
-                    ),
-                ));
-            }
-            if *spec.get_ref() == ErrorSpec::default() {
-                let unit = parameter.file_unit();
-                return Err(context.error(
-                    Some(spec.span()),
-                    ScenarioErrorKind::Value,
-                    format!(
-                        "errors.{parameter}: no term given; expected one or more of constant_{unit}, \
-                         polynomial_{unit}, reversal_{unit}, harmonic, table"
-                    ),
-                ));
-            }
-            let key_error = |kind, key: &str, message: String| {
-                let line = context.key_line(spec.span().start, key);
-                let mut error = context.error(
-                    Some(spec.span()),
-                    kind,
-                    format!("errors.{parameter}.{key}: {message}"),
-                );
-                error.line = line.or(error.line);
-                error
-            };
-            let function = spec_to_function(spec.get_ref(), parameter, argument)
-                .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
-            if argument.is_none() && !function.is_constant() {
-                return Err(key_error(
-                    ScenarioErrorKind::Value,
-                    varying_key(spec.get_ref()),
-                    format!(
-                        "location, squareness and tool errors are constants; use constant_{}",
-                        parameter.file_unit()
-                    ),
-                ));
-            }
-            parameters.push(ErrorParameter {
-                name: parameter,
-                function,
-            });
-            error_specs.insert(parameter.to_string(), spec.get_ref().clone());
-        }
-        let errors = ErrorModel::new(&machine, parameters).map_err(|e| {
-            let name = e.parameter().to_string();
-            let span = raw
-                .errors
-                .iter()
-                .find(|(key, _)| *key.get_ref() == name)
-                .map(|(_, spec)| spec.span());
-            let kind = match e {
-                ErrorModelError::NotPeriodic { .. } | ErrorModelError::NotConstant(_) => {
-                    ScenarioErrorKind::Value
-                }
-                _ => ScenarioErrorKind::Parameter,
-            };
-            context.error(span, kind, format!("errors.{e}"))
-        })?;
-        for parameter in errors.parameters() {
-            if let Some(message) = implausible(parameter, &machine) {
-                let spec = raw
-                    .errors
-                    .iter()
-                    .find(|(key, _)| *key.get_ref() == parameter.name.to_string());
-                return Err(context.error(
-                    spec.map(|(_, spec)| spec.span()),
-                    ScenarioErrorKind::Value,
-                    format!("errors.{}: {message}", parameter.name),
-                ));
-            }
-        }
+        let (errors, error_specs) = error_model(&context, &machine, &raw.errors, Vec::new())?;
 
         let volumetric = raw
             .volumetric
@@ -669,6 +615,154 @@ impl Scenario {
             volumetric,
             laser_test,
             thermal,
+        })
+    }
+}
+
+/// Builds the error model of `machine` from the `[errors.*]` sections of one file (messages
+/// name it through `context`), on top of `inherited` parameters (an extended scenario's), which
+/// the sections replace by name. Returns the model and the specs as written.
+fn error_model(
+    context: &Context<'_>,
+    machine: &Machine,
+    errors_raw: &BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+    inherited: Vec<ErrorParameter>,
+) -> Result<(ErrorModel, BTreeMap<String, ErrorSpec>), ScenarioError> {
+    let mut parameters = Vec::new();
+    let mut error_specs = BTreeMap::new();
+    for (name, spec) in errors_raw {
+        let at = Some(name.span());
+        let parameter: ParameterName = name.get_ref().parse().map_err(|message| {
+            context.error(
+                at.clone(),
+                ScenarioErrorKind::Parameter,
+                format!("errors.{}: {message}", name.get_ref()),
+            )
+        })?;
+        let argument = parameter
+            .axis()
+            .filter(|_| matches!(parameter, ParameterName::Component { .. }));
+        if let Some(axis) = parameter.axis().filter(|axis| !machine.has_axis(*axis)) {
+            return Err(context.error(
+                at,
+                ScenarioErrorKind::Parameter,
+                format!(
+                    "errors.{parameter}: machine \"{}\" has no axis {axis}",
+                    machine.name()
+                ),
+            ));
+        }
+        if *spec.get_ref() == ErrorSpec::default() {
+            let unit = parameter.file_unit();
+            return Err(context.error(
+                Some(spec.span()),
+                ScenarioErrorKind::Value,
+                format!(
+                    "errors.{parameter}: no term given; expected one or more of constant_{unit}, \
+                     polynomial_{unit}, reversal_{unit}, harmonic, table"
+                ),
+            ));
+        }
+        let key_error = |kind, key: &str, message: String| {
+            let line = context.key_line(spec.span().start, key);
+            let mut error = context.error(
+                Some(spec.span()),
+                kind,
+                format!("errors.{parameter}.{key}: {message}"),
+            );
+            error.line = line.or(error.line);
+            error
+        };
+        let function = spec_to_function(spec.get_ref(), parameter, argument)
+            .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
+        if argument.is_none() && !function.is_constant() {
+            return Err(key_error(
+                ScenarioErrorKind::Value,
+                varying_key(spec.get_ref()),
+                format!(
+                    "location, squareness and tool errors are constants; use constant_{}",
+                    parameter.file_unit()
+                ),
+            ));
+        }
+        parameters.push(ErrorParameter {
+            name: parameter,
+            function,
+        });
+        error_specs.insert(parameter.to_string(), spec.get_ref().clone());
+    }
+    let mut all: Vec<ErrorParameter> = inherited
+        .into_iter()
+        .filter(|p| !error_specs.contains_key(&p.name.to_string()))
+        .collect();
+    all.extend(parameters);
+    let errors = ErrorModel::new(machine, all).map_err(|e| {
+        let name = e.parameter().to_string();
+        let span = errors_raw
+            .iter()
+            .find(|(key, _)| *key.get_ref() == name)
+            .map(|(_, spec)| spec.span());
+        let kind = match e {
+            ErrorModelError::NotPeriodic { .. } | ErrorModelError::NotConstant(_) => {
+                ScenarioErrorKind::Value
+            }
+            _ => ScenarioErrorKind::Parameter,
+        };
+        context.error(span, kind, format!("errors.{e}"))
+    })?;
+    for parameter in errors.parameters() {
+        if let Some(message) = implausible(parameter, machine) {
+            let spec = errors_raw
+                .iter()
+                .find(|(key, _)| *key.get_ref() == parameter.name.to_string());
+            return Err(context.error(
+                spec.map(|(_, spec)| spec.span()),
+                ScenarioErrorKind::Value,
+                format!("errors.{}: {message}", parameter.name),
+            ));
+        }
+    }
+    Ok((errors, error_specs))
+}
+
+impl Scenario {
+    /// The scenario `raw` (read from `path`, whose text is `text`) extends.
+    fn extend(
+        path: &Path,
+        text: &str,
+        context: &Context<'_>,
+        raw: RawExtension,
+        depth: usize,
+    ) -> Result<Scenario, ScenarioError> {
+        if depth >= MAX_EXTENDS_DEPTH {
+            return Err(context.error(
+                Some(raw.extends.span()),
+                ScenarioErrorKind::Value,
+                format!("extends: more than {MAX_EXTENDS_DEPTH} scenarios deep (do they extend each other?)"),
+            ));
+        }
+        let base_path = path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(raw.extends.get_ref());
+        let base = Scenario::load_at(&base_path, depth + 1).map_err(|e| {
+            context.error(Some(raw.extends.span()), e.kind, format!("extends: {e}"))
+        })?;
+        let inherited = base.twin.errors.parameters().to_vec();
+        let (errors, specs) = error_model(context, &base.twin.machine, &raw.errors, inherited)?;
+        let mut error_specs = base.error_specs;
+        error_specs.extend(specs);
+        Ok(Scenario {
+            file: path.to_path_buf(),
+            // The base's content is part of what this file means.
+            sha256: sha256_hex(format!("{text}\n{}", base.sha256).as_bytes()),
+            description: raw.description.or(base.description),
+            twin: Twin {
+                machine: base.twin.machine,
+                errors,
+            },
+            error_specs,
+            ..base
         })
     }
 }
