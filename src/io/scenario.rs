@@ -25,6 +25,10 @@
 //!
 //! The terms given for one parameter are summed. Rotary grid axes default to 5 points over
 //! their travel, or 0, 90, 180, 270° for a continuous axis.
+//!
+//! A scenario may instead extend another (`schema = 1`, `extends = "base.toml"`, then only
+//! `description` and `[errors.*]`): the base with those error sections replacing its own of the
+//! same name (see [`Scenario::load`]).
 
 use crate::errors::{
     ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Interpolation, ParameterName,
