@@ -589,3 +589,11 @@ fn the_report_has_the_stable_keys_and_consistent_gains() {
         .unwrap();
     within(split, -3.0, 0.3, "up − down");
 }
+
+#[test]
+fn the_same_table_gives_the_same_report() {
+    let table = Plan::iso(5, 4).table(|a| -a.s * 3.0 / 2.0);
+    let (a, b) = (discover(&table), discover(&table));
+    assert_eq!(a.to_json().to_string(), b.to_json().to_string());
+    assert_eq!(a.to_text(), b.to_text());
+}

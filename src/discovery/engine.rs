@@ -57,6 +57,8 @@ pub trait Problem {
     /// A fitted model.
     type Fit: Clone;
 
+    /// The effect's stable identifier (for progress messages).
+    fn id(&self, effect: Self::Effect) -> &'static str;
     /// The number of samples.
     fn n_samples(&self) -> usize;
     /// The cross-validation split.
@@ -228,7 +230,7 @@ pub fn forward_selection<P: Problem>(
         let proposals = problem.proposals(&effects, current_fit);
         let mut tested: Tested<P> = Vec::new();
         for (effect, evidence) in proposals {
-            progress(&format!("testing {effect:?}"));
+            progress(&format!("testing {}", problem.id(effect)));
             let mut trial = effects.clone();
             trial.push(effect);
             let (candidate, fit) = score(problem, &trial);
@@ -253,7 +255,9 @@ pub fn forward_selection<P: Problem>(
                 });
             }
             None => {
-                if let Some((first, second)) = best_pair(problem, &effects, current, &tested) {
+                if let Some((first, second)) =
+                    best_pair(problem, &effects, current, &tested, &mut progress)
+                {
                     // Both enter: the first with its own score (what it does alone), the
                     // second with the pair's, so each step reads "the model up to here".
                     let (a, b) = (tested[first].0, tested[second].0);
@@ -301,11 +305,17 @@ fn best_pair<P: Problem>(
     effects: &[P::Effect],
     current: &Score,
     tested: &Tested<P>,
+    progress: &mut impl FnMut(&str),
 ) -> Option<(usize, usize)> {
     let mut best: Option<(usize, usize, Real)> = None;
     for i in 0..tested.len() {
         for j in i + 1..tested.len() {
             let trial = [effects, &[tested[i].0, tested[j].0]].concat();
+            progress(&format!(
+                "testing {} with {}",
+                problem.id(tested[i].0),
+                problem.id(tested[j].0)
+            ));
             let (pair, _) = score(problem, &trial);
             if passes(current, &pair) && best.is_none_or(|(_, _, cv)| pair.cv_rms < cv) {
                 // The better of the two alone goes first.

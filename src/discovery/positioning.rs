@@ -810,6 +810,10 @@ impl Problem for PositioningProblem {
     type Effect = PositioningEffect;
     type Fit = PositioningFit;
 
+    fn id(&self, effect: PositioningEffect) -> &'static str {
+        effect.id()
+    }
+
     fn n_samples(&self) -> usize {
         self.x.len()
     }
