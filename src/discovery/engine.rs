@@ -129,15 +129,32 @@ pub fn rms(values: &[Real]) -> Real {
 
 /// The smallest held-out gain accepted, relative to the current held-out RMS.
 pub const MIN_RELATIVE_GAIN: Real = 0.05;
-/// The smallest paired t statistic over folds accepted: mean over folds of
-/// ln(held-out mean square before / after), divided by its standard error. The logarithm
-/// makes folds comparable when an effect shows more in some runs than in others (a warm-up
-/// hardly shows in the cold run).
-pub const MIN_FOLD_T: Real = 2.5;
 /// The acceptance rule in words, for reports.
 pub const RULE: &str = "accept the candidate with the lowest held-out RMS if it lowers the held-out RMS by at least 5 % \
-     and the per-fold log ratio of held-out mean squares (before/after) has a paired t statistic of at least 2.5; \
-     stop when no candidate passes";
+     and the per-fold log ratio of held-out mean squares (before/after) has a paired t statistic above \
+     the one-sided 97.5 % Student quantile (folds − 1 degrees of freedom); when no single effect passes, the best passing pair; \
+     stop when nothing passes";
+
+/// One-sided 97.5 % quantiles of Student's t for 1 to 30 degrees of freedom.
+const T_975: [Real; 30] = [
+    12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+    2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+    2.052, 2.048, 2.045, 2.042,
+];
+
+/// The paired t statistic over folds must reach the one-sided 97.5 % quantile of Student's t
+/// with (folds − 1) degrees of freedom ([`min_fold_t`]); the statistic is the mean over folds
+/// of ln(held-out mean square before / after) divided by its standard error. The logarithm
+/// makes folds comparable when an effect shows more in some runs than in others (a warm-up
+/// hardly shows in the cold run); the quantile makes few folds demand more consistency.
+/// Beyond 30 degrees of freedom, the normal quantile 1.960.
+pub fn min_fold_t(folds: usize) -> Real {
+    match folds {
+        0 | 1 => Real::INFINITY,
+        k if k - 1 <= T_975.len() => T_975[k - 2],
+        _ => 1.960,
+    }
+}
 
 /// Whether `candidate` improves on `current` by more than noise can explain (see [`RULE`]).
 pub fn passes(current: &Score, candidate: &Score) -> bool {
@@ -146,7 +163,8 @@ pub fn passes(current: &Score, candidate: &Score) -> bool {
     }
     let log =
         |v: &[Real]| -> Vec<Real> { v.iter().map(|m| m.max(Real::MIN_POSITIVE).ln()).collect() };
-    paired_t(&log(&current.fold_mse), &log(&candidate.fold_mse)) >= MIN_FOLD_T
+    paired_t(&log(&current.fold_mse), &log(&candidate.fold_mse))
+        >= min_fold_t(current.fold_mse.len())
 }
 
 /// The paired t statistic of `before − after` over folds (+∞ when every fold drops by the
@@ -344,6 +362,14 @@ mod tests {
             folds.training(1),
             vec![true, false, true, false, true, true]
         );
+    }
+
+    #[test]
+    fn fold_threshold_is_the_student_quantile() {
+        // t(0.975; 4) = 2.776 and t(0.975; 6) = 2.447 (standard tables).
+        assert_eq!(min_fold_t(5), 2.776);
+        assert_eq!(min_fold_t(7), 2.447);
+        assert_eq!(min_fold_t(1), Real::INFINITY);
     }
 
     #[test]

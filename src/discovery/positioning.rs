@@ -37,6 +37,8 @@ const SAME_POSITION: Real = 1e-6;
 const MIN_TEMPERATURE_RANGE: Real = 0.1;
 /// Proposal rules fire when the residual's association has |t| at least this.
 const PROPOSAL_T: Real = 2.0;
+/// The most frequencies a period search may test.
+const MAX_FREQUENCIES: Real = 1e5;
 /// Grid points of a time-constant search (log-spaced), before golden-section refinement.
 const TAU_GRID: usize = 24;
 
@@ -259,6 +261,29 @@ impl PositioningProblem {
                 "{n} readings: discovery needs at least 6 (one model fit per fold)"
             )));
         }
+        if options.folds < 2 {
+            return Err(DiscoveryError(format!(
+                "{} folds: cross-validation needs at least 2",
+                options.folds
+            )));
+        }
+        if !(options.expansion.is_finite() && options.min_period > 0.0) {
+            return Err(DiscoveryError(
+                "the expansion coefficient must be finite and the shortest period positive".into(),
+            ));
+        }
+        let finite = |r: &crate::io::PositioningReading| {
+            [r.target, r.deviation, r.time.unwrap_or(0.0)]
+                .iter()
+                .chain(&r.temperatures)
+                .all(|v| v.is_finite())
+        };
+        if let Some(k) = table.readings.iter().position(|r| !finite(r)) {
+            return Err(DiscoveryError(format!(
+                "reading {}: a value is not a finite number",
+                k + 1
+            )));
+        }
         let sensor_index =
             match &options.sensor {
                 Some(name) => Some(table.sensors.iter().position(|s| s == name).ok_or_else(
@@ -306,6 +331,15 @@ impl PositioningProblem {
             .fold((Real::INFINITY, Real::NEG_INFINITY), |(l, h), &v| {
                 (l.min(v), h.max(v))
             });
+        // The period search tests 4 frequencies per 1/travel down to the shortest period.
+        let frequencies = 4.0 * (high - low) / options.min_period;
+        if frequencies > MAX_FREQUENCIES {
+            return Err(DiscoveryError(format!(
+                "a shortest period of {} mm over {} mm of travel would test {frequencies:.0} frequencies (at most {MAX_FREQUENCIES}); give a longer one",
+                options.min_period / M_PER_MM,
+                (high - low) / M_PER_MM
+            )));
+        }
         let n_runs = table.runs.len();
         let folds = if n_runs >= 3 {
             Folds::leave_one_group_out(&run, "leave-one-run-out")
@@ -992,7 +1026,13 @@ impl PositioningProblem {
                 )
             })
             .collect();
-        let rise: Option<Vec<Real>> = self.temperature.as_ref().map(|t| {
+        // The temperature the fit's thermal terms use (lagged with thermal_lag).
+        let lag = fit
+            .effects
+            .contains(&PositioningEffect::ThermalLag)
+            .then_some(fit.searched.lag_tau)
+            .flatten();
+        let rise: Option<Vec<Real>> = self.driver(lag).map(|t| {
             let reference = fit.reference_temperature.unwrap_or(t[0]);
             t.iter().map(|v| v - reference).collect()
         });
@@ -1157,7 +1197,9 @@ impl PositioningFit {
 
     /// The fitted parameters of `effect`, in file units with the unit in the name.
     pub fn params(&self, effect: PositioningEffect) -> BTreeMap<&'static str, Real> {
-        let c = self.coefficients_of(effect).unwrap_or(&[]);
+        let c = self
+            .coefficients_of(effect)
+            .expect("parameters are asked of effects in the fit");
         let mut params = BTreeMap::new();
         let per_million = |v: Real| v * 1e6;
         match effect {
@@ -1532,6 +1574,17 @@ impl PositioningDiscovery {
         })?;
         let (score, fit) = self.selection.last();
         let (knots, values) = fit.profile();
+        // The profile is the error at the reference temperature; the twin's thermal model
+        // expands from 20 °C, so move it there with the base model's nominal expansion.
+        let to_20 = fit
+            .reference_temperature
+            .map_or(0.0, |t| self.problem.options.expansion * (t - 20.0));
+        let values: Vec<Real> = knots
+            .iter()
+            .zip(values)
+            .map(|(x, v)| v - to_20 * x)
+            .collect();
+        let source: String = source.chars().filter(|c| !c.is_control()).collect();
         let number = |v: Real| fixed(v, 4);
         let list = |values: Vec<Real>| {
             values
@@ -1549,14 +1602,15 @@ impl PositioningDiscovery {
         ));
         if let Some(t) = fit.reference_temperature {
             out.push_str(&format!(
-                "# E{axis}{axis} below is the error at the reference run's temperature, {} °C.\n",
-                fixed(t, 2)
+                "# E{axis}{axis} below is the error at 20 °C: the profile at the reference run's {} °C less\n# the nominal expansion ({} µm/(m·°C)) between the two.\n",
+                fixed(t, 2),
+                fixed(self.problem.options.expansion * 1e6, 2)
             ));
         }
         if let Some(base) = extends {
             out.push_str(&format!(
-                "schema = 1\nextends = \"{}\"\n",
-                base.replace('\\', "/")
+                "schema = 1\nextends = {}\n",
+                toml::Value::String(base.replace('\\', "/"))
             ));
         } else {
             out.push_str(
