@@ -273,13 +273,12 @@ pub fn forward_selection<P: Problem>(
                 });
             }
             None => {
-                if let Some((first, second)) =
+                if let Some((first, second, score, fit)) =
                     best_pair(problem, &effects, current, &tested, &mut progress)
                 {
                     // Both enter: the first with its own score (what it does alone), the
                     // second with the pair's, so each step reads "the model up to here".
                     let (a, b) = (tested[first].0, tested[second].0);
-                    let (score, fit) = score(problem, &[effects.as_slice(), &[a, b]].concat());
                     let take = |i: usize| tested[i].clone();
                     let (_, evidence_a, score_a, fit_a) = take(first);
                     let (_, evidence_b, _, _) = take(second);
@@ -317,36 +316,39 @@ pub fn forward_selection<P: Problem>(
 /// Tested candidates: effect, evidence, score, fit.
 type Tested<P> = Vec<(<P as Problem>::Effect, String, Score, <P as Problem>::Fit)>;
 
-/// The indices of the best pair of `tested` that [`passes`] against `current`.
+/// The best pair of `tested` that [`passes`] against `current`: the indices (the better of
+/// the two alone first) and the pair's score and fit.
 fn best_pair<P: Problem>(
     problem: &P,
     effects: &[P::Effect],
     current: &Score,
     tested: &Tested<P>,
     progress: &mut impl FnMut(&str),
-) -> Option<(usize, usize)> {
-    let mut best: Option<(usize, usize, Real)> = None;
+) -> Option<(usize, usize, Score, P::Fit)> {
+    let mut best: Option<(usize, usize, Score, P::Fit)> = None;
     for i in 0..tested.len() {
         for j in i + 1..tested.len() {
-            let trial = [effects, &[tested[i].0, tested[j].0]].concat();
+            let (a, b) = if tested[i].2.cv_rms <= tested[j].2.cv_rms {
+                (i, j)
+            } else {
+                (j, i)
+            };
             progress(&format!(
                 "testing {} with {}",
-                problem.id(tested[i].0),
-                problem.id(tested[j].0)
+                problem.id(tested[a].0),
+                problem.id(tested[b].0)
             ));
-            let (pair, _) = score(problem, &trial);
-            if passes(current, &pair) && best.is_none_or(|(_, _, cv)| pair.cv_rms < cv) {
-                // The better of the two alone goes first.
-                let (a, b) = if tested[i].2.cv_rms <= tested[j].2.cv_rms {
-                    (i, j)
-                } else {
-                    (j, i)
-                };
-                best = Some((a, b, pair.cv_rms));
+            let (pair, fit) = score(problem, &[effects, &[tested[a].0, tested[b].0]].concat());
+            if passes(current, &pair)
+                && best
+                    .as_ref()
+                    .is_none_or(|(_, _, s, _)| pair.cv_rms < s.cv_rms)
+            {
+                best = Some((a, b, pair, fit));
             }
         }
     }
-    best.map(|(a, b, _)| (a, b))
+    best
 }
 
 #[cfg(test)]

@@ -703,15 +703,8 @@ impl PositioningProblem {
         let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
         let x: Vec<Real> = rows.iter().map(|&i| self.x[i]).collect();
         let r: Vec<Real> = rows.iter().map(|&i| residuals[i]).collect();
-        let span = (2.0 * self.half_range).max(self.options.min_period);
-        let step = 1.0 / (4.0 * span);
-        let (f_low, f_high) = (1.0 / span, 1.0 / self.options.min_period);
-        let count = ((f_high - f_low) / step).ceil() as usize + 1;
-        let peak = (0..count)
-            .map(|k| f_low + step * k as Real)
-            .map(|f| (f, sinusoid_reduction(&x, &r, f)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(f_low, |(f, _)| f);
+        let (step, f_low) = self.frequency_grid();
+        let (peak, _) = self.periodogram_peak(&x, &r);
         let sse = |f: Real| {
             let trial = Searched {
                 period: Some(1.0 / f),
@@ -726,6 +719,25 @@ impl PositioningProblem {
         } else {
             1.0 / peak
         }
+    }
+
+    /// The periodogram's frequency step and lowest frequency (1/m): from 1/travel to
+    /// 1/min_period, 4 points per 1/travel.
+    fn frequency_grid(&self) -> (Real, Real) {
+        let span = (2.0 * self.half_range).max(self.options.min_period);
+        (1.0 / (4.0 * span), 1.0 / span)
+    }
+
+    /// The frequency (1/m) whose sinusoid removes the largest fraction of `r`'s sum of squares
+    /// over positions `x`, and that fraction.
+    fn periodogram_peak(&self, x: &[Real], r: &[Real]) -> (Real, Real) {
+        let (step, f_low) = self.frequency_grid();
+        let count = ((1.0 / self.options.min_period - f_low) / step).ceil() as usize + 1;
+        (0..count)
+            .map(|k| f_low + step * k as Real)
+            .map(|f| (f, sinusoid_reduction(x, r, f)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((f_low, 0.0))
     }
 
     /// Searches every searched parameter (in order, twice when there are several, each with
@@ -957,16 +969,8 @@ impl PositioningProblem {
                 }
             })
             .collect();
-        let span = (2.0 * self.half_range).max(self.options.min_period);
         let periodogram = (n > 6).then(|| {
-            let step = 1.0 / (4.0 * span);
-            let (f_low, f_high) = (1.0 / span, 1.0 / self.options.min_period);
-            let count = ((f_high - f_low) / step).ceil() as usize + 1;
-            let (f, fraction) = (0..count)
-                .map(|k| f_low + step * k as Real)
-                .map(|f| (f, sinusoid_reduction(&self.x, r, f)))
-                .max_by(|a, b| a.1.total_cmp(&b.1))
-                .unwrap_or((f_low, 0.0));
+            let (f, fraction) = self.periodogram_peak(&self.x, r);
             let mut design = Design::new(n);
             design.push(self.x.iter().map(|x| (TAU * f * x).sin()).collect());
             design.push(self.x.iter().map(|x| (TAU * f * x).cos()).collect());
