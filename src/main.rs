@@ -3,10 +3,13 @@
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use mtwin::analysis::iso230_2;
+use mtwin::analysis::iso230_4::{self, CircularTest};
 use mtwin::analysis::thermal_series::thermal_series;
-use mtwin::discovery::{PositioningOptions, discover_positioning};
-use mtwin::io::{DriftTable, PositioningTable, Scenario, run_scenario, write_outputs};
-use mtwin::machine::{Machine, Side};
+use mtwin::discovery::{PositioningOptions, discover_ballbar, discover_positioning};
+use mtwin::io::{
+    BallbarTable, DriftTable, PositioningTable, Scenario, run_scenario, write_outputs,
+};
+use mtwin::machine::{Machine, Plane, Side};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -20,8 +23,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Simulate a scenario: writes what it asks for (volumetric.csv, positioning.csv), with
-    /// truth.json and manifest.json, into --out.
+    /// Simulate a scenario: writes what it asks for (volumetric.csv, positioning.csv,
+    /// ballbar_<plane>.csv), with truth.json and manifest.json, into --out.
     Run {
         /// The scenario (TOML).
         scenario: PathBuf,
@@ -47,6 +50,8 @@ enum Command {
         /// For `drift`: the duration of the performance test the ETVE is for (min).
         #[arg(long, value_name = "MIN", default_value_t = 60.0)]
         etve_min: f64,
+        #[command(flatten)]
+        circle: CircleArgs,
     },
     /// Model discovery: fit the twin's base model to a measurement table, show what it leaves,
     /// and add effects from the library while they lower the held-out RMS more than noise can.
@@ -58,9 +63,14 @@ enum Command {
     /// reversal_position, reversal_thermal, thermal_lag, thermal_scale, thermal_offset,
     /// second_heat_source, periodic, nonlinear_scale, time_drift. Held-out data: one run at a
     /// time with three runs or more, else contiguous blocks in time.
+    ///
+    /// ballbar (needs --plane, --radius-mm, --feed-mm-per-min): the base model is the radius,
+    /// the centre offset, squareness and scale mismatch. Effects (axis letters of the plane):
+    /// servo_mismatch, backlash_*, lateral_play_*, reversal_spike_*, straightness_*, cyclic_*,
+    /// lobes (k per turn), radius_drift, sense_radius. Held-out data: angular sectors.
     #[command(verbatim_doc_comment)]
     Discover {
-        /// What the table holds: `positioning` (the table of `analyze positioning`).
+        /// What the table holds: `positioning` or `ballbar` (the tables of `analyze`).
         kind: DiscoverKind,
         /// The table (CSV with a header).
         file: PathBuf,
@@ -83,13 +93,64 @@ enum Command {
         /// Shortest period the cyclic-error search considers (mm).
         #[arg(long, value_name = "MM", default_value_t = 2.0)]
         min_period_mm: f64,
+        #[command(flatten)]
+        circle: CircleArgs,
     },
+}
+
+/// The conditions of a circular test, which a ball-bar table does not hold.
+#[derive(clap::Args)]
+struct CircleArgs {
+    /// For `ballbar`: the plane, first axis then second (XY, YZ or ZX); angles run from the
+    /// first axis toward the second, counter-clockwise seen from +Z, +X, +Y.
+    #[arg(long, value_name = "PLANE")]
+    plane: Option<Plane>,
+    /// For `ballbar`: the radius of the test, the bar's nominal length (mm).
+    #[arg(long, value_name = "MM")]
+    radius_mm: Option<f64>,
+    /// For `ballbar`: the programmed feed (mm/min).
+    #[arg(long, value_name = "MM_PER_MIN")]
+    feed_mm_per_min: Option<f64>,
+}
+
+impl CircleArgs {
+    /// The test conditions, all three required for a ball-bar table.
+    fn test(&self) -> Result<CircularTest> {
+        let (Some(plane), Some(radius_mm), Some(feed)) =
+            (self.plane, self.radius_mm, self.feed_mm_per_min)
+        else {
+            bail!(
+                "a ball-bar table needs its test conditions: --plane XY|YZ|ZX --radius-mm R --feed-mm-per-min F"
+            );
+        };
+        if !(radius_mm.is_finite() && radius_mm > 0.0) {
+            bail!("--radius-mm must be a positive number of millimetres, got {radius_mm}");
+        }
+        if !(feed.is_finite() && feed > 0.0) {
+            bail!("--feed-mm-per-min must be a positive number, got {feed}");
+        }
+        Ok(CircularTest {
+            plane,
+            radius: radius_mm * 1e-3,
+            feed: feed * 1e-3 / 60.0,
+        })
+    }
+
+    /// Refuses circle flags on a table that is not a ball-bar table.
+    fn refuse(&self, kind: &str) -> Result<()> {
+        if self.plane.is_some() || self.radius_mm.is_some() || self.feed_mm_per_min.is_some() {
+            bail!("--plane, --radius-mm and --feed-mm-per-min are for ball-bar tables, not {kind}");
+        }
+        Ok(())
+    }
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum DiscoverKind {
     /// Linear positioning deviations (laser interferometer).
     Positioning,
+    /// Circular-test radial deviations (ball-bar, ISO 230-4).
+    Ballbar,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -99,6 +160,10 @@ enum TableKind {
     /// Displacement channels against time (time_min, <channel>_um or _urad,
     /// temp_<sensor>_degc), evaluated to ISO 230-3:2007: drift ranges, stop criterion, ETVE.
     Drift,
+    /// Ball-bar circular test (direction ccw/cw, angle_deg, deviation_um, optional time_s),
+    /// evaluated to ISO 230-4 with the diagnostics of ball-bar software; needs --plane,
+    /// --radius-mm and --feed-mm-per-min.
+    Ballbar,
 }
 
 fn main() -> ExitCode {
@@ -133,7 +198,9 @@ fn execute(cli: Cli) -> Result<()> {
             expansion_ppm_per_degc,
             sensor,
             min_period_mm,
+            circle,
         } => {
+            circle.refuse("positioning tables")?;
             if !expansion_ppm_per_degc.is_finite() {
                 bail!(
                     "--expansion-ppm-per-degc must be a finite number, got {expansion_ppm_per_degc}"
@@ -179,12 +246,56 @@ fn execute(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Discover {
+            kind: DiscoverKind::Ballbar,
+            file,
+            json,
+            write_model,
+            circle,
+            ..
+        } => {
+            if write_model.is_some() {
+                bail!(
+                    "--write-model is for positioning tables: ball-bar diagnostics (servo, lost motion, spikes) are not all error-model terms"
+                );
+            }
+            let test = circle.test()?;
+            let table = BallbarTable::read(&file)?;
+            let discovery = discover_ballbar(&table, &test, |what| eprintln!("discover: {what}"))
+                .with_context(|| format!("{}", file.display()))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&discovery.to_json())?);
+            } else {
+                print!("{}", discovery.to_text());
+            }
+            Ok(())
+        }
+        Command::Analyze {
+            kind: TableKind::Ballbar,
+            file,
+            json,
+            circle,
+            ..
+        } => {
+            let test = circle.test()?;
+            let table = BallbarTable::read(&file)?;
+            let evaluation =
+                iso230_4::evaluate(&table, &test).with_context(|| format!("{}", file.display()))?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&evaluation.to_json())?);
+            } else {
+                print!("{}", evaluation.to_text());
+            }
+            Ok(())
+        }
         Command::Analyze {
             kind: TableKind::Drift,
             file,
             json,
             etve_min,
+            circle,
         } => {
+            circle.refuse("drift tables")?;
             if !(etve_min.is_finite() && etve_min > 0.0) {
                 bail!("--etve-min must be a positive number of minutes, got {etve_min}");
             }
@@ -201,8 +312,10 @@ fn execute(cli: Cli) -> Result<()> {
             kind: TableKind::Positioning,
             file,
             json,
+            circle,
             ..
         } => {
+            circle.refuse("positioning tables")?;
             let table = PositioningTable::read(&file)?;
             match iso230_2::evaluate(&table) {
                 Ok(result) if json => {
@@ -255,6 +368,18 @@ fn check(file: &Path) -> Result<()> {
                     "  volumetric map: {} model, {points} grid points",
                     v.model.name()
                 );
+            }
+            if let Some(test) = &scenario.ballbar_test {
+                for circle in &test.circles {
+                    println!(
+                        "  ball-bar: {} plane, {:.0} mm at {:.0} mm/min, {:.0}° data arc, {:.0} s",
+                        circle.plane,
+                        circle.radius * 1e3,
+                        circle.feed * 6e4,
+                        circle.data_arc.to_degrees(),
+                        circle.duration()
+                    );
+                }
             }
         }
         _ => bail!(

@@ -102,8 +102,8 @@ fn check_accepts_every_scenario() {
     let scenarios = files_with_extension("scenarios", "toml");
     assert_eq!(
         scenarios.len(),
-        6,
-        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment and the ISO 230-3 linear-motion test"
+        9,
+        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment, the ISO 230-3 linear-motion test and three ball-bar tests"
     );
     for scenario in scenarios {
         let output = check(&scenario);
@@ -401,6 +401,94 @@ fn discover_rejects_bad_input_naming_it_and_writes_nothing() {
     assert!(!output.status.success());
     assert!(
         text(&output.stderr).contains("temp_spindle_degc"),
+        "{}",
+        text(&output.stderr)
+    );
+}
+
+#[test]
+fn ballbar_scenario_runs_and_its_table_is_analysed_and_discovered() {
+    // vmc3_ballbar_xy through the binary: the table, then `analyze ballbar --json` with the
+    // injected squareness (−EC0Y = 20 µm/m), servo mismatch (1/33.3 − 1/32.8 s = −0.458 ms)
+    // and lost motion of X and Y (4 and 2 µm) within the 5 % or 0.2 µm; then
+    // `discover ballbar --json` names effects beyond the base model.
+    let dir = TempDir::new().unwrap();
+    let out = dir.path().join("bb");
+    let output = run(&root().join("scenarios/vmc3_ballbar_xy.toml"), &out);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let table = out.join("ballbar_xy.csv");
+    let conditions = [
+        "--plane",
+        "XY",
+        "--radius-mm",
+        "150",
+        "--feed-mm-per-min",
+        "1000",
+    ];
+    let mut args: Vec<&std::ffi::OsStr> = vec![
+        "analyze".as_ref(),
+        "ballbar".as_ref(),
+        table.as_os_str(),
+        "--json".as_ref(),
+    ];
+    args.extend(conditions.iter().map(std::ffi::OsStr::new));
+    let output = mtwin(&args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    for key in [
+        "G_ccw_um", "G_cw_um", "G_um", "H_um", "F_max_um", "F_min_um",
+    ] {
+        assert!(report[key].as_f64().is_some(), "{key}");
+    }
+    let d = &report["diagnostics"];
+    let near = |key: &str, truth: f64, tolerance: f64| {
+        let got = d[key]["value"].as_f64().unwrap();
+        assert!((got - truth).abs() <= tolerance, "{key}: {got} vs {truth}");
+    };
+    near("squareness_um_per_m", 20.0, 1.0);
+    near("servo_mismatch_ms", 1e3 / 33.3 - 1e3 / 32.8, 0.024);
+    near("backlash_x_um", 4.0, 0.2);
+    near("backlash_y_um", 2.0, 0.2);
+
+    args[0] = "discover".as_ref();
+    let output = mtwin(&args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(report["kind"], "ballbar");
+    let steps = report["steps"].as_array().unwrap();
+    assert!(
+        !steps.is_empty(),
+        "the faulty machine needs more than the base model"
+    );
+    assert!(
+        text(&output.stderr).contains("discover:"),
+        "progress on stderr"
+    );
+}
+
+#[test]
+fn ballbar_analysis_needs_its_test_conditions() {
+    let dir = TempDir::new().unwrap();
+    let table = dir.path().join("bb.csv");
+    std::fs::write(&table, "direction,angle_deg,deviation_um\nccw,0,1\n").unwrap();
+    let output = mtwin(&["analyze".as_ref(), "ballbar".as_ref(), table.as_os_str()]);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("--plane"),
+        "{}",
+        text(&output.stderr)
+    );
+    // …and positioning tables refuse them.
+    let output = mtwin(&[
+        "analyze".as_ref(),
+        "positioning".as_ref(),
+        table.as_os_str(),
+        "--plane".as_ref(),
+        "XY".as_ref(),
+    ]);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("ball-bar"),
         "{}",
         text(&output.stderr)
     );

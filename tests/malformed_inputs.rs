@@ -1313,3 +1313,173 @@ fn extension_that_extends_itself() {
     assert_eq!(error.kind(), ScenarioErrorKind::Value);
     assert!(error.to_string().contains("deep"), "{error}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Ball-bar tests ([ballbar], [servo]) and ball-bar tables
+// ---------------------------------------------------------------------------------------
+
+/// A valid ball-bar scenario on vmc3 with `from` replaced by `to`.
+fn ballbar_with(from: &str, to: &str) -> String {
+    let text = format!(
+        "schema = 1\n\
+         machine = '{}'\n\
+         seed = 1\n\
+         \n\
+         [ballbar]\n\
+         planes = [\"XY\"]\n\
+         length_mm = 150.0\n\
+         feed_mm_per_min = 1000.0\n\
+         centre_mm = {{ x = 380.0, y = 205.0, z = 300.0 }}\n\
+         overshoot_deg = 180.0\n\
+         \n\
+         [servo]\n\
+         X = {{ kv_per_s = 33.3 }}\n",
+        model("vmc3.urdf")
+    );
+    replace_once(&text, from, to)
+}
+
+#[test]
+fn ballbar_scenario_is_valid() {
+    let dir = TempDir::new().unwrap();
+    let text = ballbar_with("seed = 1", "seed = 1");
+    let scenario = Scenario::load(write(&dir, "ok.toml", &text)).unwrap();
+    assert_eq!(scenario.ballbar_test.unwrap().circles.len(), 1);
+}
+
+#[test]
+fn ballbar_length_not_a_bar_of_the_kit() {
+    let text = ballbar_with("length_mm = 150.0", "length_mm = 120.0");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("length_mm"),
+        Some("ballbar.length_mm"),
+    );
+    assert!(error.to_string().contains("50, 100, 150 or 300"), "{error}");
+}
+
+#[test]
+fn ballbar_plane_named_backwards() {
+    let text = ballbar_with("planes = [\"XY\"]", "planes = [\"XZ\"]");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("planes"),
+        Some("ballbar.planes"),
+    );
+    assert!(error.to_string().contains("ZX"), "{error}");
+}
+
+#[test]
+fn ballbar_circle_beyond_the_travel() {
+    // X from 50 − 150 mm: below the travel's 0.
+    let text = ballbar_with("x = 380.0", "x = 50.0");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("centre_mm"),
+        Some("ballbar.centre_mm"),
+    );
+    assert!(error.to_string().contains("outside its travel"), "{error}");
+}
+
+#[test]
+fn ballbar_ramp_longer_than_the_overshoot() {
+    let text = ballbar_with("overshoot_deg = 180.0", "overshoot_deg = 0.0");
+    let (error, path) = scenario_error(&text);
+    assert_eq!(error.kind(), ScenarioErrorKind::Value);
+    assert!(error.to_string().starts_with(&path), "{error}");
+    assert!(error.to_string().contains("overshoot arc"), "{error}");
+}
+
+#[test]
+fn ballbar_unknown_key() {
+    let text = ballbar_with("feed_mm_per_min", "feed_mm_min");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::UnknownKey,
+        &text,
+        Some("feed_mm_min"),
+        Some("feed_mm_min"),
+    );
+}
+
+#[test]
+fn servo_gain_not_positive() {
+    let text = ballbar_with("kv_per_s = 33.3", "kv_per_s = -5.0");
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Value,
+        &text,
+        Some("kv_per_s"),
+        Some("servo.X"),
+    );
+}
+
+#[test]
+fn servo_without_a_ballbar_test() {
+    let text = format!(
+        "{}\n[servo]\nX = {{ kv_per_s = 30.0 }}\n",
+        minimal("vmc3.urdf")
+    );
+    let (error, path) = scenario_error(&text);
+    assert_scenario(
+        &error,
+        &path,
+        ScenarioErrorKind::Nothing,
+        &text,
+        Some("[servo]"),
+        Some("servo"),
+    );
+}
+
+fn ballbar_table_error(text: &str) -> String {
+    let error = mtwin::io::BallbarTable::parse(text.as_bytes(), "bb.csv")
+        .expect_err("the table must be rejected");
+    error.to_string()
+}
+
+#[test]
+fn ballbar_table_bad_values_name_the_line_and_column() {
+    let header = "direction,angle_deg,deviation_um\n";
+    for (row, column) in [
+        ("up,10,1.0", "direction"),
+        ("ccw,360,1.0", "angle_deg"),
+        ("ccw,-1,1.0", "angle_deg"),
+        ("ccw,10,NaN", "deviation_um"),
+        ("cw,ten,1.0", "angle_deg"),
+    ] {
+        let message = ballbar_table_error(&format!("{header}ccw,0,0.5\n{row}\n"));
+        assert!(
+            message.starts_with("bb.csv:3: ") && message.contains(column),
+            "{row}: {message}"
+        );
+    }
+}
+
+#[test]
+fn ballbar_table_missing_or_unknown_columns() {
+    let message = ballbar_table_error("direction,angle_deg\nccw,0\n");
+    assert!(
+        message.starts_with("bb.csv:1: ") && message.contains("deviation_um"),
+        "{message}"
+    );
+    let message = ballbar_table_error("direction,angle_deg,deviation_um,radius_mm\nccw,0,1,150\n");
+    assert!(message.contains("unknown column `radius_mm`"), "{message}");
+    let message = ballbar_table_error("direction,angle_deg,deviation_um\n");
+    assert!(message.contains("no readings"), "{message}");
+}

@@ -2,4 +2,5 @@
 
 pub mod iso230_2;
 pub mod iso230_3;
+pub mod iso230_4;
 pub mod thermal_series;

@@ -2,6 +2,7 @@
 //! noise, and writes a measurement table.
 
 mod air;
+pub mod ballbar;
 pub mod laser;
 
 pub use air::{Air, HENE_WAVELENGTH_UM};

@@ -120,6 +120,20 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
             .expect("writing to memory cannot fail");
         files.push(("positioning.csv".into(), bytes));
     }
+    if let Some(test) = &scenario.ballbar_test {
+        for circle in &test.circles {
+            let plane = circle.plane;
+            let mut rng = crate::math::seeded_rng(scenario.seed, &format!("ballbar {plane}"));
+            let table = test
+                .ballbar
+                .measure(&scenario.twin, circle, &test.servo, &mut rng);
+            let mut bytes = Vec::new();
+            table
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push((format!("ballbar_{}.csv", plane.lower()), bytes));
+        }
+    }
     let mut truth = truth(scenario);
     if let Some(states) = thermal_truth {
         truth["thermal_states"] = states;
@@ -236,12 +250,60 @@ fn truth(scenario: &Scenario) -> Value {
         "machine": machine.name(),
         "seed": scenario.seed,
         "laser_test": laser_test,
+        "ballbar_test": scenario.ballbar_test.as_ref().map(ballbar_truth),
         "thermal_model": thermal_model,
         "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
                        motions of the tool relative to the workpiece in the frame of their axis; location errors \
                        (E?0?) are the axis line itself, actual - nominal, zero at the axis zero (ISO 230-1 names)",
         "errors": errors,
         "coefficients_si": coefficients,
+    })
+}
+
+/// The ball-bar set-up, the circles and the controller, in file units; per plane the servo
+/// mismatch the loops give (lag time of the first axis − the second's).
+fn ballbar_truth(test: &crate::io::BallbarTest) -> Value {
+    let bar = &test.ballbar;
+    let servo = &test.servo;
+    let axis_servo = |axis: crate::machine::Axis| {
+        let s = servo.axis(axis);
+        json!({
+            "kv_per_s": s.kv,
+            "feed_forward": s.feed_forward,
+            "lag_ms": s.lag_time() * 1e3,
+            "spike_um": s.spike_height * 1e6,
+            "spike_decay_ms": s.spike_decay * 1e3,
+            "vibration_um": s.vibration_amplitude * 1e6,
+            "vibration_hz": s.vibration_frequency,
+        })
+    };
+    json!({
+        "length_mm": bar.length * 1e3,
+        "setup_offset_um": (bar.setup_offset * 1e6).to_array(),
+        "calibration_um": bar.calibration_error * 1e6,
+        "noise_um": bar.noise * 1e6,
+        "resolution_um": bar.resolution * 1e6,
+        "sample_rate_hz": bar.sample_rate,
+        "circles": test.circles.iter().map(|c| json!({
+            "plane": c.plane.to_string(),
+            "file": format!("ballbar_{}.csv", c.plane.lower()),
+            "feed_mm_per_min": c.feed * 60e3,
+            "centre": c.centre.0.iter().zip(["x_mm", "y_mm", "z_mm", "a_deg", "b_deg", "c_deg"])
+                .map(|(v, k)| (k.to_string(), json!(if k.ends_with("mm") { v * 1e3 } else { v.to_degrees() })))
+                .collect::<serde_json::Map<_, _>>(),
+            "data_start_deg": c.data_start.to_degrees(),
+            "data_arc_deg": c.data_arc.to_degrees(),
+            "overshoot_deg": c.overshoot.to_degrees(),
+            "acceleration_mm_per_s2": c.acceleration * 1e3,
+            "dwell_s": c.dwell,
+            "servo_mismatch_ms": (servo.axis(c.plane.first()).lag_time() - servo.axis(c.plane.second()).lag_time()) * 1e3,
+        })).collect::<Vec<_>>(),
+        "servo": {
+            "ipo_period_ms": servo.ipo_period * 1e3,
+            "X": axis_servo(crate::machine::Axis::X),
+            "Y": axis_servo(crate::machine::Axis::Y),
+            "Z": axis_servo(crate::machine::Axis::Z),
+        },
     })
 }
 

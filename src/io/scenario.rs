@@ -43,8 +43,10 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
+mod ballbar_test;
 mod laser_test;
 mod thermal_test;
+pub use ballbar_test::BallbarTest;
 pub use laser_test::LaserTest;
 pub use thermal_test::ThermalSetup;
 
@@ -237,6 +239,8 @@ struct RawScenario {
     iso230_3_linear: Option<Spanned<thermal_test::RawLinearMotion>>,
     laser: Option<Spanned<laser_test::RawLaser>>,
     thermal: Option<Spanned<thermal_test::RawThermal>>,
+    ballbar: Option<Spanned<ballbar_test::RawBallbar>>,
+    servo: Option<Spanned<ballbar_test::RawServo>>,
 }
 
 #[derive(Deserialize)]
@@ -294,6 +298,8 @@ pub struct Scenario {
     /// The machine's thermal model, if the scenario has one: the laser test then runs through
     /// it (temperatures change the errors, sensors are read at each measurement).
     pub thermal: Option<ThermalSetup>,
+    /// The ball-bar circular tests to simulate, if asked for.
+    pub ballbar_test: Option<BallbarTest>,
 }
 
 pub(super) struct Context<'a> {
@@ -599,11 +605,23 @@ impl Scenario {
                 ));
             }
         }
-        if volumetric.is_none() && laser_test.is_none() {
+        let ballbar_test = raw
+            .ballbar
+            .as_ref()
+            .map(|b| ballbar_test::ballbar_test(&context, &machine, b, raw.servo.as_ref()))
+            .transpose()?;
+        if let (Some(servo), None) = (&raw.servo, &ballbar_test) {
+            return Err(context.error(
+                Some(servo.span()),
+                ScenarioErrorKind::Nothing,
+                "servo: nothing in this scenario uses the servo model; add a [ballbar] test",
+            ));
+        }
+        if volumetric.is_none() && laser_test.is_none() && ballbar_test.is_none() {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric], [iso230_2], [warmup] or [iso230_3_linear] section",
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear] or [ballbar] section",
             ));
         }
 
@@ -619,6 +637,7 @@ impl Scenario {
             volumetric,
             laser_test,
             thermal,
+            ballbar_test,
         })
     }
 }

@@ -20,10 +20,12 @@
 
 mod inverse;
 mod kinematics;
+mod plane;
 mod urdf;
 
 pub use inverse::{InverseKinematicsError, TiltBranch, ToolTarget};
 pub use kinematics::Workspace;
+pub use plane::Plane;
 pub use urdf::{MachineError, MachineErrorKind};
 
 use crate::math::{Pose, Real, Vector};

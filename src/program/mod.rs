@@ -3,8 +3,17 @@
 //! (for the thermal model: how fast each axis moved and how fast the spindle turned) and
 //! measurement events (for the instruments: where the machine stood and how it got there).
 //!
-//! Simplified: axes move at constant speed along straight lines, starting and stopping
-//! instantly (no acceleration, no servo lag); the ball-bar work adds the servo model.
+//! Simplified: the steps of a [`Program`] move axes at constant speed along straight lines,
+//! starting and stopping instantly (no acceleration, no servo lag), which is what the thermal
+//! model needs. Circular tests have their own interpolator ([`CircularInterpolation`]: ramps,
+//! overshoot arcs) and controller model ([`servo`]: position loops, feed-forward, reversal
+//! spikes, vibration), which turn commands into actual axis positions.
+
+mod circle;
+pub mod servo;
+
+pub use circle::{CircularInterpolation, CommandPoint};
+pub use servo::{AxisServo, Servo, ServoSample, run_circle};
 
 use crate::io::Approach;
 use crate::machine::{Axis, AxisValues, Direction, MachineState};

@@ -1,0 +1,341 @@
+//! Model discovery on ball-bar tables: an effect the base model lacks is hidden in a simulated
+//! circular test and must be found, named and measured; a trace with nothing hidden must get
+//! nothing added.
+//!
+//! The traces come from a small machine simulated here, independently of the fit's columns:
+//! the axes follow their commands with servo lags (so they reverse that much after their
+//! programmed reversals), backlash acts against each axis's actual direction, a cyclic error
+//! moves an axis by A·sin(2π·position/P + φ), a lobed form moves the tool radially by
+//! A·sin(kθ + φ), a drift grows the bar with time; the reading is the exact distance
+//! |tool − centre ball| − R plus white noise (0.2 µm), at the programmed angle. Every trace has
+//! the base model's terms (centre offset, squareness, scale errors, a bar length error) and
+//! servo lags of 30 ms. Circles of R = 150 mm at 1000 mm/min sampled at 125 Hz, ccw then cw
+//! with 45° lead-in and lead-out arcs, in the XY plane (p = X, q = Y).
+
+use mtwin::analysis::iso230_4::CircularTest;
+use mtwin::discovery::{BallbarEffect, discover_ballbar};
+use mtwin::io::{BallbarReading, BallbarTable, Sense};
+use mtwin::machine::Plane;
+use mtwin::math::{seeded_rng, standard_normal};
+use std::f64::consts::TAU;
+
+const R: f64 = 0.150;
+const V: f64 = 1.0 / 60.0; // 1000 mm/min in m/s
+const RATE: f64 = 125.0;
+const UM: f64 = 1e-6;
+const NOISE: f64 = 0.2 * UM;
+
+/// What is hidden in a trace beyond the base terms (SI).
+#[derive(Clone, Copy, Debug, Default)]
+struct Hidden {
+    /// Lost motion of p and q (m).
+    backlash: [f64; 2],
+    /// Extra lag of p over q (s).
+    servo: f64,
+    /// Cyclic error of p: amplitude (m), period (m), phase (rad).
+    cyclic_p: (f64, f64, f64),
+    /// Lobed form: lobes, radial amplitude (m), phase (rad).
+    lobes: (u32, f64, f64),
+    /// Bar growth rate (m/s).
+    drift: f64,
+}
+
+/// The simulated table of one test.
+fn simulate(hidden: &Hidden, seed: u64) -> BallbarTable {
+    let mut rng = seeded_rng(seed, "ballbar discovery noise");
+    let (centre, squareness, scale, bar) = ([12.0 * UM, -7.0 * UM], 15e-6, [8e-6, -4e-6], 1.5 * UM);
+    let lag = [0.030 + hidden.servo, 0.030];
+    let omega = V / R;
+    let dt = 1.0 / RATE;
+    let lead = 45f64.to_radians() / omega;
+    let t_arc = TAU / omega;
+    let mut readings = Vec::new();
+    let mut clock = 0.0;
+    for (sense, start) in [(Sense::Ccw, 0.0), (Sense::Cw, TAU)] {
+        let sigma = sense.sign();
+        let theta = |t: f64| start + sigma * omega * t;
+        let mut k = -(lead / dt).ceil() as i64;
+        loop {
+            // Half a sample off the start, so no sample falls exactly on a reversal.
+            let t = (k as f64 + 0.5) * dt;
+            k += 1;
+            if t > t_arc + lead {
+                break;
+            }
+            let th = theta(t);
+            let command = [R * th.cos(), R * th.sin()];
+            let mut axis = [0.0; 2];
+            for a in 0..2 {
+                // The axis follows its command delayed by its lag, and reverses that late.
+                let delayed = theta(t - lag[a]);
+                let direction = sigma
+                    * if a == 0 {
+                        -delayed.sin()
+                    } else {
+                        delayed.cos()
+                    };
+                let nominal = R * if a == 0 { delayed.cos() } else { delayed.sin() };
+                axis[a] =
+                    (1.0 + scale[a]) * nominal - direction.signum() * hidden.backlash[a] / 2.0;
+            }
+            let (amplitude, period, phase) = hidden.cyclic_p;
+            if period > 0.0 {
+                axis[0] += amplitude * (TAU * command[0] / period + phase).sin();
+            }
+            let tool = [
+                axis[0] + squareness * axis[1] + centre[0],
+                axis[1] + centre[1],
+            ];
+            let (lobes, lobe_amplitude, lobe_phase) = hidden.lobes;
+            let form = lobe_amplitude * (f64::from(lobes) * th + lobe_phase).sin();
+            let time = clock + t + lead;
+            if (0.0..t_arc).contains(&t) {
+                readings.push(BallbarReading {
+                    sense,
+                    angle: th.rem_euclid(TAU) % TAU,
+                    deviation: tool[0].hypot(tool[1]) - R
+                        + form
+                        + bar
+                        + hidden.drift * time
+                        + NOISE * standard_normal(&mut rng),
+                    time: Some(time),
+                });
+            }
+        }
+        clock += t_arc + 2.0 * lead + 2.0;
+    }
+    BallbarTable { readings }
+}
+
+fn xy() -> CircularTest {
+    CircularTest {
+        plane: Plane::XY,
+        radius: R,
+        feed: V,
+    }
+}
+
+/// Runs discovery and returns the accepted effects and the final parameters of `effect`.
+fn discover(
+    hidden: &Hidden,
+    seed: u64,
+    effect: Option<BallbarEffect>,
+) -> (
+    Vec<BallbarEffect>,
+    Option<std::collections::BTreeMap<&'static str, f64>>,
+) {
+    let table = simulate(hidden, seed);
+    let t0 = std::time::Instant::now();
+    let found = discover_ballbar(&table, &xy(), |_| {}).unwrap();
+    println!("seed {seed}: {:?} in {:?}", found.accepted(), t0.elapsed());
+    if seed == 1 {
+        println!("{}", found.to_text());
+    }
+    (found.accepted(), effect.and_then(|e| found.final_params(e)))
+}
+
+#[test]
+fn hidden_backlash_of_y_is_found_and_measured() {
+    let hidden = Hidden {
+        backlash: [0.0, 3.0 * UM],
+        ..Hidden::default()
+    };
+    for seed in 1..=2 {
+        let (accepted, params) = discover(&hidden, seed, Some(BallbarEffect::BacklashQ));
+        assert_eq!(accepted, [BallbarEffect::BacklashQ], "seed {seed}");
+        let params = params.unwrap();
+        let b = params["backlash_um"];
+        assert!((b - 3.0).abs() < 0.15, "seed {seed}: {b} µm");
+        // Y reverses its 30 ms servo lag after the programmed 90° and 270° (125 Hz: ±4 ms).
+        let lag = params["reversal_lag_ms"];
+        assert!((lag - 30.0).abs() < 4.0, "seed {seed}: lag {lag} ms");
+    }
+}
+
+#[test]
+fn a_hidden_five_lobe_form_is_found_and_measured() {
+    let hidden = Hidden {
+        lobes: (5, 1.0 * UM, 0.4),
+        ..Hidden::default()
+    };
+    for seed in 1..=2 {
+        let (accepted, params) = discover(&hidden, seed, Some(BallbarEffect::Lobes));
+        assert_eq!(accepted, [BallbarEffect::Lobes], "seed {seed}");
+        let params = params.unwrap();
+        assert_eq!(params["lobes"], 5.0);
+        assert!((params["amplitude_um"] - 1.0).abs() < 0.05, "{params:?}");
+        assert!(
+            (params["phase_deg"] - 0.4f64.to_degrees()).abs() < 3.0,
+            "{params:?}"
+        );
+    }
+}
+
+#[test]
+fn a_hidden_cyclic_error_of_x_is_found_with_its_period() {
+    let hidden = Hidden {
+        cyclic_p: (1.0 * UM, 0.010, 0.7),
+        ..Hidden::default()
+    };
+    for seed in 1..=2 {
+        let (accepted, params) = discover(&hidden, seed, Some(BallbarEffect::CyclicP));
+        assert_eq!(accepted, [BallbarEffect::CyclicP], "seed {seed}");
+        let params = params.unwrap();
+        assert!((params["period_mm"] - 10.0).abs() < 0.01, "{params:?}");
+        assert!((params["amplitude_um"] - 1.0).abs() < 0.05, "{params:?}");
+        assert!(
+            (params["phase_deg"] - 0.7f64.to_degrees()).abs() < 3.0,
+            "{params:?}"
+        );
+    }
+}
+
+#[test]
+fn a_radius_drift_is_found_with_its_rate() {
+    // The bar grows 0.5 µm/min: about 1.1 µm over the two circles.
+    let hidden = Hidden {
+        drift: 0.5 * UM / 60.0,
+        ..Hidden::default()
+    };
+    for seed in 1..=2 {
+        let (accepted, params) = discover(&hidden, seed, Some(BallbarEffect::RadiusDrift));
+        assert_eq!(accepted, [BallbarEffect::RadiusDrift], "seed {seed}");
+        let rate = params.unwrap()["rate_um_per_min"];
+        assert!((rate - 0.5).abs() < 0.025, "{rate}");
+    }
+}
+
+#[test]
+fn two_hidden_effects_are_both_found() {
+    // A servo mismatch (p lags 0.3 ms more: 2.5 µm of σ·sin 2θ) and backlash of X (2 µm).
+    let hidden = Hidden {
+        servo: 0.3e-3,
+        backlash: [2.0 * UM, 0.0],
+        ..Hidden::default()
+    };
+    let table = simulate(&hidden, 3);
+    let found = discover_ballbar(&table, &xy(), |_| {}).unwrap();
+    let mut accepted = found.accepted();
+    accepted.sort();
+    assert_eq!(
+        accepted,
+        [BallbarEffect::ServoMismatch, BallbarEffect::BacklashP]
+    );
+    let servo = found.final_params(BallbarEffect::ServoMismatch).unwrap()["servo_mismatch_ms"];
+    assert!((servo - 0.3).abs() < 0.015, "{servo}");
+    let backlash = found.final_params(BallbarEffect::BacklashP).unwrap()["backlash_um"];
+    assert!((backlash - 2.0).abs() < 0.1, "{backlash}");
+    let json = found.to_json();
+    assert_eq!(json["kind"], "ballbar");
+    assert_eq!(json["plane"], "XY");
+    let names: Vec<&str> = json["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["effect"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"backlash_x") && names.contains(&"servo_mismatch"),
+        "{names:?}"
+    );
+    for step in json["steps"].as_array().unwrap() {
+        for key in [
+            "cause",
+            "evidence",
+            "params",
+            "rms_um",
+            "cv_rms_um",
+            "gain_um",
+            "gain_pct",
+        ] {
+            assert!(!step[key].is_null(), "{key}");
+        }
+    }
+    assert!(json["final"]["params"]["backlash_x"]["backlash_um"].is_number());
+    assert!(json["final"]["params"]["base"]["squareness_um_per_m"].is_number());
+    assert!(
+        json["baseline"]["cv_rms_um"].as_f64().unwrap()
+            > json["final"]["cv_rms_um"].as_f64().unwrap()
+    );
+    // The base terms are what the simulation put in: 15 µrad of squareness, 12 ppm of scale
+    // mismatch, a 12 µm, −7 µm centre offset.
+    let base = &json["final"]["params"]["base"];
+    assert!(
+        (base["squareness_um_per_m"].as_f64().unwrap() - 15.0).abs() < 0.3,
+        "{base}"
+    );
+    assert!(
+        (base["scale_mismatch_ppm"].as_f64().unwrap() - 12.0).abs() < 0.3,
+        "{base}"
+    );
+    assert!(
+        (base["centre_offset_x_um"].as_f64().unwrap() - 12.0).abs() < 0.05,
+        "{base}"
+    );
+    assert!(
+        (base["centre_offset_y_um"].as_f64().unwrap() + 7.0).abs() < 0.05,
+        "{base}"
+    );
+}
+
+#[test]
+fn a_clean_trace_gets_nothing_added() {
+    // The base terms and white noise only, over 20 seeds: every acceptance is a false one.
+    let mut false_acceptances = 0;
+    let mut proposals = 0;
+    for seed in 100..120 {
+        let table = simulate(&Hidden::default(), seed);
+        let mut tested = 0;
+        let found = discover_ballbar(&table, &xy(), |_| tested += 1).unwrap();
+        proposals += tested;
+        false_acceptances += found.accepted().len();
+        if !found.accepted().is_empty() {
+            println!("seed {seed}: {}", found.to_text());
+        }
+    }
+    println!(
+        "clean traces: {false_acceptances} false acceptances, {proposals} candidates tested in 20 seeds"
+    );
+    assert_eq!(false_acceptances, 0);
+}
+
+#[test]
+fn one_sense_cannot_test_the_sense_dependent_effects() {
+    let table = simulate(&Hidden::default(), 4);
+    let ccw = BallbarTable {
+        readings: table
+            .readings
+            .iter()
+            .filter(|r| r.sense == Sense::Ccw)
+            .copied()
+            .collect(),
+    };
+    let found = discover_ballbar(&ccw, &xy(), |_| {}).unwrap();
+    let untestable: Vec<BallbarEffect> = found.untestable().iter().map(|(e, _)| *e).collect();
+    assert_eq!(
+        untestable,
+        [
+            BallbarEffect::ServoMismatch,
+            BallbarEffect::LateralPlayP,
+            BallbarEffect::LateralPlayQ,
+            BallbarEffect::SenseRadius
+        ]
+    );
+    assert!(found.untestable()[0].1.contains("both senses"));
+    assert!(found.accepted().is_empty(), "{:?}", found.accepted());
+    let json = found.to_json();
+    assert_eq!(json["untestable"][0]["effect"], "servo_mismatch");
+}
+
+#[test]
+fn too_few_readings_are_refused() {
+    let table = simulate(&Hidden::default(), 5);
+    let sparse = BallbarTable {
+        readings: table.readings.iter().step_by(150).copied().collect(),
+    };
+    let error = discover_ballbar(&sparse, &xy(), |_| {}).unwrap_err();
+    assert!(error.to_string().contains("at least 200"), "{error}");
+    let bad = CircularTest { feed: 0.0, ..xy() };
+    let error = discover_ballbar(&table, &bad, |_| {}).unwrap_err();
+    assert!(error.to_string().contains("feed 0 mm/min"), "{error}");
+}
