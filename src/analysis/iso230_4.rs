@@ -82,7 +82,7 @@
 
 use crate::io::BallbarTable;
 use crate::machine::Plane;
-use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed};
+use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed, golden_minimum};
 use nalgebra::DMatrix;
 use serde_json::{Value, json};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -963,7 +963,7 @@ impl CircleData {
             grid[best.saturating_sub(1)],
             grid[(best + 1).min(LAG_GRID - 1)],
         );
-        let (refined, value) = golden_minimum(|g| profile.rss(g), a, b);
+        let (refined, value) = golden_minimum(|g| profile.rss(g), a, b, GOLDEN_ITERATIONS);
         let (lag, value) = if value < values[best] {
             (refined, value)
         } else {
@@ -1038,7 +1038,7 @@ impl CircleData {
                     grid[best.saturating_sub(1)],
                     grid[(best + 1).min(DECAY_GRID - 1)],
                 );
-                let (refined, value) = golden_minimum(|g| at(g.exp()), a, b);
+                let (refined, value) = golden_minimum(|g| at(g.exp()), a, b, GOLDEN_ITERATIONS);
                 shape.decay[axis] = if value < values[best] {
                     refined.exp()
                 } else {
@@ -1058,8 +1058,12 @@ impl CircleData {
                     trial.period[axis] = 1.0 / f;
                     rss(&trial)
                 };
-                let (refined, value) =
-                    golden_minimum(at, (peak - step).max(f_low), (peak + step).min(f_high));
+                let (refined, value) = golden_minimum(
+                    at,
+                    (peak - step).max(f_low),
+                    (peak + step).min(f_high),
+                    GOLDEN_ITERATIONS,
+                );
                 shape.period[axis] = if value < at(peak) {
                     1.0 / refined
                 } else {
@@ -1234,25 +1238,6 @@ fn interval(
         (inside + outside) / 2.0
     };
     (edge(low), edge(high))
-}
-
-/// The minimum of `f` over `[low, high]` by golden-section search; (argument, value).
-fn golden_minimum(mut f: impl FnMut(Real) -> Real, mut low: Real, mut high: Real) -> (Real, Real) {
-    let ratio = (5.0_f64.sqrt() - 1.0) / 2.0;
-    let (mut a, mut b) = (high - ratio * (high - low), low + ratio * (high - low));
-    let (mut fa, mut fb) = (f(a), f(b));
-    for _ in 0..GOLDEN_ITERATIONS {
-        if fa <= fb {
-            (high, b, fb) = (b, a, fa);
-            a = high - ratio * (high - low);
-            fa = f(a);
-        } else {
-            (low, a, fa) = (a, b, fb);
-            b = low + ratio * (high - low);
-            fb = f(b);
-        }
-    }
-    if fa <= fb { (a, fa) } else { (b, fb) }
 }
 
 /// A searched parameter of a fit: an axis's reversal lag or a searched term's shape.
@@ -2322,12 +2307,6 @@ mod tests {
         let lag = 0.1 * 4.0 * RAD_PER_DEG / 0.01;
         assert!((arc(0, 10.0, 1.0, lag) - 6.0).abs() < 1e-9);
         assert!((arc(0, 350.0, -1.0, lag) - 6.0).abs() < 1e-9);
-    }
-
-    #[test]
-    fn golden_section_finds_a_parabola_minimum() {
-        let (x, fx) = golden_minimum(|x| (x - 0.3).powi(2) + 1.0, -1.0, 2.0);
-        assert!((x - 0.3).abs() < 1e-3 && (fx - 1.0).abs() < 1e-6);
     }
 
     #[test]

@@ -64,36 +64,6 @@ impl Design {
     }
 }
 
-/// The minimum of `f` over `[low, high]` by golden-section search (`iterations` shrinks the
-/// bracket by 0.618 each); returns (argument, value).
-pub fn golden_minimum(
-    mut f: impl FnMut(Real) -> Real,
-    mut low: Real,
-    mut high: Real,
-    iterations: usize,
-) -> (Real, Real) {
-    let ratio = (5.0_f64.sqrt() - 1.0) / 2.0;
-    let mut a = high - ratio * (high - low);
-    let mut b = low + ratio * (high - low);
-    let (mut fa, mut fb) = (f(a), f(b));
-    for _ in 0..iterations {
-        if fa <= fb {
-            high = b;
-            b = a;
-            fb = fa;
-            a = high - ratio * (high - low);
-            fa = f(a);
-        } else {
-            low = a;
-            a = b;
-            fa = fb;
-            b = low + ratio * (high - low);
-            fb = f(b);
-        }
-    }
-    if fa <= fb { (a, fa) } else { (b, fb) }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,11 +82,5 @@ mod tests {
         design.push(x);
         let c = design.solve(&y);
         assert!((c[1] - 1.5).abs() < 1e-9 && (c[2] - 1.5).abs() < 1e-9);
-    }
-
-    #[test]
-    fn golden_section_finds_a_parabola_minimum() {
-        let (x, fx) = golden_minimum(|x| (x - 0.3).powi(2) + 1.0, -1.0, 2.0, 60);
-        assert!((x - 0.3).abs() < 1e-6 && (fx - 1.0).abs() < 1e-12);
     }
 }

@@ -22,9 +22,10 @@
 //! never their deviations). Between readings the temperature is taken to change linearly.
 
 use super::engine::{self, Folds, Problem, Score, Selection};
-use super::least_squares::{Design, golden_minimum};
+use super::least_squares::Design;
 use crate::io::{Approach, PositioningTable};
 use crate::machine::Axis;
+use crate::math::golden_minimum;
 use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 use crate::thermal::first_order_lag;
 use serde_json::{Value, json};
