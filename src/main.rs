@@ -38,6 +38,7 @@ enum Command {
         file: PathBuf,
     },
     /// The standards' figures from a measurement table (simulated or real).
+    #[command(after_long_help = BALLBAR_CONVENTIONS)]
     Analyze {
         /// What the table holds: `positioning` (ISO 230-2: target_mm, deviation_um, and
         /// optionally axis, run, direction (+/-), time_min, temp_<sensor>_degc).
@@ -97,6 +98,24 @@ enum Command {
         circle: CircleArgs,
     },
 }
+
+/// The ball-bar diagnostics' conventions, for `analyze --help`.
+const BALLBAR_CONVENTIONS: &str = "\
+Ball-bar diagnostics (keys use the plane's axis letters; p = first axis, q = second;
+θ from +p toward +q; σ = +1 ccw, −1 cw; d = measured − nominal radius, + outward):
+  radius_deviation_um     constant radial deviation (bar length error, mean scale)
+  centre_offset_p_um      centre of the machine's circle relative to the centre ball, along p (q alike)
+  squareness_um_per_m     + when the angle between +p and +q travel is under 90°: (R·s/2)·sin 2θ
+  scale_mismatch_ppm      kp − kq: (R·Δk/2)·cos 2θ
+  servo_mismatch_ms       lag time of p − lag time of q (1/Kv), + when p lags: σ·(v·Δτ/2)·sin 2θ
+  backlash_p_um           p lags the command by half of it against its travel: steps at 0°/180°
+  lateral_play_p_um       the p carriage shifts along q by −sgn(ṗ)·l/2 (toward −q while p travels +): σ·|sin θ|·l/2
+  reversal_spike_p_um     peak after p reverses, + outward, with its decay (_decay_ms)
+  reversal_lag_p_ms       time from p's programmed reversal to its actual one (servo lag)
+  straightness_p_um       bow of p along q, peak-to-valley over the diameter, middle toward +q: S·sin³θ
+  cyclic_p_um             periodic error of p along p, with cyclic_p_period_mm and _phase_deg
+Each comes with its standard uncertainty; what the data cannot separate is reported null
+with the reason.";
 
 /// The conditions of a circular test, which a ball-bar table does not hold.
 #[derive(clap::Args)]
