@@ -24,7 +24,7 @@
 //! degrees of freedom) reaches ln(M/0.05) for the M periods or lobe counts tested, the level
 //! the largest of M noise-only values exceeds at most 5 % of the time (Bonferroni).
 
-use super::engine::{self, Folds, Problem, Score, Selection};
+use super::engine::{self, Folds, Problem, Score, Selection, params_json, round_json as round};
 use crate::analysis::iso230_4::{
     BallbarError, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term,
     covered_arc, diagnostic_column,
@@ -567,20 +567,6 @@ fn params(
         params.insert("reversal_lag_ms", fit.shape.lag[axis] * 1e3);
     }
     params
-}
-
-/// Rounds for reports: 4 decimals, no −0.
-fn round(value: Real) -> Value {
-    json!(fixed(value, 4).parse::<Real>().unwrap_or(value))
-}
-
-fn params_json(params: &BTreeMap<&'static str, Real>) -> Value {
-    Value::Object(
-        params
-            .iter()
-            .map(|(k, v)| (k.to_string(), round(*v)))
-            .collect(),
-    )
 }
 
 impl BallbarDiscovery {

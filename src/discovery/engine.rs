@@ -351,6 +351,27 @@ fn best_pair<P: Problem>(
     best
 }
 
+/// Rounds a reported number to 4 decimals (0.1 nm in µm), without −0.
+pub(crate) fn round_json(value: Real) -> serde_json::Value {
+    serde_json::json!(
+        crate::math::fixed(value, 4)
+            .parse::<Real>()
+            .unwrap_or(value)
+    )
+}
+
+/// An effect's parameters as a JSON object, rounded by [`round_json`].
+pub(crate) fn params_json(
+    params: &std::collections::BTreeMap<&'static str, Real>,
+) -> serde_json::Value {
+    serde_json::Value::Object(
+        params
+            .iter()
+            .map(|(k, v)| (k.to_string(), round_json(*v)))
+            .collect(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

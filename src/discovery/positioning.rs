@@ -21,7 +21,7 @@
 //! the whole file's temperature record (readings held out of a fold keep their temperatures,
 //! never their deviations). Between readings the temperature is taken to change linearly.
 
-use super::engine::{self, Folds, Problem, Score, Selection};
+use super::engine::{self, Folds, Problem, Score, Selection, params_json, round_json as round};
 use super::least_squares::Design;
 use crate::io::{Approach, PositioningTable};
 use crate::machine::Axis;
@@ -1245,20 +1245,6 @@ impl PositioningFit {
         }
         params
     }
-}
-
-/// Rounds for reports: 4 decimals (0.1 nm in µm), no −0.
-fn round(value: Real) -> Value {
-    json!(fixed(value, 4).parse::<Real>().unwrap_or(value))
-}
-
-fn params_json(params: &BTreeMap<&'static str, Real>) -> Value {
-    Value::Object(
-        params
-            .iter()
-            .map(|(k, v)| (k.to_string(), round(*v)))
-            .collect(),
-    )
 }
 
 fn association_json(a: &Option<Association>, slope_unit: &str, scale: Real) -> Value {
