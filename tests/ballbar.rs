@@ -245,8 +245,17 @@ fn squareness_reads_r_s_over_2_sin_2theta_in_both_senses() {
             reading.angle
         );
     }
-    // By hand at 45°: 150 mm × 30 µm/m / 2 = +2.25 µm, the ellipse's long axis along 45°.
-    assert!((RADIUS * s / 2.0 - 2.25e-6).abs() < 1e-15);
+    // By hand at 45°: 150 mm × 30 µm/m / 2 = +2.25 µm, the ellipse's long axis along 45°
+    // (the reading nearest 45° is within 0.013°: sin 2θ differs from 1 by < 1e-7).
+    let (_, at_45) = difference(&square, &perfect)
+        .into_iter()
+        .filter(|(r, _)| r.sense == Sense::Ccw)
+        .min_by(|a, b| {
+            let off = |r: &BallbarReading| (actual_angle(r) - PI / 4.0).abs();
+            off(&a.0).total_cmp(&off(&b.0))
+        })
+        .unwrap();
+    assert!((at_45 - 2.25e-6).abs() < NM, "{at_45}");
 }
 
 #[test]
@@ -306,7 +315,18 @@ fn lost_motion_steps_at_the_axis_reversals_with_the_sense_of_travel() {
         checked += 1;
     }
     assert!(checked > 27_000);
-    // By hand: counter-clockwise just past 0°, X now travelling −X: +b/2 (+ the set-up's +b/2).
+    // By hand at 30° counter-clockwise: X travels −X (+b/2·cos 30°) and the ball was set with X
+    // at −b/2 (+b/2·cos 30° more): 4 µm × 0.866 = 3.464 µm; Y travels +Y, as when the ball was
+    // set: nothing. The reading nearest 30° is within 0.013° (0.4 nm of slope).
+    let (_, at_30) = difference(&lost, &perfect)
+        .into_iter()
+        .filter(|(r, _)| r.sense == Sense::Ccw)
+        .min_by(|a, b| {
+            let off = |r: &BallbarReading| (actual_angle(r) - PI / 6.0).abs();
+            off(&a.0).total_cmp(&off(&b.0))
+        })
+        .unwrap();
+    assert!((at_30 - 3.464e-6).abs() < NM, "{at_30}");
 }
 
 #[test]

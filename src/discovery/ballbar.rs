@@ -635,15 +635,12 @@ impl BallbarDiscovery {
         let plane = self.plane();
         let data = &self.problem.data;
         let (base_score, base_fit) = &self.selection.baseline;
-        let mut previous = base_score.cv_rms;
         let steps: Vec<Value> = self
             .selection
             .steps
             .iter()
-            .map(|step| {
-                let gain = previous - step.score.cv_rms;
-                let pct = 100.0 * gain / previous;
-                previous = step.score.cv_rms;
+            .zip(self.selection.gains())
+            .map(|(step, (gain, pct))| {
                 json!({
                     "effect": step.effect.id(plane),
                     "axis": step.effect.axis(plane).map(|a| a.to_string()),
@@ -754,8 +751,7 @@ impl BallbarDiscovery {
                 "  nothing: no effect lowers the held-out RMS more than noise can"
             );
         }
-        let mut previous = base_score.cv_rms;
-        for step in &self.selection.steps {
+        for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
             let params = params(&step.fit, step.effect, data)
                 .iter()
                 .map(|(k, v)| format!("{k} = {v:.3}"))
@@ -773,10 +769,9 @@ impl BallbarDiscovery {
                 step.effect.id(plane),
                 step.effect.cause(),
                 um(step.score.cv_rms),
-                um(previous - step.score.cv_rms),
-                100.0 * (previous - step.score.cv_rms) / previous
+                um(gain),
+                pct
             );
-            previous = step.score.cv_rms;
         }
         if !self.selection.rejected.is_empty() {
             let _ = writeln!(out, "\nTested and rejected (held-out RMS):");

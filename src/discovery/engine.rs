@@ -219,6 +219,21 @@ impl<E: Copy, F> Selection<E, F> {
         self.steps.iter().map(|s| s.effect).collect()
     }
 
+    /// Each step's held-out gain over the model before it: (drop of the held-out RMS, the
+    /// same in % of the RMS before).
+    pub fn gains(&self) -> Vec<(Real, Real)> {
+        let mut before = self.baseline.0.cv_rms;
+        self.steps
+            .iter()
+            .map(|step| {
+                let gain = before - step.score.cv_rms;
+                let pct = 100.0 * gain / before;
+                before = step.score.cv_rms;
+                (gain, pct)
+            })
+            .collect()
+    }
+
     /// The final model's score and fit.
     pub fn last(&self) -> (&Score, &F) {
         match self.steps.last() {

@@ -1329,15 +1329,12 @@ impl PositioningDiscovery {
         let um = |v: Real| round(v / M_PER_UM);
         let (base_score, base_fit) = &self.selection.baseline;
         let (knots, values) = base_fit.profile();
-        let mut previous = base_score.cv_rms;
         let steps: Vec<Value> = self
             .selection
             .steps
             .iter()
-            .map(|step| {
-                let gain = previous - step.score.cv_rms;
-                let pct = 100.0 * gain / previous;
-                previous = step.score.cv_rms;
+            .zip(self.selection.gains())
+            .map(|(step, (gain, pct))| {
                 json!({
                     "effect": step.effect.id(),
                     "together_with": step.together_with.map(PositioningEffect::id),
@@ -1497,8 +1494,7 @@ impl PositioningDiscovery {
         if self.selection.steps.is_empty() {
             out.push_str("  nothing: no effect lowers the held-out RMS more than noise can\n");
         }
-        let mut previous = base_score.cv_rms;
-        for step in &self.selection.steps {
+        for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
             let params = step
                 .fit
                 .params(step.effect)
@@ -1517,10 +1513,9 @@ impl PositioningDiscovery {
                 step.effect.id(),
                 step.effect.cause(),
                 um(step.score.cv_rms),
-                um(previous - step.score.cv_rms),
-                100.0 * (previous - step.score.cv_rms) / previous
+                um(gain),
+                pct
             ));
-            previous = step.score.cv_rms;
         }
         if !self.selection.rejected.is_empty() {
             out.push_str("\nTested and rejected (held-out RMS):\n");

@@ -12,7 +12,7 @@
 //! The plane, radius and feed are not in the file; they are the test conditions the user
 //! gives (`--plane`, `--radius-mm`, `--feed-mm-per-min`).
 
-use super::table::{TableError, csv_reader, read_file};
+use super::table::{TableError, csv_reader, read_file, read_header};
 use crate::math::{M_PER_UM, RAD_PER_DEG, Real, fixed};
 use std::path::Path;
 
@@ -76,10 +76,7 @@ impl BallbarTable {
     pub fn parse(bytes: &[u8], file: &str) -> Result<BallbarTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
         let mut reader = csv_reader(bytes);
-        let header = reader
-            .headers()
-            .map_err(|e| fail(Some(1), format!("cannot read the header: {e}")))?
-            .clone();
+        let header = read_header(&mut reader, file)?;
         for name in &header {
             if !KNOWN.contains(&name) {
                 return Err(fail(
@@ -88,9 +85,6 @@ impl BallbarTable {
                         "unknown column `{name}`: expected direction, angle_deg, deviation_um or time_s"
                     ),
                 ));
-            }
-            if header.iter().filter(|h| *h == name).count() > 1 {
-                return Err(fail(Some(1), format!("column `{name}` appears twice")));
             }
         }
         let column = |name: &str| header.iter().position(|h| h == name);

@@ -8,7 +8,7 @@
 //! | `<channel>_urad` | | an angular displacement (µrad) |
 //! | `temp_<sensor>_degc` | no | temperatures (°C); the first is taken as the ambient |
 
-use super::table::{TableError, csv_reader, read_file};
+use super::table::{TableError, csv_reader, read_file, read_header};
 use crate::math::{M_PER_UM, RAD_PER_URAD, Real};
 use std::path::Path;
 
@@ -45,17 +45,11 @@ impl DriftTable {
     pub fn parse(bytes: &[u8], file: &str) -> Result<DriftTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
         let mut reader = csv_reader(bytes);
-        let header = reader
-            .headers()
-            .map_err(|e| fail(Some(1), format!("cannot read the header: {e}")))?
-            .clone();
+        let header = read_header(&mut reader, file)?;
         let mut time_column = None;
         let mut channels = Vec::new(); // (column, name, angular)
         let mut sensors = Vec::new(); // (column, name)
         for (index, name) in header.iter().enumerate() {
-            if header.iter().filter(|h| *h == name).count() > 1 {
-                return Err(fail(Some(1), format!("column `{name}` appears twice")));
-            }
             if name == "time_min" {
                 time_column = Some(index);
             } else if let Some(sensor) = name

@@ -15,7 +15,7 @@
 //! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
 //! reading at a target in a direction belongs to run k.
 
-use super::table::{TableError, csv_reader, read_file};
+use super::table::{TableError, csv_reader, read_file, read_header};
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 use std::path::Path;
@@ -81,18 +81,12 @@ impl PositioningTable {
     pub fn parse(bytes: &[u8], file: &str) -> Result<PositioningTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
         let mut reader = csv_reader(bytes);
-        let header = reader
-            .headers()
-            .map_err(|e| fail(Some(1), format!("cannot read the header: {e}")))?
-            .clone();
+        let header = read_header(&mut reader, file)?;
         let column = |name: &str| header.iter().position(|h| h == name);
         let mut sensors = Vec::new();
         let mut sensor_columns = Vec::new();
         for (index, name) in header.iter().enumerate() {
             if KNOWN.contains(&name) {
-                if header.iter().filter(|h| *h == name).count() > 1 {
-                    return Err(fail(Some(1), format!("column `{name}` appears twice")));
-                }
                 continue;
             }
             match name
@@ -100,9 +94,6 @@ impl PositioningTable {
                 .and_then(|rest| rest.strip_suffix("_degc"))
             {
                 Some(sensor) if !sensor.is_empty() => {
-                    if sensors.iter().any(|s| s == sensor) {
-                        return Err(fail(Some(1), format!("column `{name}` appears twice")));
-                    }
                     sensors.push(sensor.to_string());
                     sensor_columns.push(index);
                 }

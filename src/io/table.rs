@@ -1,4 +1,5 @@
 //! What every measurement-table reader shares: the error that names the file, line and column,
+//! the header row (no column twice),
 //! reading the file, and the CSV dialect (a header row, trimmed fields, `#` comment lines).
 
 use std::path::Path;
@@ -42,4 +43,25 @@ pub(crate) fn csv_reader(bytes: &[u8]) -> csv::Reader<&[u8]> {
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
         .from_reader(bytes)
+}
+
+/// The header row of a table, refused if it cannot be read or names a column twice.
+pub(crate) fn read_header(
+    reader: &mut csv::Reader<&[u8]>,
+    file: &str,
+) -> Result<csv::StringRecord, TableError> {
+    let header = reader
+        .headers()
+        .map_err(|e| TableError::new(file, Some(1), format!("cannot read the header: {e}")))?
+        .clone();
+    for (index, name) in header.iter().enumerate() {
+        if header.iter().skip(index + 1).any(|h| h == name) {
+            return Err(TableError::new(
+                file,
+                Some(1),
+                format!("column `{name}` appears twice"),
+            ));
+        }
+    }
+    Ok(header)
 }
