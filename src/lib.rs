@@ -29,3 +29,5 @@ pub mod math;
 pub mod program;
 pub mod thermal;
 pub mod twin;
+#[cfg(feature = "viz")]
+pub mod viz;

@@ -7,7 +7,7 @@ use mtwin::analysis::iso230_4::{self, CircularTest};
 use mtwin::analysis::thermal_series::thermal_series;
 use mtwin::discovery::{PositioningOptions, discover_ballbar, discover_positioning};
 use mtwin::io::{
-    BallbarTable, DriftTable, PositioningTable, Scenario, run_scenario, write_outputs,
+    BallbarTable, DriftTable, PositioningTable, Scenario, Simulation, simulate, write_outputs,
 };
 use mtwin::machine::{Machine, Plane, Side};
 use std::path::{Path, PathBuf};
@@ -31,6 +31,11 @@ enum Command {
         /// Output folder (created if needed; files in it with the same names are replaced).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Also write a teaching recording of the scenario for the rerun viewer 0.36
+        /// (`rerun FILE.rrd`): the machine moving, its errors enlarged, every instrument's
+        /// scene and discovery. Needs mtwin built with `--features viz`.
+        #[arg(long, value_name = "FILE.rrd")]
+        rrd: Option<PathBuf>,
     },
     /// Validate a scenario (.toml) or a machine model (.urdf) without running it.
     Check {
@@ -197,9 +202,16 @@ fn main() -> ExitCode {
 
 fn execute(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Run { scenario, out } => {
+        Command::Run { scenario, out, rrd } => {
+            if let Some(path) = &rrd {
+                check_recording_path(path)?;
+            }
             let scenario = Scenario::load(&scenario)?;
-            let output = run_scenario(&scenario)?;
+            let simulation = simulate(&scenario)?;
+            let output = simulation.output(&scenario);
+            if let Some(path) = &rrd {
+                record(path, &scenario, &simulation)?;
+            }
             write_outputs(&output, &out)?;
             for (name, bytes) in &output.files {
                 println!("{}  ({} bytes)", out.join(name).display(), bytes.len());
@@ -361,6 +373,45 @@ fn execute(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// A recording path must name an `.rrd` file, and this mtwin must be able to write one.
+fn check_recording_path(path: &Path) -> Result<()> {
+    if path.extension().and_then(|e| e.to_str()) != Some("rrd") {
+        bail!(
+            "--rrd {}: expected a file name ending in .rrd",
+            path.display()
+        );
+    }
+    if !cfg!(feature = "viz") {
+        bail!(
+            "--rrd: this mtwin was built without teaching scenes; build it with `cargo build --release --features viz`"
+        );
+    }
+    Ok(())
+}
+
+/// Writes the teaching recording through a temporary file beside `path`, so a failure leaves
+/// no partial recording.
+#[cfg(feature = "viz")]
+fn record(path: &Path, scenario: &Scenario, simulation: &Simulation) -> Result<()> {
+    let name = path
+        .file_name()
+        .with_context(|| format!("{}: not a file name", path.display()))?;
+    let temporary = path.with_file_name(format!(".{}.partial", name.to_string_lossy()));
+    let result = mtwin::viz::save(&temporary, scenario, simulation, &mut |what| {
+        eprintln!("recording: {what}")
+    });
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&temporary); // best effort: already failing
+        return Err(e).with_context(|| format!("{}", path.display()));
+    }
+    std::fs::rename(&temporary, path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+#[cfg(not(feature = "viz"))]
+fn record(_: &Path, _: &Scenario, _: &Simulation) -> Result<()> {
+    unreachable!("checked by check_recording_path")
 }
 
 fn check(file: &Path) -> Result<()> {

@@ -102,8 +102,8 @@ fn check_accepts_every_scenario() {
     let scenarios = files_with_extension("scenarios", "toml");
     assert_eq!(
         scenarios.len(),
-        9,
-        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment, the ISO 230-3 linear-motion test and three ball-bar tests"
+        12,
+        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment, the ISO 230-3 linear-motion test, three ball-bar tests and three lessons"
     );
     for scenario in scenarios {
         let output = check(&scenario);
@@ -492,4 +492,69 @@ fn ballbar_analysis_needs_its_test_conditions() {
         "{}",
         text(&output.stderr)
     );
+}
+
+/// `mtwin run scenarios/<name> --out DIR/out --rrd DIR/<rrd>`.
+fn run_recording(name: &str, dir: &Path, rrd: &str) -> Output {
+    let scenario = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios")
+        .join(name);
+    mtwin(&[
+        "run".as_ref(),
+        scenario.as_os_str(),
+        "--out".as_ref(),
+        dir.join("out").as_os_str(),
+        "--rrd".as_ref(),
+        dir.join(rrd).as_os_str(),
+    ])
+}
+
+#[test]
+fn run_refuses_a_recording_that_is_not_an_rrd_file() {
+    let dir = TempDir::new().unwrap();
+    let output = run_recording("teach_abbe.toml", dir.path(), "lesson.txt");
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains(".rrd"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!dir.path().join("out").exists(), "no partial output");
+}
+
+#[cfg(not(feature = "viz"))]
+#[test]
+fn run_without_the_viz_feature_says_how_to_get_recordings() {
+    let dir = TempDir::new().unwrap();
+    let output = run_recording("teach_abbe.toml", dir.path(), "lesson.rrd");
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("--features viz"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!dir.path().join("out").exists(), "no partial output");
+}
+
+#[cfg(feature = "viz")]
+#[test]
+fn a_lesson_runs_end_to_end_with_its_recording() {
+    let dir = TempDir::new().unwrap();
+    let output = run_recording("teach_warmup.toml", dir.path(), "warmup.rrd");
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let bytes = std::fs::read(dir.path().join("warmup.rrd")).unwrap();
+    // An .rrd stream starts with rerun's magic bytes.
+    assert!(
+        bytes.starts_with(b"RRF2"),
+        "{:?}",
+        &bytes[..8.min(bytes.len())]
+    );
+    assert!(text(&output.stderr).contains("recording: discovery on the laser table"));
+    assert!(dir.path().join("out/positioning.csv").exists());
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
 }

@@ -75,3 +75,58 @@ fn a_warm_up_cycle_runs_at_its_feed_and_returns_home() {
     assert_eq!(measured[0].state.position[Axis::X], 0.1);
     assert_eq!(measured[0].state.direction(Axis::X), Direction::Positive);
 }
+
+#[test]
+fn the_drawn_path_follows_the_strokes_by_hand_and_meets_every_measurement() {
+    // The warm-up above: at t = 1.25 + 5 s X has run 0.4 m up from 0 (0.4 m); at
+    // t = 1.25 + 12.5 s it has run 1.0 m: to 0.75 and 0.25 back (0.5 m); after the
+    // 602.5 s cycle and the 60 s dwell it stands at home (0.1 m); a diagonal move follows,
+    // and the path ends when and where the measurement is taken.
+    let mut start = AxisValues::ZERO;
+    start[Axis::X] = 0.1;
+    let program = Program {
+        start,
+        steps: vec![
+            Step::WarmUp {
+                axis: Axis::X,
+                from: 0.0,
+                to: 0.75,
+                feed: 0.08,
+                duration: 600.0,
+            },
+            Step::Dwell(60.0),
+            Step::Move {
+                to: vec![(Axis::X, 0.5), (Axis::Y, 0.3)],
+                feed: 0.05,
+            },
+            Step::Measure(MeasurePoint {
+                run: 0,
+                target: 0,
+                approach: Approach::Up,
+            }),
+        ],
+    };
+    let path = program.path(0.25);
+    let at = |t: f64| {
+        path.iter()
+            .find(|(time, _)| (time - t).abs() < 1e-9)
+            .map(|(_, p)| *p)
+            .unwrap_or_else(|| panic!("no sample at {t} s"))
+    };
+    assert!((at(0.0)[Axis::X] - 0.1).abs() < 1e-12);
+    assert!((at(1.25)[Axis::X] - 0.0).abs() < 1e-12);
+    assert!((at(6.25)[Axis::X] - 0.4).abs() < 1e-12);
+    assert!((at(13.75)[Axis::X] - 0.5).abs() < 1e-12);
+    assert!((at(662.5)[Axis::X] - 0.1).abs() < 1e-12);
+    // The diagonal move from (0.1, 0) to (0.5, 0.3): 0.5 m at 0.05 m/s, half-way at 5 s.
+    let mid = at(667.5);
+    assert!((mid[Axis::X] - 0.3).abs() < 1e-12 && (mid[Axis::Y] - 0.15).abs() < 1e-12);
+    // Samples increase in time and end where the timeline ends, at the measured position.
+    assert!(path.windows(2).all(|w| w[1].0 > w[0].0));
+    let visit = visits(&program.timeline(1000.0))[0];
+    let (end_time, end) = *path.last().expect("samples");
+    assert!((end_time - visit.time).abs() < 1e-9);
+    for axis in [Axis::X, Axis::Y, Axis::Z] {
+        assert!((end[axis] - visit.state.position[axis]).abs() < 1e-12);
+    }
+}

@@ -23,9 +23,17 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // ISO 230-3 linear-motion test 2 targets × 240 readings (see tests/thermal_twin.rs). A
     // ball-bar reads for data arc × R / v at 250 Hz per sense, ± 1 reading (where the first
     // sample falls): a full circle of 150 mm at 1000 mm/min 56.5 s, 14 137 readings; a 180° arc
-    // 7 069; a 100 mm circle 9 425.
+    // 7 069; a 100 mm circle 9 425. The lessons: Abbe 6 targets × 2 × 2 runs; squareness a
+    // 100 mm circle at 2000 mm/min, 18.85 s at 100 Hz, 1 885 per sense; warm-up 7 targets
+    // (5..755 step 125) × 2 × 4 runs.
     let full_150 = 2 * 14_137;
-    let expected: [(&str, &[(&str, usize)]); 9] = [
+    let expected: [(&str, &[(&str, usize)]); 12] = [
+        ("teach_abbe.toml", &[("positioning.csv", 6 * 2 * 2)]),
+        (
+            "teach_squareness_ballbar.toml",
+            &[("ballbar_xy.csv", 2 * 1_885)],
+        ),
+        ("teach_warmup.toml", &[("positioning.csv", 7 * 2 * 4)]),
         ("vmc3_volumetric.toml", &[("volumetric.csv", 9 * 5 * 5)]),
         (
             "trunnion5_volumetric.toml",

@@ -1311,6 +1311,25 @@ pub struct ModelFit {
 }
 
 impl ModelFit {
+    /// The radial deviation `term` accounts for at each point of `data` (m), if it is in the
+    /// fit: its columns times its coefficients. Over every term of the fit these and the
+    /// residuals add up to the measured deviations.
+    pub fn contribution(&self, term: Term, data: &CircleData) -> Option<Vec<Real>> {
+        let coefficients = self.coefficients_of(term)?;
+        Some(
+            data.points
+                .iter()
+                .map(|at| {
+                    coefficients
+                        .iter()
+                        .enumerate()
+                        .map(|(k, c)| c * diagnostic_column(term, k, at, &data.test, &self.shape))
+                        .sum()
+                })
+                .collect(),
+        )
+    }
+
     /// The coefficients of `term`, if it is in the fit.
     pub fn coefficients_of(&self, term: Term) -> Option<&[Real]> {
         let mut start = 0;

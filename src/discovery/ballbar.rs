@@ -24,7 +24,9 @@
 //! degrees of freedom) reaches ln(M/0.05) for the M periods or lobe counts tested, the level
 //! the largest of M noise-only values exceeds at most 5 % of the time (Bonferroni).
 
-use super::engine::{self, Folds, Problem, Score, Selection, params_json, round_json as round};
+use super::engine::{
+    self, Folds, Problem, ResidualStep, Score, Selection, params_json, round_json as round,
+};
 use crate::analysis::iso230_4::{
     BallbarError, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term,
     covered_arc, diagnostic_column,
@@ -582,6 +584,17 @@ impl BallbarDiscovery {
             name.push_str(step.effect.id(self.plane()));
         }
         name
+    }
+
+    /// The prepared table (angles, senses and deviations in the table's order).
+    pub fn data(&self) -> &CircleData {
+        &self.problem.data
+    }
+
+    /// The base model and each accepted effect in turn, with the residual it leaves.
+    pub fn residual_steps(&self) -> Vec<ResidualStep<'_>> {
+        self.selection
+            .residual_steps(|k| self.model_name(k), |fit| &fit.residuals)
     }
 
     /// The accepted effects in order.

@@ -187,6 +187,17 @@ pub fn paired_t(before: &[Real], after: &[Real]) -> Real {
     }
 }
 
+/// The model after one step of discovery and what it leaves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResidualStep<'a> {
+    /// The model, named as the report names it (`base + effect + …`).
+    pub model: String,
+    /// Its held-out RMS (m).
+    pub cv_rms: Real,
+    /// Measured − model at every reading of the table, in the table's order (m).
+    pub residuals: &'a [Real],
+}
+
 /// One accepted effect.
 #[derive(Clone, Debug)]
 pub struct Accepted<E, F> {
@@ -230,6 +241,33 @@ impl<E: Copy, F> Selection<E, F> {
                 let pct = 100.0 * gain / before;
                 before = step.score.cv_rms;
                 (gain, pct)
+            })
+            .collect()
+    }
+
+    /// The score and fit after the first `k` accepted effects (`k = 0`: the base model).
+    pub fn after(&self, k: usize) -> (&Score, &F) {
+        match k {
+            0 => (&self.baseline.0, &self.baseline.1),
+            k => (&self.steps[k - 1].score, &self.steps[k - 1].fit),
+        }
+    }
+
+    /// The base model and each accepted effect in turn, named by `model_name(k)` (after `k`
+    /// effects), with the residual of its fit.
+    pub fn residual_steps<'a>(
+        &'a self,
+        model_name: impl Fn(usize) -> String,
+        residuals: impl Fn(&'a F) -> &'a [Real],
+    ) -> Vec<ResidualStep<'a>> {
+        (0..=self.steps.len())
+            .map(|k| {
+                let (score, fit) = self.after(k);
+                ResidualStep {
+                    model: model_name(k),
+                    cv_rms: score.cv_rms,
+                    residuals: residuals(fit),
+                }
             })
             .collect()
     }

@@ -21,7 +21,9 @@
 //! the whole file's temperature record (readings held out of a fold keep their temperatures,
 //! never their deviations). Between readings the temperature is taken to change linearly.
 
-use super::engine::{self, Folds, Problem, Score, Selection, params_json, round_json as round};
+use super::engine::{
+    self, Folds, Problem, ResidualStep, Score, Selection, params_json, round_json as round,
+};
 use super::least_squares::Design;
 use crate::io::{Approach, PositioningTable};
 use crate::machine::Axis;
@@ -1276,6 +1278,12 @@ impl PositioningDiscovery {
             name.push_str(step.effect.id());
         }
         name
+    }
+
+    /// The base model and each accepted effect in turn, with the residual it leaves.
+    pub fn residual_steps(&self) -> Vec<ResidualStep<'_>> {
+        self.selection
+            .residual_steps(|k| self.model_name(k), |fit| &fit.residuals)
     }
 
     /// The accepted effects in order.

@@ -14,9 +14,9 @@ mod table;
 pub use ballbar::{BallbarReading, BallbarTable, Sense};
 pub use drift::{DriftChannel, DriftTable};
 pub use positioning::{Approach, PositioningReading, PositioningTable};
-pub use run::{RunError, RunOutput, run_scenario, write_outputs};
+pub use run::{LaserRun, RunError, RunOutput, Simulation, run_scenario, simulate, write_outputs};
 pub use scenario::{
-    BallbarTest, ErrorSpec, HarmonicSpec, InterpolationSpec, LaserTest, SCHEMA_VERSION, Scenario,
-    ScenarioError, ScenarioErrorKind, TableSpec, ThermalSetup, VolumetricSpec,
+    BallbarTest, ErrorSpec, HarmonicSpec, InterpolationSpec, LaserTest, Lesson, SCHEMA_VERSION,
+    Scenario, ScenarioError, ScenarioErrorKind, TableSpec, ThermalSetup, VolumetricSpec,
 };
 pub use table::TableError;

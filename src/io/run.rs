@@ -2,9 +2,12 @@
 
 use super::scenario::Scenario;
 use crate::errors::{Lu2012Error, ParameterName};
+use crate::io::{BallbarTable, PositioningTable};
 use crate::machine::Side;
+use crate::math::Pose;
 use crate::math::{Real, sha256_hex};
-use crate::twin::volumetric_map;
+use crate::program::Visit;
+use crate::twin::{ThermalRecord, VolumetricMap, volumetric_map};
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -38,28 +41,53 @@ pub struct RunOutput {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-/// Computes every output of `scenario` in memory: `volumetric.csv`, `truth.json` and
-/// `manifest.json`. Nothing here depends on the clock, the thread count or the path the
-/// scenario was given by, so the same scenario and seed give the same bytes.
-pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
-    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(spec) = &scenario.volumetric {
-        let map = volumetric_map(&scenario.twin, &spec.grid, spec.model)?;
-        let finite = |r: &crate::twin::VolumetricRow| {
-            r.deviation.translation.is_finite() && r.deviation.tilt.iter().all(|t| t.is_finite())
-        };
-        if let Some(row) = map.rows.iter().position(|r| !finite(r)) {
-            return Err(RunError::NotFinite { row });
+/// What simulating a scenario produced, before anything is written: the measurement tables
+/// and, beside them, what the twin knew (for the files and for the teaching scenes).
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    /// The volumetric map, if asked for.
+    pub volumetric: Option<VolumetricMap>,
+    /// The laser test, if asked for.
+    pub laser: Option<LaserRun>,
+    /// One ball-bar table per circle, in the scenario's order.
+    pub ballbar: Vec<BallbarTable>,
+}
+
+/// A simulated laser test: the table and the truth at each of its readings.
+#[derive(Clone, Debug)]
+pub struct LaserRun {
+    /// The instrument's table (one reading per measurement event).
+    pub table: PositioningTable,
+    /// Where and when each reading was taken.
+    pub visits: Vec<Visit>,
+    /// The actual tool pose seen from the workpiece at each reading (geometric and thermal
+    /// errors).
+    pub poses: Vec<Pose>,
+    /// With a thermal model: the true temperatures and sensor readings at each reading.
+    pub thermal: Option<Vec<ThermalRecord>>,
+}
+
+/// Simulates everything `scenario` asks for. Nothing here depends on the clock, the thread
+/// count or the path the scenario was given by: the same scenario and seed give the same
+/// results.
+pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
+    let volumetric = match &scenario.volumetric {
+        Some(spec) => {
+            let map = volumetric_map(&scenario.twin, &spec.grid, spec.model)?;
+            let finite = |r: &crate::twin::VolumetricRow| {
+                r.deviation.translation.is_finite()
+                    && r.deviation.tilt.iter().all(|t| t.is_finite())
+            };
+            if let Some(row) = map.rows.iter().position(|r| !finite(r)) {
+                return Err(RunError::NotFinite { row });
+            }
+            Some(map)
         }
-        let mut bytes = Vec::new();
-        map.write_csv(&mut bytes)
-            .expect("writing to memory cannot fail");
-        files.push(("volumetric.csv".into(), bytes));
-    }
-    let mut thermal_truth = None;
-    if let Some(test) = &scenario.laser_test {
+        None => None,
+    };
+    let laser = scenario.laser_test.as_ref().map(|test| {
         let mut rng = crate::math::seeded_rng(scenario.seed, "laser");
-        let table = match &scenario.thermal {
+        match &scenario.thermal {
             Some(setup) => {
                 let mut sensors = setup.sensors(scenario.seed);
                 let records = crate::twin::run_thermal(
@@ -105,59 +133,110 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
                 for (reading, record) in table.readings.iter_mut().zip(&records) {
                     reading.temperatures = record.readings.clone();
                 }
-                thermal_truth = Some(thermal_states(setup, &records));
-                table
+                LaserRun {
+                    table,
+                    visits,
+                    poses,
+                    thermal: Some(records),
+                }
             }
             None => {
                 let visits = crate::program::visits(&test.program.timeline(Real::INFINITY));
                 let poses = scenario.twin.poses(&visits);
-                test.laser.measure(&visits, &poses, &test.targets, &mut rng)
+                let table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
+                LaserRun {
+                    table,
+                    visits,
+                    poses,
+                    thermal: None,
+                }
             }
-        };
-        let mut bytes = Vec::new();
-        table
-            .write_csv(&mut bytes)
-            .expect("writing to memory cannot fail");
-        files.push(("positioning.csv".into(), bytes));
-    }
-    if let Some(test) = &scenario.ballbar_test {
-        for circle in &test.circles {
-            let plane = circle.plane;
-            let mut rng = crate::math::seeded_rng(scenario.seed, &format!("ballbar {plane}"));
-            let table = test
-                .ballbar
-                .measure(&scenario.twin, circle, &test.servo, &mut rng);
+        }
+    });
+    let ballbar = scenario
+        .ballbar_test
+        .as_ref()
+        .map_or_else(Vec::new, |test| {
+            test.circles
+                .iter()
+                .map(|circle| {
+                    let plane = circle.plane;
+                    let mut rng =
+                        crate::math::seeded_rng(scenario.seed, &format!("ballbar {plane}"));
+                    test.ballbar
+                        .measure(&scenario.twin, circle, &test.servo, &mut rng)
+                })
+                .collect()
+        });
+    Ok(Simulation {
+        volumetric,
+        laser,
+        ballbar,
+    })
+}
+
+/// Computes every output of `scenario` in memory ([`simulate`], then [`Simulation::output`]).
+pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
+    Ok(simulate(scenario)?.output(scenario))
+}
+
+impl Simulation {
+    /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv` (as
+    /// the scenario asks), `truth.json` and `manifest.json`.
+    pub fn output(&self, scenario: &Scenario) -> RunOutput {
+        let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+        if let Some(map) = &self.volumetric {
+            let mut bytes = Vec::new();
+            map.write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("volumetric.csv".into(), bytes));
+        }
+        if let Some(run) = &self.laser {
+            let mut bytes = Vec::new();
+            run.table
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("positioning.csv".into(), bytes));
+        }
+        let circles = scenario.ballbar_test.iter().flat_map(|t| &t.circles);
+        for (circle, table) in circles.zip(&self.ballbar) {
             let mut bytes = Vec::new();
             table
                 .write_csv(&mut bytes)
                 .expect("writing to memory cannot fail");
-            files.push((format!("ballbar_{}.csv", plane.lower()), bytes));
+            files.push((format!("ballbar_{}.csv", circle.plane.lower()), bytes));
         }
-    }
-    let mut truth = truth(scenario);
-    if let Some(states) = thermal_truth {
-        truth["thermal_states"] = states;
-    }
-    files.push(("truth.json".into(), to_json_bytes(&truth)));
+        let thermal_truth = self.laser.as_ref().and_then(|run| {
+            Some(thermal_states(
+                scenario.thermal.as_ref()?,
+                run.thermal.as_ref()?,
+            ))
+        });
+        let mut truth = truth(scenario);
+        if let Some(states) = thermal_truth {
+            truth["thermal_states"] = states;
+        }
+        files.push(("truth.json".into(), to_json_bytes(&truth)));
 
-    let listed: Vec<Value> = files
+        let listed: Vec<Value> = files
         .iter()
         .map(|(name, bytes)| json!({ "name": name, "bytes": bytes.len(), "sha256": sha256_hex(bytes) }))
         .collect();
-    let manifest = json!({
-        "mtwin_version": env!("CARGO_PKG_VERSION"),
-        "scenario": { "file": file_name(&scenario.file), "sha256": scenario.sha256 },
-        "machine": {
-            "name": scenario.twin.machine.name(),
-            "file": file_name(&scenario.machine_file),
-            "sha256": scenario.machine_sha256,
-        },
-        "seed": scenario.seed,
-        "volumetric_model": scenario.volumetric.as_ref().map(|v| v.model.name()),
-        "files": listed,
-    });
-    files.push(("manifest.json".into(), to_json_bytes(&manifest)));
-    Ok(RunOutput { files })
+        let manifest = json!({
+            "mtwin_version": env!("CARGO_PKG_VERSION"),
+            "scenario": { "file": file_name(&scenario.file), "sha256": scenario.sha256 },
+            "machine": {
+                "name": scenario.twin.machine.name(),
+                "file": file_name(&scenario.machine_file),
+                "sha256": scenario.machine_sha256,
+            },
+            "seed": scenario.seed,
+            "volumetric_model": scenario.volumetric.as_ref().map(|v| v.model.name()),
+            "files": listed,
+        });
+        files.push(("manifest.json".into(), to_json_bytes(&manifest)));
+        RunOutput { files }
+    }
 }
 
 /// Writes the files into `dir` (created if needed). All are first written under temporary

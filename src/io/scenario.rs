@@ -241,6 +241,36 @@ struct RawScenario {
     thermal: Option<Spanned<thermal_test::RawThermal>>,
     ballbar: Option<Spanned<ballbar_test::RawBallbar>>,
     servo: Option<Spanned<ballbar_test::RawServo>>,
+    lesson: Option<Spanned<RawLesson>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLesson {
+    title: String,
+    text: String,
+    #[serde(default = "default_magnification")]
+    magnification: Real,
+}
+
+fn default_magnification() -> Real {
+    Lesson::DEFAULT_MAGNIFICATION
+}
+
+/// What a teaching recording (`mtwin run --rrd`) explains and how much it magnifies errors.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lesson {
+    /// A short title.
+    pub title: String,
+    /// What to look at and why (Markdown), logged as a text document.
+    pub text: String,
+    /// How many times errors are enlarged in the scenes (arrows, actual frames, traces).
+    pub magnification: Real,
+}
+
+impl Lesson {
+    /// The magnification of scenes without a `[lesson]`: 1 µm drawn as 1 mm.
+    pub const DEFAULT_MAGNIFICATION: Real = 1000.0;
 }
 
 #[derive(Deserialize)]
@@ -300,6 +330,8 @@ pub struct Scenario {
     pub thermal: Option<ThermalSetup>,
     /// The ball-bar circular tests to simulate, if asked for.
     pub ballbar_test: Option<BallbarTest>,
+    /// The explanation a teaching recording carries, if the scenario is a lesson.
+    pub lesson: Option<Lesson>,
 }
 
 pub(super) struct Context<'a> {
@@ -617,6 +649,36 @@ impl Scenario {
                 "servo: nothing in this scenario uses the servo model; add a [ballbar] test",
             ));
         }
+        let lesson = match &raw.lesson {
+            None => None,
+            Some(section) => {
+                let l = section.get_ref();
+                let problem = if l.title.trim().is_empty() {
+                    Some("lesson.title: empty; expected a short title")
+                } else if l.text.trim().is_empty() {
+                    Some("lesson.text: empty; expected what to look at and why (Markdown)")
+                } else if !(l.magnification.is_finite() && l.magnification > 0.0) {
+                    Some(
+                        "lesson.magnification: expected a positive number (e.g. 1000: 1 µm drawn as 1 mm)",
+                    )
+                } else {
+                    None
+                };
+                if let Some(message) = problem {
+                    return Err(context.section_error(
+                        section.span(),
+                        ScenarioErrorKind::Value,
+                        "",
+                        message.to_string(),
+                    ));
+                }
+                Some(Lesson {
+                    title: l.title.trim().to_string(),
+                    text: l.text.clone(),
+                    magnification: l.magnification,
+                })
+            }
+        };
         if volumetric.is_none() && laser_test.is_none() && ballbar_test.is_none() {
             return Err(context.error(
                 None,
@@ -638,6 +700,7 @@ impl Scenario {
             laser_test,
             thermal,
             ballbar_test,
+            lesson,
         })
     }
 }

@@ -21,6 +21,8 @@ pub struct Workspace {
     pub(crate) slot_sensitivities: Vec<[[f64; 6]; 5]>,
     /// Basis values of one error function (Jacobian scratch).
     pub(crate) basis: Vec<f64>,
+    /// `world_from_tool` and `world_from_workpiece` from the last evaluation.
+    pub(crate) world_from_ends: [Pose; 2],
 }
 
 impl Workspace {
@@ -34,6 +36,7 @@ impl Workspace {
             slot_lines: vec![[0.0; 6]; slots],
             slot_sensitivities: vec![[[0.0; 6]; 5]; slots],
             basis: Vec::new(),
+            world_from_ends: [Pose::IDENTITY; 2],
         }
     }
 
@@ -81,6 +84,7 @@ impl Workspace {
             Side::Workpiece,
             &mut self.world_from_slot,
         );
+        self.world_from_ends = [world_from_tool, world_from_workpiece];
         rigid_inverse(&world_from_workpiece) * world_from_tool
     }
 
@@ -103,6 +107,13 @@ impl Workspace {
     /// evaluation had errors (nominal after a nominal evaluation).
     pub fn world_from_slot(&self) -> &[Pose] {
         &self.world_from_slot
+    }
+
+    /// The tool frame (with its tool-slot motion) and the workpiece frame in the world (bed)
+    /// frame from the last evaluation: where each branch put its end, errors included when the
+    /// evaluation had them. Their relative pose is what the evaluation returned.
+    pub fn world_from_ends(&self) -> (Pose, Pose) {
+        (self.world_from_ends[0], self.world_from_ends[1])
     }
 }
 

@@ -18,11 +18,13 @@
 //! Supported configurations: three linear axes `X`, `Y`, `Z`, with either no rotary axis or two
 //! of `A`, `B`, `C` (table-table, head-table or head-head 5-axis), plus the spindle `S`.
 
+mod body;
 mod inverse;
 mod kinematics;
 mod plane;
 mod urdf;
 
+pub use body::{Body, Shape, Visual};
 pub use inverse::{InverseKinematicsError, TiltBranch, ToolTarget};
 pub use kinematics::Workspace;
 pub use plane::Plane;
@@ -281,6 +283,7 @@ pub struct Machine {
     axes: Vec<AxisInfo>,
     tool_branch: Branch,
     work_branch: Branch,
+    bodies: Vec<body::Body>,
 }
 
 impl Machine {

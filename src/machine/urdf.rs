@@ -1,7 +1,7 @@
 //! URDF → [`Machine`]: parsing (urdf-rs), then validation of the tree, the axis names and
 //! directions and the supported configurations.
 
-use super::{Axis, AxisInfo, Branch, ChainJoint, Machine, Side};
+use super::{Axis, AxisInfo, Body, Branch, ChainJoint, Machine, Shape, Side, Visual};
 use crate::math::{Pose, Real, Vector, rotation_from_rpy};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -33,6 +33,13 @@ pub enum MachineErrorKind {
     Io(String),
     /// Not well-formed URDF XML.
     Xml(String),
+    /// A `<visual>` geometry with a size that is not a positive finite number.
+    Geometry {
+        /// The link.
+        link: String,
+        /// What was found.
+        found: String,
+    },
     /// No link named `tool` or `workpiece`.
     MissingEndLink(&'static str),
     /// A joint names a parent or child link that does not exist.
@@ -127,6 +134,10 @@ impl fmt::Display for MachineErrorKind {
         use MachineErrorKind::*;
         match self {
             Io(message) => write!(f, "cannot read the file: {message}"),
+            Geometry { link, found } => write!(
+                f,
+                "link \"{link}\": a <visual> geometry needs positive finite sizes and a finite origin, found {found}"
+            ),
             Xml(message) => write!(f, "not a valid URDF document: {message}"),
             MissingEndLink(name) => write!(
                 f,
@@ -270,7 +281,7 @@ impl Machine {
                     .iter()
                     .filter(|j| j.name == joint.name)
                     .count();
-                line_of_joint(text, &joint.name, occurrence)
+                line_of_element(text, "joint", &joint.name, occurrence)
             }),
             kind,
         };
@@ -519,11 +530,7 @@ impl Machine {
             let mut pending = Pose::IDENTITY;
             for &index in path {
                 let joint = &robot.joints[index];
-                let origin = Pose::from_mat3_translation(
-                    rotation_from_rpy(joint.origin.rpy.0),
-                    Vector::from_array(joint.origin.xyz.0),
-                );
-                pending *= origin;
+                pending *= joint_origin(joint);
                 if joint.joint_type != JointType::Fixed {
                     let axis = single_letter(&joint.name).expect("checked above");
                     let slot = axes
@@ -544,13 +551,113 @@ impl Machine {
                 end: pending,
             }
         };
+        let mut bodies = Vec::with_capacity(robot.links.len());
+        for link in &robot.links {
+            let visuals = link
+                .visual
+                .iter()
+                .map(|v| visual(v, &link.name))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|kind| MachineError {
+                    file: file.to_string(),
+                    line: line_of_element(text, "link", &link.name, 0),
+                    kind,
+                })?;
+            // Up through fixed joints to the first moving one (or the root).
+            let mut joint_from_link = Pose::IDENTITY;
+            let mut moved_by = None;
+            let mut unit = Vector::Z;
+            let mut name = link.name.as_str();
+            while let Some(&index) = parent_joint.get(name) {
+                let joint = &robot.joints[index];
+                if joint.joint_type != JointType::Fixed {
+                    moved_by = single_letter(&joint.name);
+                    unit = Vector::from_array(joint.axis.xyz.0);
+                    break;
+                }
+                joint_from_link = joint_origin(joint) * joint_from_link;
+                name = joint.parent.link.as_str();
+            }
+            bodies.push(Body {
+                link: link.name.clone(),
+                moved_by,
+                visuals,
+                joint_from_link,
+                unit,
+            });
+        }
         Ok(Machine {
             name: robot.name.clone(),
             tool_branch: branch(&tool_path),
             work_branch: branch(&work_path),
             axes,
+            bodies,
         })
     }
+}
+
+/// `parent_from_joint` of a URDF joint at zero motion.
+fn joint_origin(joint: &urdf_rs::Joint) -> Pose {
+    Pose::from_mat3_translation(
+        rotation_from_rpy(joint.origin.rpy.0),
+        Vector::from_array(joint.origin.xyz.0),
+    )
+}
+
+/// A URDF `<visual>` of `link`, its sizes checked.
+fn visual(visual: &urdf_rs::Visual, link: &str) -> Result<Visual, MachineErrorKind> {
+    use urdf_rs::Geometry;
+    let bad = |found: String| MachineErrorKind::Geometry {
+        link: link.to_string(),
+        found,
+    };
+    let positive = |v: Real| v.is_finite() && v > 0.0;
+    let shape = match &visual.geometry {
+        Geometry::Box { size } if size.0.iter().all(|v| positive(*v)) => Shape::Box {
+            size: Vector::from_array(size.0),
+        },
+        Geometry::Cylinder { radius, length } if positive(*radius) && positive(*length) => {
+            Shape::Cylinder {
+                radius: *radius,
+                length: *length,
+            }
+        }
+        Geometry::Capsule { radius, length } if positive(*radius) && positive(*length) => {
+            Shape::Capsule {
+                radius: *radius,
+                length: *length,
+            }
+        }
+        Geometry::Sphere { radius } if positive(*radius) => Shape::Sphere { radius: *radius },
+        Geometry::Mesh { filename, scale } => {
+            let scale = scale.as_ref().map_or([1.0; 3], |s| s.0);
+            if !scale.iter().all(|v| positive(*v)) {
+                return Err(bad(format!("mesh scale {scale:?}")));
+            }
+            Shape::Mesh {
+                file: filename.clone(),
+                scale: Vector::from_array(scale),
+            }
+        }
+        other => return Err(bad(format!("{other:?}"))),
+    };
+    let origin = &visual.origin;
+    if !origin
+        .xyz
+        .0
+        .iter()
+        .chain(&origin.rpy.0)
+        .all(|v| v.is_finite())
+    {
+        return Err(bad(format!("origin {:?} {:?}", origin.xyz.0, origin.rpy.0)));
+    }
+    Ok(Visual {
+        link_from_shape: Pose::from_mat3_translation(
+            rotation_from_rpy(origin.rpy.0),
+            Vector::from_array(origin.xyz.0),
+        ),
+        shape,
+    })
 }
 
 /// The rotation `world_from_joint` of joint `index` at the home pose (every axis at zero),
@@ -601,11 +708,11 @@ fn single_letter(name: &str) -> Option<Axis> {
     }
 }
 
-/// The 1-based line of the `occurrence`-th (from 0) `<joint …>` element named `name`, its
+/// The 1-based line of the `occurrence`-th (from 0) `<element …>` named `name`, its
 /// attributes possibly spread over several lines.
-fn line_of_joint(text: &str, name: &str, occurrence: usize) -> Option<usize> {
+fn line_of_element(text: &str, element: &str, name: &str, occurrence: usize) -> Option<usize> {
     let quoted = [format!("\"{name}\""), format!("'{name}'")];
-    text.match_indices("<joint")
+    text.match_indices(&format!("<{element}"))
         .filter(|(start, _)| {
             let tag = &text[*start..];
             let tag = &tag[..tag.find('>').unwrap_or(tag.len())];

@@ -215,6 +215,150 @@ impl Program {
     }
 }
 
+/// A stretch of the commanded path: a straight line, or a warm-up stroke going back and forth.
+enum Piece {
+    /// From `start` to `end` at constant speed.
+    Line {
+        start: AxisValues,
+        end: AxisValues,
+        duration: Real,
+    },
+    /// `axis` from `from` toward `to` and back at `feed`, the other axes at `base`.
+    Stroke {
+        base: AxisValues,
+        axis: Axis,
+        from: Real,
+        to: Real,
+        feed: Real,
+        duration: Real,
+    },
+}
+
+impl Piece {
+    fn duration(&self) -> Real {
+        match self {
+            Piece::Line { duration, .. } | Piece::Stroke { duration, .. } => *duration,
+        }
+    }
+
+    /// The position `s` seconds into the piece.
+    fn at(&self, s: Real) -> AxisValues {
+        match *self {
+            Piece::Line {
+                start,
+                end,
+                duration,
+            } => {
+                let f = if duration > 0.0 { s / duration } else { 1.0 };
+                let mut p = start;
+                for i in 0..7 {
+                    p.0[i] += (end.0[i] - start.0[i]) * f;
+                }
+                p
+            }
+            Piece::Stroke {
+                base,
+                axis,
+                from,
+                to,
+                feed,
+                ..
+            } => {
+                let stroke = (to - from).abs();
+                let phase = if stroke > 0.0 {
+                    (feed * s) % (2.0 * stroke)
+                } else {
+                    0.0
+                };
+                let mut p = base;
+                p[axis] = if phase <= stroke {
+                    from + (to - from).signum() * phase
+                } else {
+                    to - (to - from).signum() * (phase - stroke)
+                };
+                p
+            }
+        }
+    }
+}
+
+impl Program {
+    /// The commanded positions over time, for drawing the machine: `(time s, position)` every
+    /// `period` seconds and at the start and end of every motion, along the same straight lines
+    /// and warm-up strokes (at the same feeds, no acceleration) as [`Program::timeline`], so a
+    /// measurement event at time `t` finds the path at its position.
+    pub fn path(&self, period: Real) -> Vec<(Real, AxisValues)> {
+        assert!(period > 0.0, "sampling needs a positive period");
+        let mut pieces = Vec::new();
+        let mut position = self.start;
+        let line = |start: AxisValues, end: AxisValues, feed: Real| {
+            let length = (0..7)
+                .map(|i| (end.0[i] - start.0[i]).powi(2))
+                .sum::<Real>()
+                .sqrt();
+            Piece::Line {
+                start,
+                end,
+                duration: length / feed,
+            }
+        };
+        for step in &self.steps {
+            match step {
+                Step::Move { to, feed } => {
+                    let mut end = position;
+                    for &(axis, value) in to {
+                        end[axis] = value;
+                    }
+                    pieces.push(line(position, end, *feed));
+                    position = end;
+                }
+                Step::Dwell(duration) => pieces.push(Piece::Line {
+                    start: position,
+                    end: position,
+                    duration: *duration,
+                }),
+                Step::WarmUp {
+                    axis,
+                    from,
+                    to,
+                    feed,
+                    duration,
+                } => {
+                    let home = position;
+                    let mut start = position;
+                    start[*axis] = *from;
+                    pieces.push(line(position, start, *feed));
+                    let stroke = Piece::Stroke {
+                        base: start,
+                        axis: *axis,
+                        from: *from,
+                        to: *to,
+                        feed: *feed,
+                        duration: *duration,
+                    };
+                    let end = stroke.at(*duration);
+                    pieces.push(stroke);
+                    pieces.push(line(end, home, *feed));
+                }
+                Step::Spindle(_) | Step::Measure(_) => {}
+            }
+        }
+        let mut samples = vec![(0.0, self.start)];
+        let mut time: Real = 0.0;
+        for piece in pieces.iter().filter(|p| p.duration() > 0.0) {
+            let end = time + piece.duration();
+            let mut k = (time / period).floor() + 1.0;
+            while k * period < end {
+                samples.push((k * period, piece.at(k * period - time)));
+                k += 1.0;
+            }
+            samples.push((end, piece.at(piece.duration())));
+            time = end;
+        }
+        samples
+    }
+}
+
 /// The ISO 230-2 test cycle on one linear axis: in each run, from an overrun below the first
 /// target, every target is approached in the positive direction; then from an overrun beyond
 /// the last, every target in the negative direction (the standard's linear cycle).

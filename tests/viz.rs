@@ -1,0 +1,397 @@
+//! Teaching scenes (feature `viz`): each lesson is recorded to memory, decoded back from the
+//! `.rrd` bytes and checked: the entities exist, counts match the programme, and logged values
+//! agree with the ground truth — the error arrows are exactly the magnification times the
+//! twin's deviation, in the workpiece frame, placed where the URDF puts the tool by hand.
+#![cfg(feature = "viz")]
+
+use mtwin::io::{Scenario, Simulation, simulate};
+use mtwin::viz::{self, TIMELINE};
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+use std::collections::BTreeMap;
+
+/// A decoded recording: its data chunks.
+struct Recording {
+    chunks: Vec<Chunk>,
+}
+
+fn record(name: &str) -> (Scenario, Simulation, Recording) {
+    let scenario = Scenario::load(format!("scenarios/{name}")).unwrap();
+    let simulation = simulate(&scenario).unwrap();
+    let (rec, storage) = rerun::RecordingStreamBuilder::new("mtwin-test")
+        .enabled(true)
+        .send_properties(false)
+        .memory()
+        .unwrap();
+    viz::record(&rec, &scenario, &simulation, &mut |_| {}).unwrap();
+    rec.flush_blocking().unwrap();
+    let bytes = storage.drain_as_bytes().unwrap();
+    let mut chunks = Vec::new();
+    for message in DecoderApp::decode_eager(std::io::Cursor::new(bytes.as_slice())).unwrap() {
+        if let LogMsg::ArrowMsg(store, arrow) = message.unwrap()
+            && store.is_recording()
+        {
+            chunks.push(Chunk::from_arrow_msg(&arrow).unwrap());
+        }
+    }
+    (scenario, simulation, Recording { chunks })
+}
+
+impl Recording {
+    fn of(&self, entity: &str) -> impl Iterator<Item = &Chunk> {
+        let path = rerun::EntityPath::from(entity);
+        self.chunks.iter().filter(move |c| c.entity_path() == &path)
+    }
+
+    /// Rows logged on `entity` (static or on the timeline).
+    fn rows(&self, entity: &str) -> usize {
+        self.of(entity).map(|c| c.num_rows()).sum()
+    }
+
+    fn entities(&self) -> Vec<String> {
+        let mut names: Vec<String> = self
+            .chunks
+            .iter()
+            .map(|c| c.entity_path().to_string())
+            .collect();
+        names.sort();
+        names.dedup();
+        names
+    }
+
+    /// `(time s, value)` of a Scalars entity, in time order.
+    fn scalars(&self, entity: &str) -> Vec<(f64, f64)> {
+        let id = rerun::Scalars::descriptor_scalars().component;
+        let mut out = Vec::new();
+        for chunk in self.of(entity) {
+            let times = chunk.iter_component_indices(rerun::TimelineName::from(TIMELINE), id);
+            for ((time, _), values) in times.zip(chunk.iter_slices::<f64>(id)) {
+                out.push((time.as_i64() as f64 * 1e-9, values[0]));
+            }
+        }
+        out.sort_by(|a, b| a.0.total_cmp(&b.0));
+        out
+    }
+
+    /// `(time s, origin, vector)` of the first arrow of each row of an Arrows3D entity.
+    fn arrows(&self, entity: &str) -> Vec<(f64, [f32; 3], [f32; 3])> {
+        let vectors = rerun::Arrows3D::descriptor_vectors().component;
+        let origins = rerun::Arrows3D::descriptor_origins().component;
+        let mut out = Vec::new();
+        for chunk in self.of(entity) {
+            let times = chunk.iter_component_indices(rerun::TimelineName::from(TIMELINE), vectors);
+            let v = chunk.iter_component::<rerun::components::Vector3D>(vectors);
+            let o = chunk.iter_component::<rerun::components::Position3D>(origins);
+            for (((time, _), v), o) in times.zip(v).zip(o) {
+                out.push((time.as_i64() as f64 * 1e-9, v[0].0.0, o[0].0.0));
+            }
+        }
+        out.sort_by(|a, b| a.0.total_cmp(&b.0));
+        out
+    }
+
+    /// `(time s, translation)` of a Transform3D entity, in time order.
+    fn translations(&self, entity: &str) -> Vec<(f64, [f32; 3])> {
+        let id = rerun::Transform3D::descriptor_translation().component;
+        let mut out = Vec::new();
+        for chunk in self.of(entity) {
+            let times = chunk.iter_component_indices(rerun::TimelineName::from(TIMELINE), id);
+            let values = chunk.iter_component::<rerun::components::Translation3D>(id);
+            for ((time, _), v) in times.zip(values) {
+                out.push((time.as_i64() as f64 * 1e-9, v[0].0.0));
+            }
+        }
+        out.sort_by(|a, b| a.0.total_cmp(&b.0));
+        out
+    }
+
+    fn text(&self, entity: &str) -> String {
+        let id = rerun::TextDocument::descriptor_text().component;
+        self.of(entity)
+            .flat_map(|c| {
+                c.iter_slices::<String>(id)
+                    .flatten()
+                    .map(|s| s.to_string())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+}
+
+/// f32 scenes: a value of magnitude ~1 m carries ~1e-7 of rounding; 0.1 µm of the enlarged
+/// arrow is 0.1 nm / magnification of the truth.
+const F32_M: f64 = 1e-7;
+
+fn near(a: [f32; 3], b: [f64; 3], tolerance: f64) -> bool {
+    a.iter()
+        .zip(b)
+        .all(|(x, y)| (*x as f64 - y).abs() <= tolerance)
+}
+
+#[test]
+fn abbe_lesson_arrows_are_the_magnified_truth_in_the_workpiece_frame() {
+    let (scenario, simulation, recording) = record("teach_abbe.toml");
+    let run = simulation.laser.as_ref().unwrap();
+    let m = scenario.lesson.as_ref().unwrap().magnification;
+    assert_eq!(m, 5000.0);
+    let arrow_path = viz::tool_tip_error(m);
+    assert_eq!(arrow_path, "world/workpiece_nominal/tool_tip_error_x5000");
+    assert!(arrow_path.starts_with(viz::WORKPIECE_NOMINAL));
+    // One arrow per reading (the laser test knows the actual pose at its readings), at the
+    // reading's time; 2 runs × 6 targets × 2 directions.
+    let arrows = recording.arrows(&arrow_path);
+    assert_eq!(arrows.len(), 24);
+    assert_eq!(run.visits.len(), 24);
+    let workpiece = recording.translations(viz::WORKPIECE_NOMINAL);
+    for ((time, vector, origin), (visit, pose)) in
+        arrows.iter().zip(run.visits.iter().zip(&run.poses))
+    {
+        assert!((time - visit.time).abs() < 1e-9, "{time} vs {}", visit.time);
+        let p = visit.state.position;
+        let (x, y, z) = (
+            p[mtwin::machine::Axis::X],
+            p[mtwin::machine::Axis::Y],
+            p[mtwin::machine::Axis::Z],
+        );
+        // vmc3 by hand: the tool tip at (-0.38 + X, -0.205 + Y, 0.10 + Z) from the workpiece
+        // origin, which stands at (-X, -Y, 1.0) in the bed frame.
+        let tip = [-0.38 + x, -0.205 + y, 0.10 + z];
+        assert!(near(*origin, tip, F32_M), "{origin:?} vs {tip:?}");
+        let deviation = pose.translation - mtwin::math::Vector::from_array(tip);
+        assert!(
+            near(*vector, (deviation * m).to_array(), F32_M),
+            "{vector:?} vs {deviation:?} × {m}"
+        );
+        let frame = workpiece
+            .iter()
+            .rev()
+            .find(|(t, _)| *t <= time + 1e-9)
+            .unwrap()
+            .1;
+        assert!(near(frame, [-x, -y, 1.0], F32_M), "{frame:?}");
+    }
+}
+
+#[test]
+fn abbe_lesson_shows_the_reading_minus_the_tip_as_offset_times_pitch() {
+    // Closed form: the reflector 150 mm above the tip moves h·ΔEBX more than the tip, EBX(x) =
+    // −30 + 0.0789474·x µrad (x in mm), zeroed at each run's first reading (X = 10 mm, going
+    // up). The laser's noise is 20 nm (3σ of a difference of two readings: 85 nm) and the air
+    // is exactly compensated.
+    let (_, simulation, recording) = record("teach_abbe.toml");
+    let run = simulation.laser.as_ref().unwrap();
+    let reading = recording.scalars("laser_um/reading");
+    let truth = recording.scalars("laser_um/tool_tip_truth");
+    assert_eq!((reading.len(), truth.len()), (24, 24));
+    for (((_, r), (_, t)), visit) in reading.iter().zip(&truth).zip(&run.visits) {
+        let x_mm = visit.state.position[mtwin::machine::Axis::X] * 1e3;
+        let abbe_um = 150e-3 * 0.07894736842105263 * (x_mm - 10.0);
+        assert!(
+            ((r - t) - abbe_um).abs() < 0.085,
+            "at {x_mm} mm: {r} − {t} vs {abbe_um}"
+        );
+    }
+    // The 740 mm travel: 8.8 µm of Abbe error, more than the axis's own 3.7 µm.
+    let last = run
+        .visits
+        .iter()
+        .position(|v| (v.state.position[mtwin::machine::Axis::X] - 0.75).abs() < 1e-9)
+        .unwrap();
+    assert!(reading[last].1 - truth[last].1 > 8.0);
+    assert!(recording.text(viz::LESSON).contains("The Abbe error"));
+}
+
+#[test]
+fn squareness_lesson_logs_every_reading_and_the_diagnostic_plots() {
+    let (scenario, simulation, recording) = record("teach_squareness_ballbar.toml");
+    let table = &simulation.ballbar[0];
+    // Every reading on the timeline at its time, in µm.
+    let series = recording.scalars("ballbar_xy_um/deviation");
+    assert_eq!(series.len(), table.readings.len());
+    let mut expected: Vec<(f64, f64)> = table
+        .readings
+        .iter()
+        .map(|r| (r.time.unwrap(), r.deviation * 1e6))
+        .collect();
+    expected.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for ((t, v), (et, ev)) in series.iter().zip(&expected) {
+        assert!((t - et).abs() < 1e-9 && (v - ev).abs() < 1e-9);
+    }
+    let entities = recording.entities();
+    for needed in [
+        "/lesson",
+        "/ballbar_xy/nominal",
+        "/ballbar_xy/trace_ccw",
+        "/ballbar_xy/trace_cw",
+        "/ballbar_xy/diagnostics/squareness/ccw",
+        "/ballbar_xy/diagnostics/residual/ccw",
+        "/discovery_ballbar_xy/step_0/ccw",
+        "/world/machine/table/visual_0",
+        "/world/workpiece_nominal/ballbar_xy/bar",
+    ] {
+        assert!(
+            entities.iter().any(|e| e == needed),
+            "{needed} missing from {entities:?}"
+        );
+    }
+    // The trace has one point per reading of its sense.
+    let strips = rerun::LineStrips2D::descriptor_strips().component;
+    let ccw: usize = recording
+        .of("ballbar_xy/trace_ccw")
+        .flat_map(|c| {
+            c.iter_component::<rerun::components::LineStrip2D>(strips)
+                .map(|s| s[0].0.len())
+                .collect::<Vec<_>>()
+        })
+        .sum();
+    let expected_ccw = table
+        .readings
+        .iter()
+        .filter(|r| r.sense == mtwin::io::Sense::Ccw)
+        .count();
+    assert_eq!(ccw, expected_ccw);
+    // The machine moves through the whole test: one arrow per frame, at most every 50 ms.
+    let circle = &scenario.ballbar_test.as_ref().unwrap().circles[0];
+    let arrows = recording.arrows(&viz::tool_tip_error(2000.0));
+    assert!(arrows.len() as f64 >= circle.duration() / 0.05);
+    // One step per model discovery tried: the base and each accepted effect.
+    let steps = entities
+        .iter()
+        .filter(|e| e.starts_with("/discovery_ballbar_xy/step_") && e.ends_with("/nominal"))
+        .count();
+    let discovery = mtwin::discovery::discover_ballbar(
+        table,
+        &mtwin::analysis::iso230_4::CircularTest {
+            plane: circle.plane,
+            radius: circle.radius,
+            feed: circle.feed,
+        },
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(steps, discovery.accepted().len() + 1);
+}
+
+#[test]
+fn squareness_arrow_points_out_on_the_45_degree_diagonal() {
+    // EC0Y = −40 µrad: moving +Y also moves the tool by −EC0Y·Y = +40 µrad × Y along X (the
+    // angle between +X and +Y under 90°), so at any frame the arrow's x is 40e-6 × Y × 2000
+    // plus X's lost motion (±1 µm), y and z are zero. Y is read back from the arrow's origin:
+    // tip y = −0.205 + Y.
+    let (_, _, recording) = record("teach_squareness_ballbar.toml");
+    let arrows = recording.arrows(&viz::tool_tip_error(2000.0));
+    assert!(!arrows.is_empty());
+    for (_, vector, origin) in &arrows {
+        let y = origin[1] as f64 + 0.205;
+        let dx_um = vector[0] as f64 / 2000.0 * 1e6;
+        let expected = 40e-6 * y * 1e6;
+        assert!(
+            (dx_um - expected).abs() <= 1.0 + 1e-3,
+            "Y {y}: dx {dx_um} µm vs {expected} ± 1"
+        );
+        assert!(
+            vector[1].abs() < 1e-6 && vector[2].abs() < 1e-6,
+            "{vector:?}"
+        );
+    }
+}
+
+#[test]
+fn warmup_lesson_follows_the_thermal_twin() {
+    let (scenario, simulation, recording) = record("teach_warmup.toml");
+    let run = simulation.laser.as_ref().unwrap();
+    let records = run.thermal.as_ref().unwrap();
+    // The sensor and every node at each reading, as the thermal twin computed them.
+    let sensor = recording.scalars("temperatures_degc/x_nut");
+    assert_eq!(sensor.len(), records.len());
+    for ((t, value), record) in sensor.iter().zip(records) {
+        assert!((t - record.visit.time).abs() < 1e-9 && (value - record.readings[0]).abs() < 1e-12);
+    }
+    let setup = scenario.thermal.as_ref().unwrap();
+    for (index, node) in setup.thermal.network.nodes().iter().enumerate() {
+        let series = recording.scalars(&format!("temperatures_degc/true/{}", node.name));
+        assert_eq!(series.len(), records.len());
+        assert!(
+            series
+                .iter()
+                .zip(records)
+                .all(|((_, v), r)| (v - r.temperatures[index]).abs() < 1e-12)
+        );
+    }
+    // The arrows carry the thermal errors: the actual poses of the thermal twin, × 1000.
+    let arrows = recording.arrows(&viz::tool_tip_error(1000.0));
+    assert_eq!(arrows.len(), run.poses.len());
+    let machine = &scenario.twin.machine;
+    for ((_, vector, _), (visit, pose)) in arrows.iter().zip(run.visits.iter().zip(&run.poses)) {
+        let nominal = machine
+            .workpiece_from_tool(&visit.state.position)
+            .translation;
+        assert!(near(
+            *vector,
+            ((pose.translation - nominal) * 1000.0).to_array(),
+            F32_M
+        ));
+    }
+    // Colour by thermal state: the cold first run bluer than the warm last one.
+    let colours = rerun::LineStrips2D::descriptor_colors().component;
+    let colour = |run: &str| {
+        recording
+            .of(&format!("laser_plot/run_{run}_up"))
+            .flat_map(|c| {
+                c.iter_component::<rerun::components::Color>(colours)
+                    .map(|c| c[0].to_array())
+                    .collect::<Vec<_>>()
+            })
+            .next()
+            .unwrap()
+    };
+    let (cold, warm) = (colour("1"), colour("4"));
+    assert!(
+        cold[2] > warm[2] && cold[0] < warm[0],
+        "{cold:?} vs {warm:?}"
+    );
+    assert!(recording.rows("discovery_positioning/step_0/zero") == 1);
+}
+
+#[test]
+fn volumetric_map_arrows_are_the_map_enlarged() {
+    let (_, simulation, recording) = record("vmc3_volumetric.toml");
+    let map = simulation.volumetric.as_ref().unwrap();
+    let vectors = rerun::Arrows3D::descriptor_vectors().component;
+    let logged: Vec<[f32; 3]> = recording
+        .of("world/workpiece_nominal/volumetric_map_x1000")
+        .flat_map(|c| {
+            c.iter_component::<rerun::components::Vector3D>(vectors)
+                .flat_map(|b| b.iter().map(|v| v.0.0).collect::<Vec<_>>())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(logged.len(), 9 * 5 * 5);
+    for (v, row) in logged.iter().zip(&map.rows) {
+        assert!(near(
+            *v,
+            (row.deviation.translation * 1000.0).to_array(),
+            F32_M
+        ));
+    }
+    // The tour: one frame per grid point, its arrow the chain's deviation (the map's model).
+    let tour = recording.arrows(&viz::tool_tip_error(1000.0));
+    assert_eq!(tour.len(), map.rows.len());
+    for ((_, v, _), row) in tour.iter().zip(&map.rows) {
+        assert!(near(
+            *v,
+            (row.deviation.translation * 1000.0).to_array(),
+            F32_M
+        ));
+    }
+    let counts: BTreeMap<String, usize> = recording
+        .entities()
+        .into_iter()
+        .map(|e| (e.clone(), recording.rows(&e)))
+        .collect();
+    assert_eq!(
+        counts["/world/machine/table"],
+        map.rows.len(),
+        "one frame of the table per grid point"
+    );
+}
