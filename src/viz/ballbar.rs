@@ -112,12 +112,16 @@ fn polar_plots(
 ) -> Result<(), VizError> {
     let root = plot_root(circle);
     let test = conditions(circle);
-    let analysis = |e: &dyn std::fmt::Display| VizError::Analysis {
-        what: format!("ball-bar {}", circle.plane),
-        message: e.to_string(),
+    let (data, evaluation) = match (
+        CircleData::new(table, &test),
+        iso230_4::evaluate(table, &test),
+    ) {
+        (Ok(data), Ok(evaluation)) => (data, evaluation),
+        (Err(e), _) | (_, Err(e)) => {
+            legend.push(format!("`{root}`: not drawn: {e}"));
+            return Ok(());
+        }
     };
-    let data = CircleData::new(table, &test).map_err(|e| analysis(&e))?;
-    let evaluation = iso230_4::evaluate(table, &test).map_err(|e| analysis(&e))?;
     // As ball-bar software draws it: the fitted radius and centre (the set-up) removed.
     let setup: Vec<Real> = match &evaluation.diagnostics {
         Ok(d) => [Term::Radius, Term::CentreP, Term::CentreQ]
@@ -165,7 +169,7 @@ fn polar_plots(
             return Ok(());
         }
     };
-    // The machine's diagnostics that the data show (more than twice their uncertainty), then
+    // The machine's diagnostics that the data show (by the analysis's significance test), then
     // the residual; the radius and centre terms are the set-up and stay in the trace only.
     let fit = &diagnostics.fit;
     let mut plots: Vec<(String, String, Vec<Real>)> = Vec::new();
@@ -212,7 +216,7 @@ fn polar_plots(
         )?;
     }
     legend.push(format!(
-        "`{root}/diagnostics/<term>`: each ISO 230-4 diagnostic the fit finds significant (by the analysis's significance test), what it contributes to the trace on its own small circle, and the residual; 1 µm drawn as {scale} units. With the radius and centre terms (the set-up) they add up to the trace."
+        "`{root}/diagnostics/<term>`: each ISO 230-4 diagnostic the fit finds significant (by the analysis's significance test), what it contributes to the trace on its own small circle, and the residual; 1 µm drawn as {scale} units. With the radius and centre terms (the set-up) and the terms not drawn (not significant) they add up to the measured deviation."
     ));
     Ok(())
 }

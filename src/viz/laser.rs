@@ -6,9 +6,9 @@ use super::convert::{cold_to_warm, plot_point, vec3};
 use super::machine::MachineScene;
 use super::plot::{scale_per_um, target_range};
 use super::{TIMELINE, VizError, WORKPIECE_NOMINAL};
-use crate::instruments::laser::Mounting;
+use crate::instruments::laser::{Mounting, Zeroing};
 use crate::io::{Approach, LaserRun, LaserTest, Scenario};
-use crate::machine::MachineState;
+use crate::machine::{Direction, MachineState};
 use crate::math::{Real, rigid_inverse};
 use rerun::RecordingStream;
 
@@ -21,7 +21,8 @@ pub const LASER_UM: &str = "laser_um";
 /// Time series of temperatures (°C): sensors by name, `true/<node>`, `air`.
 pub const TEMPERATURES_DEGC: &str = "temperatures_degc";
 
-/// Machine frames per second of programme at most, and in all at most this many.
+/// Machine frames at most every this many seconds of programme, and about this many in all (plus
+/// one at the end of every motion).
 const FRAME_PERIOD_S: Real = 0.1;
 const MAX_FRAMES: Real = 3000.0;
 
@@ -65,11 +66,17 @@ pub(super) fn record(
         (run.poses[i].translation - nominal.translation).dot(laser.axis.unit())
     };
 
-    let path = test.program.path(1.0);
-    let duration = path.last().map_or(0.0, |(t, _)| *t);
+    let duration: Real = test
+        .program
+        .timeline(Real::INFINITY)
+        .iter()
+        .map(|e| match e {
+            crate::program::Event::Interval(interval) => interval.duration,
+            crate::program::Event::Measure(_) => 0.0,
+        })
+        .sum();
     let period = FRAME_PERIOD_S.max(duration / MAX_FRAMES);
     let frames = test.program.path(period);
-    let mut next_reading = 0;
     let mut run_zero: Option<(usize, Real)> = None;
     let log_frame = |scene: &mut MachineScene<'_>, state: &MachineState| {
         let ends = scene.log_nominal(rec, state)?;
@@ -90,72 +97,98 @@ pub(super) fn record(
         }
         Ok::<(), VizError>(())
     };
-    for (time, position) in &frames {
-        // The readings up to this frame, in time order.
-        while next_reading < run.visits.len() && run.visits[next_reading].time <= *time {
-            let i = next_reading;
-            let visit = &run.visits[i];
-            rec.set_duration_secs(TIMELINE, visit.time);
-            log_frame(scene, &visit.state)?;
-            let thermal = setup.zip(run.thermal.as_ref()).map(|(setup, records)| {
-                setup.thermal.errors.slot_twists(
-                    &records[i].temperatures,
-                    &visit.state,
-                    &mut extra,
-                );
-                (setup, &records[i])
-            });
-            let ends = scene.ends(&visit.state, thermal.is_some().then_some(&extra[..]));
-            scene.log_actual(rec, &ends)?;
-            let reading = &run.table.readings[i];
-            if run_zero.is_none_or(|(r, _)| r != visit.point.run) {
-                run_zero = Some((visit.point.run, truth_along(i)));
-            }
-            let zero = run_zero.map_or(0.0, |(_, z)| z);
-            rec.log(
-                format!("{LASER_UM}/reading"),
-                &rerun::Scalars::single(reading.deviation * 1e6),
-            )?;
-            rec.log(
-                format!("{LASER_UM}/tool_tip_truth"),
-                &rerun::Scalars::single((truth_along(i) - zero) * 1e6),
-            )?;
-            rec.log(
-                format!("{LASER_UM}/target_{}", visit.point.target),
-                &rerun::Scalars::single(reading.deviation * 1e6),
-            )?;
-            if let Some((setup, record)) = thermal {
-                for ((_, spec), value) in setup.sensors.iter().zip(&record.readings) {
-                    rec.log(
-                        format!("{TEMPERATURES_DEGC}/{}", spec.name),
-                        &rerun::Scalars::single(*value),
-                    )?;
-                }
-                for (node, value) in setup
-                    .thermal
-                    .network
-                    .nodes()
-                    .iter()
-                    .zip(&record.temperatures)
-                {
-                    rec.log(
-                        format!("{TEMPERATURES_DEGC}/true/{}", node.name),
-                        &rerun::Scalars::single(*value),
-                    )?;
-                }
+    let mut log_reading = |scene: &mut MachineScene<'_>, i: usize| {
+        let visit = &run.visits[i];
+        rec.set_duration_secs(TIMELINE, visit.time);
+        log_frame(scene, &visit.state)?;
+        let thermal = setup.zip(run.thermal.as_ref()).map(|(setup, records)| {
+            setup
+                .thermal
+                .errors
+                .slot_twists(&records[i].temperatures, &visit.state, &mut extra);
+            (setup, &records[i])
+        });
+        let ends = scene.ends(&visit.state, thermal.is_some().then_some(&extra[..]));
+        scene.log_actual(rec, &ends)?;
+        let reading = &run.table.readings[i];
+        // The truth is zeroed where the laser is: each run's first reading, or the first.
+        let new_zero = match laser.zero {
+            Zeroing::EachRun => run_zero.is_none_or(|(r, _)| r != visit.point.run),
+            Zeroing::Once => run_zero.is_none(),
+        };
+        if new_zero {
+            run_zero = Some((visit.point.run, truth_along(i)));
+        }
+        let zero = run_zero.map_or(0.0, |(_, z)| z);
+        rec.log(
+            format!("{LASER_UM}/reading"),
+            &rerun::Scalars::single(reading.deviation * 1e6),
+        )?;
+        rec.log(
+            format!("{LASER_UM}/tool_tip_truth"),
+            &rerun::Scalars::single((truth_along(i) - zero) * 1e6),
+        )?;
+        rec.log(
+            format!("{LASER_UM}/target_{}", visit.point.target),
+            &rerun::Scalars::single(reading.deviation * 1e6),
+        )?;
+        if let Some((setup, record)) = thermal {
+            for ((_, spec), value) in setup.sensors.iter().zip(&record.readings) {
                 rec.log(
-                    format!("{TEMPERATURES_DEGC}/air"),
-                    &rerun::Scalars::single(setup.thermal.ambient.at(visit.time)),
+                    format!("{TEMPERATURES_DEGC}/{}", spec.name),
+                    &rerun::Scalars::single(*value),
                 )?;
             }
+            for (node, value) in setup
+                .thermal
+                .network
+                .nodes()
+                .iter()
+                .zip(&record.temperatures)
+            {
+                rec.log(
+                    format!("{TEMPERATURES_DEGC}/true/{}", node.name),
+                    &rerun::Scalars::single(*value),
+                )?;
+            }
+            rec.log(
+                format!("{TEMPERATURES_DEGC}/air"),
+                &rerun::Scalars::single(setup.thermal.ambient.at(visit.time)),
+            )?;
+        }
+        Ok::<(), VizError>(())
+    };
+    // Frames and readings in time order (a reading first at equal times); the direction of
+    // travel of each axis from the path, for the lost motion between readings.
+    let mut next_reading = 0;
+    let mut state = MachineState::at(test.program.start);
+    for (time, position) in &frames {
+        while next_reading < run.visits.len() && run.visits[next_reading].time <= *time {
+            log_reading(scene, next_reading)?;
             next_reading += 1;
         }
+        for (k, (&new, old)) in position.0.iter().zip(state.position.0).enumerate() {
+            if new > old {
+                state.direction[k] = Direction::Positive;
+            } else if new < old {
+                state.direction[k] = Direction::Negative;
+            }
+        }
+        state.position = *position;
         rec.set_duration_secs(TIMELINE, *time);
-        log_frame(scene, &MachineState::at(*position))?;
+        log_frame(scene, &state)?;
+        // Without a thermal model the actual pose is known at every frame.
+        if setup.is_none() {
+            let ends = scene.ends(&state, None);
+            scene.log_actual(rec, &ends)?;
+        }
+    }
+    for i in next_reading..run.visits.len() {
+        log_reading(scene, i)?;
     }
     curves(rec, run, legend)?;
     legend.push(format!(
-        "`{WORKPIECE_NOMINAL}/laser`: the beam along {} from the {fixed_name} to the {moving_name} ({:.1}, {:.1}, {:.1}) mm from the tool tip (the Abbe offset); `{LASER_UM}/reading`: the laser's deviation at each reading, `{LASER_UM}/tool_tip_truth`: what a laser at the tool tip would read (the twin's deviation along the axis, zeroed at each run's first reading), `{LASER_UM}/target_<k>`: one target's reading over time (drift).",
+        "`{WORKPIECE_NOMINAL}/laser`: the beam along {} from the {fixed_name} to the {moving_name} ({:.1}, {:.1}, {:.1}) mm from the tool tip (the Abbe offset); `{LASER_UM}/reading`: the laser's deviation at each reading, `{LASER_UM}/tool_tip_truth`: what a laser at the tool tip would read (the twin's deviation along the axis, zeroed where the laser is), `{LASER_UM}/target_<k>`: one target's reading over time (drift).",
         laser.axis,
         laser.beam_offset.x * 1e3,
         laser.beam_offset.y * 1e3,

@@ -237,3 +237,30 @@ pub(super) fn magnified(nominal: &Pose, actual: &Pose, m: Real) -> Pose {
             error.translation * m,
         )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn magnified_scales_the_error_translation_and_angle() {
+        // Nominal: turned 90° about z at (1, 2, 3). Actual: 2 µm further along the nominal
+        // frame's x and turned 5 µrad more about its z. ×1000: 2 mm along the nominal x, which
+        // is the world's +y, and 5 mrad.
+        let nominal = Pose::from_rotation_translation(
+            DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2),
+            Vector::new(1.0, 2.0, 3.0),
+        );
+        let error = Pose::from_rotation_translation(
+            DQuat::from_rotation_z(5e-6),
+            Vector::new(2e-6, 0.0, 0.0),
+        );
+        let shown = magnified(&nominal, &(nominal * error), 1000.0);
+        assert!((shown.translation - Vector::new(1.0, 2.002, 3.0)).length() < 1e-12);
+        let angle = DQuat::from_mat3(&(rigid_inverse(&nominal) * shown).matrix3).to_scaled_axis();
+        assert!((angle - Vector::new(0.0, 0.0, 5e-3)).length() < 1e-12);
+        // ×1 is the actual pose itself.
+        let same = magnified(&nominal, &(nominal * error), 1.0);
+        assert!((same.translation - (nominal * error).translation).length() < 1e-15);
+    }
+}

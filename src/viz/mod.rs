@@ -4,19 +4,20 @@
 //! curves and diagnostics, and discovery's residual before and after each effect.
 //!
 //! Everything is logged on one timeline, [`TIMELINE`] (programme time, s). The tests of a
-//! scenario follow each other on it: the laser test from 0, then each ball-bar circle, then a
+//! scenario follow each other on it, 1 s apart: the laser test from 0, then each ball-bar circle, then a
 //! tour of the volumetric grid; each starts from the machine as the scenario defines it (the
 //! thermal model starts cold for the laser test only, as in `mtwin run`). The 3D scene is in
 //! the bed frame (`world`, metres, z up); errors in it are enlarged by the magnification in
 //! their entity names (`…_x1000`: 1 µm drawn as 1 mm). The 2D plots (entity roots `laser_plot`,
-//! `ballbar_<plane>`, `discovery_*`) draw deviations with their own scale, stated in their
-//! labels and in the `lesson` text, y upward.
+//! `ballbar_<plane>`, `discovery_*`) draw deviations with their own scale, stated in the
+//! `lesson` text, y upward.
 //!
 //! Simplified: shapes are the URDF boxes, cylinders, capsules and spheres (meshes are listed in
 //! the text panel, not drawn); the machine is drawn nominal (its errors are far too small to
 //! see) and only the frames and arrows carry the magnified errors. During a laser test with a
-//! thermal model the actual frames are known at the readings only, so they and the error arrow
-//! change at the readings and hold in between.
+//! thermal model the actual frames are known at the readings only (the temperatures are
+//! integrated there), so they and the error arrow change at the readings and hold in between;
+//! without one they follow every frame, with each axis's direction of travel from the path.
 
 mod ballbar;
 mod convert;
@@ -80,14 +81,6 @@ pub enum VizError {
     /// The recording could not be written.
     #[error("recording: {0}")]
     Recording(String),
-    /// A table of the simulation could not be analysed for its scene.
-    #[error("{what}: {message}")]
-    Analysis {
-        /// Which table.
-        what: String,
-        /// Why.
-        message: String,
-    },
 }
 
 impl From<rerun::RecordingStreamError> for VizError {
@@ -115,7 +108,7 @@ pub fn record(
     scene.log_static(rec, &mut legend)?;
     let mut start = 0.0;
     if let (Some(test), Some(run)) = (&scenario.laser_test, &simulation.laser) {
-        start = laser::record(rec, &mut scene, scenario, test, run, &mut legend)?;
+        start = laser::record(rec, &mut scene, scenario, test, run, &mut legend)? + 1.0;
         progress("discovery on the laser table");
         discovery::positioning(rec, &run.table, &mut legend, progress)?;
     }
