@@ -26,9 +26,14 @@ pub fn plot_root(circle: &CircularInterpolation) -> String {
     format!("ballbar_{}", circle.plane.lower())
 }
 
+/// The root of a plane's time series (µm): `ballbar_xy_um`.
+pub fn series_root(circle: &CircularInterpolation) -> String {
+    format!("ballbar_{}_um", circle.plane.lower())
+}
+
 /// The time series of a plane's readings (µm): `ballbar_xy_um/deviation`.
 pub fn series(circle: &CircularInterpolation) -> String {
-    format!("ballbar_{}_um/deviation", circle.plane.lower())
+    format!("{}/deviation", series_root(circle))
 }
 
 /// The test's conditions as the analysis needs them.

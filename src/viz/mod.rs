@@ -186,8 +186,7 @@ fn layout(scenario: &Scenario, simulation: &Simulation) -> rerun::blueprint::Blu
             &format!("discovery: ball-bar {plane} residual"),
             format!("/{}", discovery::ballbar_root(circle)),
         ));
-        let path = ballbar::series(circle);
-        let root = path.split('/').next().unwrap_or(&path).to_string();
+        let root = ballbar::series_root(circle);
         series.insert(
             0,
             series_view(&format!("ball-bar {plane} (µm)"), format!("/{root}")),
