@@ -9,8 +9,8 @@
 //! Both report readings per second (`Throughput::Elements`).
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use mtwin::analysis::iso230_4::{CircularTest, evaluate};
-use mtwin::io::Scenario;
+use mtwin::app::Scenario;
+use mtwin::kinds::ballbar::iso230_4::{CircularTest, evaluate};
 use mtwin::math::seeded_rng;
 use std::hint::black_box;
 use std::time::Duration;

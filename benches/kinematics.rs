@@ -15,7 +15,7 @@
 //! reports poses per second (`Throughput::Elements`).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use mtwin::io::Scenario;
+use mtwin::app::Scenario;
 use mtwin::machine::{Axis, AxisValues, Direction, Machine, MachineState, Workspace};
 use mtwin::math::{Pose, seeded_rng};
 use rand::RngExt;

@@ -6,11 +6,12 @@
 mod common;
 
 use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
-use mtwin::instruments::ballbar::Ballbar;
-use mtwin::io::{BallbarReading, BallbarTable, Sense};
+use mtwin::kinds::ballbar::instrument::Ballbar;
+use mtwin::kinds::ballbar::{BallbarReading, BallbarTable, Sense};
+use mtwin::kinds::ballbar::{CircularInterpolation, run_circle};
 use mtwin::machine::{Axis, AxisValues, Plane};
 use mtwin::math::{Real, Vector, seeded_rng};
-use mtwin::program::{AxisServo, CircularInterpolation, Servo, run_circle};
+use mtwin::program::{AxisServo, Servo};
 use mtwin::twin::Twin;
 use std::f64::consts::{PI, TAU};
 
@@ -509,7 +510,7 @@ fn squareness_in_the_vertical_planes_reads_as_ball_bar_software_reports_it() {
 // evaluation.
 // ---------------------------------------------------------------------------------------
 
-use mtwin::analysis::iso230_4::{self, CircularTest};
+use mtwin::kinds::ballbar::iso230_4::{self, CircularTest};
 
 /// A fault of the XY test on vmc3 and the diagnostic that names it.
 struct Fault {

@@ -8,8 +8,8 @@
 //! that reads it with 0.02 °C noise and 0.01 °C resolution, and 0.3 µm of reading noise
 //! (repeatability of a good machine). Each test adds one effect by its closed form.
 
-use mtwin::discovery::{PositioningEffect, PositioningOptions, discover_positioning};
-use mtwin::io::PositioningTable;
+use mtwin::kinds::positioning::PositioningTable;
+use mtwin::kinds::positioning::{PositioningEffect, PositioningOptions, discover_positioning};
 use mtwin::math::{seeded_rng, standard_normal};
 use std::f64::consts::{PI, TAU};
 
@@ -149,12 +149,12 @@ impl Plan {
     }
 }
 
-fn discover(table: &PositioningTable) -> mtwin::discovery::PositioningDiscovery {
+fn discover(table: &PositioningTable) -> mtwin::kinds::positioning::PositioningDiscovery {
     discover_positioning(table, PositioningOptions::default(), |_| {}).expect("discovery runs")
 }
 
 /// The held-out RMS must come within 1.5 × the reading noise.
-fn assert_explained(d: &mtwin::discovery::PositioningDiscovery) {
+fn assert_explained(d: &mtwin::kinds::positioning::PositioningDiscovery) {
     let cv_um = d.final_score().cv_rms * 1e6;
     assert!(
         cv_um < 1.5 * NOISE_UM,
@@ -163,7 +163,11 @@ fn assert_explained(d: &mtwin::discovery::PositioningDiscovery) {
     );
 }
 
-fn param(d: &mtwin::discovery::PositioningDiscovery, effect: PositioningEffect, key: &str) -> f64 {
+fn param(
+    d: &mtwin::kinds::positioning::PositioningDiscovery,
+    effect: PositioningEffect,
+    key: &str,
+) -> f64 {
     d.final_params(effect).expect("accepted")[key]
 }
 
@@ -174,7 +178,7 @@ fn find(
     hidden: impl Fn(At) -> f64 + Copy,
     first: PositioningEffect,
     also: &[PositioningEffect],
-    check: impl Fn(&mtwin::discovery::PositioningDiscovery),
+    check: impl Fn(&mtwin::kinds::positioning::PositioningDiscovery),
 ) {
     for seed in 1..=3 {
         let d = discover(&plan(seed).table(hidden));
@@ -611,7 +615,7 @@ fn nothing_hidden_in_short_files_rarely_accepts_anything() {
 /// at 20 °C (profile + lost motion + cyclic error) between and at the targets.
 #[test]
 fn the_written_model_reproduces_the_true_error() {
-    use mtwin::io::Scenario;
+    use mtwin::app::Scenario;
     use mtwin::machine::Direction;
     let hidden = |a: At| -a.s * 2.0 / 2.0 + 1.5 * (TAU * a.x_mm / 25.0 + 0.7).sin();
     let d = discover(&Plan::scattered(5, 15, 1).table(hidden));

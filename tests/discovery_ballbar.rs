@@ -12,9 +12,9 @@
 //! servo lags of 30 ms. Circles of R = 150 mm at 1000 mm/min sampled at 125 Hz, ccw then cw
 //! with 45° lead-in and lead-out arcs, in the XY plane (p = X, q = Y).
 
-use mtwin::analysis::iso230_4::CircularTest;
-use mtwin::discovery::{BallbarEffect, discover_ballbar};
-use mtwin::io::{BallbarReading, BallbarTable, Sense};
+use mtwin::kinds::ballbar::iso230_4::CircularTest;
+use mtwin::kinds::ballbar::{BallbarEffect, discover_ballbar};
+use mtwin::kinds::ballbar::{BallbarReading, BallbarTable, Sense};
 use mtwin::machine::Plane;
 use mtwin::math::{seeded_rng, standard_normal};
 use std::f64::consts::TAU;

@@ -1,8 +1,9 @@
 //! ISO 230-2:2014 evaluation against figures computed by hand, and the positioning-table
 //! reader on hand-written files (any column order, bad input named by line and column).
 
-use mtwin::analysis::iso230_2::{Iso230_2Error, evaluate};
-use mtwin::io::{Approach, PositioningTable};
+use mtwin::kinds::positioning::PositioningTable;
+use mtwin::kinds::positioning::iso230_2::{Iso230_2Error, evaluate};
+use mtwin::program::Approach;
 
 /// 1 pm: the figures are sums and square roots of µm values.
 const TOLERANCE_UM: f64 = 1e-6;

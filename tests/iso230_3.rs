@@ -2,7 +2,7 @@
 //! (t > 60 min + τ·ln(1/0.15) = 60 min + 1.897 τ), drift ranges with their sign, and the ETVE
 //! window of a record built so that its worst hour is known.
 
-use mtwin::analysis::iso230_3::{drift_ranges, etve, signed_range, stop_time};
+use mtwin::kinds::drift::iso230_3::{drift_ranges, etve, signed_range, stop_time};
 
 /// A record sampled every minute for `minutes`, in seconds.
 fn record(minutes: usize, d: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
@@ -74,8 +74,8 @@ fn analyze_drift_reproduces_the_iso_230_3_etve_example() {
     // ISO 230-3 Figure 4, as far as its printed values go: ETVE(X; 1,1 °C) = 0,0015 mm in the
     // window 90-150 min and ETVE(A) = 3″ = 14.5 µrad in 110-170 min, for a one-hour test.
     // Built here as ramps in those windows (flat elsewhere), the air rising 1.1 °C over 90-150.
-    use mtwin::analysis::iso230_3::drift_report;
-    use mtwin::io::DriftTable;
+    use mtwin::kinds::drift::DriftTable;
+    use mtwin::kinds::drift::iso230_3::drift_report;
     let mut text = String::from("time_min,x1_um,a_urad,temp_air_degc\n");
     for m in (0..=300).step_by(5) {
         let m = m as f64;
@@ -104,7 +104,7 @@ fn analyze_drift_reproduces_the_iso_230_3_etve_example() {
 
 #[test]
 fn drift_tables_name_their_bad_input() {
-    use mtwin::io::DriftTable;
+    use mtwin::kinds::drift::DriftTable;
     for (text, words) in [
         ("x_um\n1\n2\n", "time_min"),
         ("time_min,x\n0,1\n1,2\n", "unknown column `x`"),

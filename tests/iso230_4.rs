@@ -8,10 +8,10 @@
 //! that velocity's zero crossings (interpolated between samples). Circles of R = 150 mm at 1000 mm/min sampled at 250 Hz, ccw then cw, each with a
 //! 45° lead-in and lead-out arc as a ball-bar test runs them.
 
-use mtwin::analysis::iso230_4::{
+use mtwin::kinds::ballbar::iso230_4::{
     BallbarError, BallbarEvaluation, CircularTest, Term, diagnostic_column, evaluate,
 };
-use mtwin::io::{BallbarReading, BallbarTable, Sense};
+use mtwin::kinds::ballbar::{BallbarReading, BallbarTable, Sense};
 use mtwin::machine::Plane;
 use mtwin::math::{seeded_rng, standard_normal};
 use std::f64::consts::{PI, TAU};
@@ -419,9 +419,9 @@ const SPIKE_Q: (f64, f64) = (4.0 * UM, 0.04);
 #[test]
 fn columns_follow_the_stated_conventions_by_hand() {
     let test = xy();
-    let shape = mtwin::analysis::iso230_4::Shape::default();
+    let shape = mtwin::kinds::ballbar::iso230_4::Shape::default();
     let at = |deg: f64, sense: f64| {
-        mtwin::analysis::iso230_4::BasisPoint::new(deg.to_radians(), sense, 0.0, [true; 2])
+        mtwin::kinds::ballbar::iso230_4::BasisPoint::new(deg.to_radians(), sense, 0.0, [true; 2])
     };
     let column = |term: Term, deg: f64, sense: f64| {
         diagnostic_column(term, 0, &at(deg, sense), &test, &shape)
@@ -911,7 +911,7 @@ fn absent_spikes_and_cyclic_errors_are_reported_without_decay_or_period() {
     let json = e.to_json();
     // The cyclic threshold for R = 150 mm, periods 1 mm to 75 mm tested every 1/(8R) = 1/1.2 m
     // in frequency: M = (1000 − 13.33)·1.2 + 1 = 1185 periods, √(2·ln(1185/0.05)) = 4.4886.
-    let data = mtwin::analysis::iso230_4::CircleData::new(&table, &test).unwrap();
+    let data = mtwin::kinds::ballbar::iso230_4::CircleData::new(&table, &test).unwrap();
     assert!(
         (data.significance(Term::CyclicP) - 4.4886).abs() < 0.0005,
         "{}",

@@ -3,12 +3,15 @@
 //! (compensated and not), the cosine error, material compensation, and the cycle's timing.
 
 use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
-use mtwin::instruments::laser::{AirCompensation, Laser, MaterialCompensation, Mounting, Zeroing};
-use mtwin::instruments::{Air, HENE_WAVELENGTH_UM};
-use mtwin::io::{Approach, PositioningTable};
+use mtwin::kinds::positioning::PositioningTable;
+use mtwin::kinds::positioning::laser::{
+    AirCompensation, Laser, MaterialCompensation, Mounting, Zeroing,
+};
+use mtwin::kinds::positioning::{Air, HENE_WAVELENGTH_UM};
+use mtwin::kinds::positioning::{LinearCycle, irregular_targets};
 use mtwin::machine::{Axis, AxisValues, Machine};
 use mtwin::math::{Vector, seeded_rng};
-use mtwin::program::{LinearCycle, irregular_targets};
+use mtwin::program::Approach;
 use mtwin::twin::Twin;
 
 fn vmc3() -> Machine {
@@ -339,8 +342,8 @@ fn the_bundled_test_recovers_the_injected_lost_motion() {
     // must give B̄ = -3 µm (the axis lags against its travel: x̄↑ - x̄↓ = -3 µm) to within the
     // laser noise: 20 nm per reading, so B̄'s standard error is 20 nm·√(2/5)/√9 ≈ 4 nm; allow
     // 5 standard errors plus the 1 nm resolution.
-    use mtwin::analysis::iso230_2::evaluate;
-    use mtwin::io::{Scenario, run_scenario};
+    use mtwin::app::{Scenario, run_scenario};
+    use mtwin::kinds::positioning::iso230_2::evaluate;
     let scenario = Scenario::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/vmc3_iso230_2.toml"

@@ -5,8 +5,9 @@
 //! message names the file and, where the error belongs to one place, the line of the broken
 //! element (found in the input text by the test itself) and the joint name or the dotted key.
 
-use mtwin::io::{Scenario, ScenarioError, ScenarioErrorKind};
+use mtwin::app::Scenario;
 use mtwin::machine::{Axis, Machine, MachineError, MachineErrorKind};
+use mtwin::scenario::{ScenarioError, ScenarioErrorKind};
 use std::path::Path;
 use tempfile::TempDir;
 
@@ -1448,7 +1449,7 @@ fn servo_without_a_ballbar_test() {
 }
 
 fn ballbar_table_error(text: &str) -> String {
-    let error = mtwin::io::BallbarTable::parse(text.as_bytes(), "bb.csv")
+    let error = mtwin::kinds::ballbar::BallbarTable::parse(text.as_bytes(), "bb.csv")
         .expect_err("the table must be rejected");
     error.to_string()
 }

@@ -1,8 +1,8 @@
 //! The programme timeline against hand timings: moves (per-axis speeds along a straight
 //! line), dwells, warm-up cycles, spindle speed, measurement events and interval splitting.
 
-use mtwin::io::Approach;
 use mtwin::machine::{Axis, AxisValues, Direction};
+use mtwin::program::Approach;
 use mtwin::program::{Event, MeasurePoint, Program, Step, visits};
 
 fn intervals(timeline: &[Event]) -> Vec<(f64, AxisValues, f64)> {

@@ -2,7 +2,7 @@
 //! whatever path the scenario is given by; truth.json holds every injected parameter; a row of
 //! the vmc3 map against a hand computation.
 
-use mtwin::io::{Scenario, run_scenario, write_outputs};
+use mtwin::app::{Scenario, run_scenario, write_outputs};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
@@ -12,7 +12,7 @@ fn scenario_path(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn file<'a>(output: &'a mtwin::io::RunOutput, name: &str) -> &'a [u8] {
+fn file<'a>(output: &'a mtwin::app::RunOutput, name: &str) -> &'a [u8] {
     &output.files.iter().find(|(n, _)| n == name).unwrap().1
 }
 

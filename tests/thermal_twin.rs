@@ -4,12 +4,13 @@
 //! drifts when it sits at the free end of the screw.
 
 use mtwin::errors::ErrorModel;
-use mtwin::instruments::Air;
-use mtwin::instruments::laser::{AirCompensation, Laser, Mounting, Zeroing};
-use mtwin::io::Approach;
+use mtwin::kinds::positioning::Air;
+use mtwin::kinds::positioning::LinearCycle;
+use mtwin::kinds::positioning::laser::{AirCompensation, Laser, Mounting, Zeroing};
 use mtwin::machine::{Axis, AxisValues, Machine, Workspace};
 use mtwin::math::{Vector, seeded_rng};
-use mtwin::program::{LinearCycle, MeasurePoint, Program, Step};
+use mtwin::program::Approach;
+use mtwin::program::{MeasurePoint, Program, Step};
 use mtwin::thermal::{Ambient, MachineThermal, ScrewSpec, ThermalStepper};
 use mtwin::twin::{Twin, run_thermal};
 
@@ -245,7 +246,7 @@ fn the_warm_up_scenario_files_follow_the_injected_thermal_model() {
     // with the true screw temperatures from truth.json (the zero is each run's first reading,
     // at 5 mm). The laser adds 20 nm of noise per reading (two readings: 28 nm) and 1 nm
     // steps: allow 5 × 28 nm + 2 nm.
-    use mtwin::io::{Scenario, run_scenario};
+    use mtwin::app::{Scenario, run_scenario};
     let scenario = Scenario::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/vmc3_warmup_laser.toml"
@@ -314,7 +315,8 @@ fn the_linear_motion_test_reads_as_iso_230_3_asks() {
     // Targets 20 and 740 mm at 10 000 mm/min with 2 s dwells: a bidirectional cycle takes
     // 2·(0.72 m / (1/6 m/s) + 2 s) = 12.64 s, so 4 h hold 1139 cycles; a reading pair every 5th
     // (227) after the first pair, then 12 cool-down visits 5 min apart: 240 pairs.
-    use mtwin::program::{LinearMotionTest, visits};
+    use mtwin::kinds::positioning::LinearMotionTest;
+    use mtwin::program::visits;
     let mut rest = AxisValues::ZERO;
     rest[Axis::Y] = 0.205;
     let test = LinearMotionTest {
@@ -355,7 +357,7 @@ fn the_linear_motion_scenario_drift_follows_the_screw_temperature() {
     // Zeroed once: at each target the drift from its first reading is
     // α·(T_screw(t) - T_screw(t₀))·(P - 0.76) (origin at the free end), within the noise of two
     // readings (5 × 28 nm + 2 nm). P1 = 20 mm drifts strongly negative, P2 = 740 mm barely.
-    use mtwin::io::{Scenario, run_scenario};
+    use mtwin::app::{Scenario, run_scenario};
     let scenario = Scenario::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/vmc3_iso230_3_linear.toml"
@@ -416,7 +418,7 @@ fn material_compensation_on_the_screw_hides_its_expansion() {
     // expansion α·ΔT·(x - x₀) to second order (α²ΔT² ~ 1e-9). The 20 µm warm-up drift vanishes,
     // which is why ISO 230-3 §7.2.5 forbids NDE in drift tests. Between the first and last runs
     // at 755 mm only the noise of two readings remains (5 × 28 nm + 2 nm).
-    use mtwin::io::{Scenario, run_scenario};
+    use mtwin::app::{Scenario, run_scenario};
     let original = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/vmc3_warmup_laser.toml"

@@ -4,7 +4,7 @@
 //! twin's deviation, in the workpiece frame, placed where the URDF puts the tool by hand.
 #![cfg(feature = "viz")]
 
-use mtwin::io::{Scenario, Simulation, simulate};
+use mtwin::app::{Scenario, Simulation, simulate};
 use mtwin::viz::{self, TIMELINE};
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
@@ -23,7 +23,7 @@ fn record(name: &str) -> (Scenario, Simulation, Recording) {
         .send_properties(false)
         .memory()
         .unwrap();
-    viz::record(&rec, &scenario, &simulation, &mut |_| {}).unwrap();
+    mtwin::app::record::record(&rec, &scenario, &simulation, &mut |_| {}).unwrap();
     rec.flush_blocking().unwrap();
     let bytes = storage.drain_as_bytes().unwrap();
     let mut chunks = Vec::new();
@@ -270,7 +270,7 @@ fn squareness_lesson_logs_every_reading_and_the_diagnostic_plots() {
     let expected_ccw = table
         .readings
         .iter()
-        .filter(|r| r.sense == mtwin::io::Sense::Ccw)
+        .filter(|r| r.sense == mtwin::kinds::ballbar::Sense::Ccw)
         .count();
     assert_eq!(ccw, expected_ccw);
     // The machine moves through the whole test: one arrow per frame, at most every 50 ms.
@@ -282,9 +282,9 @@ fn squareness_lesson_logs_every_reading_and_the_diagnostic_plots() {
         .iter()
         .filter(|e| e.starts_with("/discovery_ballbar_xy/step_") && e.ends_with("/nominal"))
         .count();
-    let discovery = mtwin::discovery::discover_ballbar(
+    let discovery = mtwin::kinds::ballbar::discover_ballbar(
         table,
-        &mtwin::analysis::iso230_4::CircularTest {
+        &mtwin::kinds::ballbar::iso230_4::CircularTest {
             plane: circle.plane,
             radius: circle.radius,
             feed: circle.feed,

@@ -1,22 +1,15 @@
-//! Files: scenarios in; measurement tables, truth and manifests out.
+//! Files, and nothing above them: the primitives every measurement table shares (the CSV
+//! dialect, the header row, errors that name the file, line and column) and writing outputs
+//! whole (through temporary names, so a reader never sees half a file).
 //!
-//! The measurement-table modules (`positioning`, `drift`, `ballbar`) depend only on [`crate::math`] and
-//! [`crate::machine`], so instruments, analyses and discovery all use them; `run` sits on top
-//! of everything.
+//! Each test kind's table schema (reader and writer) lives in its folder
+//! (`crate::kinds::<kind>::table`), on these primitives.
 
-mod ballbar;
-mod drift;
-mod positioning;
-mod run;
-mod scenario;
+mod path;
 mod table;
+mod write;
 
-pub use ballbar::{BallbarReading, BallbarTable, Sense};
-pub use drift::{DriftChannel, DriftTable};
-pub use positioning::{Approach, PositioningReading, PositioningTable};
-pub use run::{LaserRun, RunError, RunOutput, Simulation, run_scenario, simulate, write_outputs};
-pub use scenario::{
-    BallbarTest, ErrorSpec, HarmonicSpec, InterpolationSpec, LaserTest, Lesson, SCHEMA_VERSION,
-    Scenario, ScenarioError, ScenarioErrorKind, TableSpec, ThermalSetup, VolumetricSpec,
-};
+pub use path::{PathError, relative_path};
 pub use table::TableError;
+pub(crate) use table::{csv_reader, read_file, read_header};
+pub use write::{WriteError, write_atomically, write_files};

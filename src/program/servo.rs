@@ -21,8 +21,7 @@
 //! simulation), lost motion as a step at the reversal (the real take-up of play spreads it over
 //! the first micrometres of motor travel), axes off the plane exactly at their commands.
 
-use super::circle::CircularInterpolation;
-use crate::machine::{Axis, Direction, MachineState};
+use crate::machine::{Axis, Direction};
 use crate::math::Real;
 
 /// The servo of one axis (SI).
@@ -123,21 +122,14 @@ impl Servo {
     }
 }
 
-/// The machine at one sampling instant of a circular test.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ServoSample {
-    /// Time from the start of the test (s).
-    pub time: Real,
-    /// The interpolator's state (programmed angle, sense, speed).
-    pub command: super::circle::CommandPoint,
-    /// Actual axis positions and directions of travel, for the twin.
-    pub state: MachineState,
-}
-
-/// The loop of one axis, integrated period by period.
-struct AxisLoop {
+/// The loop of one axis, integrated period by period: [`AxisLoop::start_period`] for each
+/// interpolation period, [`AxisLoop::actual`] at the samples inside it, then
+/// [`AxisLoop::finish_period`].
+#[derive(Clone, Copy, Debug)]
+pub struct AxisLoop {
     servo: AxisServo,
-    axis: Axis,
+    /// The axis it drives.
+    pub axis: Axis,
     /// Loop position at the start of the current period (m).
     position: Real,
     /// Direction of travel (sign of the loop velocity, kept while it is zero).
@@ -147,7 +139,8 @@ struct AxisLoop {
 }
 
 /// One period of one axis: command `c(t) = c0 + rate·(t − t0)` from `t0`.
-struct Period {
+#[derive(Clone, Copy, Debug)]
+pub struct Period {
     t0: Real,
     c0: Real,
     rate: Real,
@@ -158,8 +151,19 @@ struct Period {
 }
 
 impl AxisLoop {
+    /// A loop at rest at `position`, its direction of travel `direction`, no reversal yet.
+    pub fn new(servo: AxisServo, axis: Axis, position: Real, direction: Direction) -> AxisLoop {
+        AxisLoop {
+            servo,
+            axis,
+            position,
+            direction,
+            reversal: None,
+        }
+    }
+
     /// Starts a period from `t0` with the command going from `c0` to `c1` over `dt`.
-    fn start_period(&self, t0: Real, c0: Real, c1: Real, dt: Real) -> Period {
+    pub fn start_period(&self, t0: Real, c0: Real, c1: Real, dt: Real) -> Period {
         let (kv, lag) = (self.servo.kv, 1.0 - self.servo.feed_forward);
         let rate = (c1 - c0) / dt;
         let transient = self.position - c0 + lag * rate / kv;
@@ -193,7 +197,7 @@ impl AxisLoop {
     }
 
     /// Loop position at `t` within the period.
-    fn loop_position(&self, period: &Period, t: Real) -> Real {
+    pub fn loop_position(&self, period: &Period, t: Real) -> Real {
         let (kv, lag) = (self.servo.kv, 1.0 - self.servo.feed_forward);
         let tau = t - period.t0;
         period.c0 + period.rate * tau - lag * period.rate / kv
@@ -201,7 +205,7 @@ impl AxisLoop {
     }
 
     /// Actual position and direction of travel at `t` within the period.
-    fn actual(&self, period: &Period, t: Real) -> (Real, Direction) {
+    pub fn actual(&self, period: &Period, t: Real) -> (Real, Direction) {
         let (reversal, direction) = match period.reversal {
             Some((at, after)) if t >= at => (Some((at, after)), after),
             _ => (self.reversal, self.direction),
@@ -216,87 +220,11 @@ impl AxisLoop {
     }
 
     /// Ends the period at `t1`.
-    fn finish_period(&mut self, period: &Period, t1: Real) {
+    pub fn finish_period(&mut self, period: &Period, t1: Real) {
         self.position = self.loop_position(period, t1);
         if let Some(reversal) = period.reversal {
             self.reversal = Some(reversal);
             self.direction = reversal.1;
         }
     }
-}
-
-/// Runs a circular test through the controller and samples it every `sample_period` seconds
-/// from t = 0 to the end of the test: the interpolator's state and the actual axis positions
-/// (with each axis's direction of travel) at each sample.
-///
-/// The loops start at rest on the first command point; each axis's direction of travel starts
-/// as that of its first commanded motion. Allocates the returned samples only.
-pub fn run_circle(
-    circle: &CircularInterpolation,
-    servo: &Servo,
-    sample_period: Real,
-) -> Vec<ServoSample> {
-    assert!(
-        sample_period > 0.0 && servo.ipo_period > 0.0,
-        "sampling and interpolation periods must be positive"
-    );
-    let axes = [circle.plane.first(), circle.plane.second()];
-    let first_angle = circle.command(0.0).angle;
-    let start = circle.position(first_angle);
-    // A thousandth of a radian into the first (counter-clockwise) run.
-    let early = circle.position(first_angle + 1e-3);
-    let mut loops = axes.map(|axis| AxisLoop {
-        servo: *servo.axis(axis),
-        axis,
-        position: start[axis],
-        direction: if early[axis] >= start[axis] {
-            Direction::Positive
-        } else {
-            Direction::Negative
-        },
-        reversal: None,
-    });
-    let duration = circle.duration();
-    let periods = (duration / servo.ipo_period).ceil() as usize;
-    let samples = (duration / sample_period).floor() as usize + 1;
-    let mut out = Vec::with_capacity(samples);
-    let mut next_sample = 0usize;
-    let mut command_start = start;
-    for i in 0..periods {
-        let t0 = i as Real * servo.ipo_period;
-        let t1 = ((i + 1) as Real * servo.ipo_period).min(duration);
-        let command_end = circle.position(circle.command(t1).angle);
-        let dt = t1 - t0;
-        if dt <= 0.0 {
-            break;
-        }
-        let spans = loops
-            .each_ref()
-            .map(|l| l.start_period(t0, command_start[l.axis], command_end[l.axis], dt));
-        loop {
-            let t = next_sample as Real * sample_period;
-            let last = i + 1 == periods;
-            if next_sample >= samples || t > t1 || (t == t1 && !last) {
-                break;
-            }
-            let command = circle.command(t);
-            let mut state = MachineState::at(circle.centre);
-            for (l, span) in loops.iter().zip(&spans) {
-                let (position, direction) = l.actual(span, t);
-                state.position[l.axis] = position;
-                state.direction[l.axis.index()] = direction;
-            }
-            out.push(ServoSample {
-                time: t,
-                command,
-                state,
-            });
-            next_sample += 1;
-        }
-        for (l, span) in loops.iter_mut().zip(&spans) {
-            l.finish_period(span, t1);
-        }
-        command_start = command_end;
-    }
-    out
 }

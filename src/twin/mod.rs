@@ -2,10 +2,8 @@
 //! deliberately simpler model.
 
 mod thermal_run;
-mod volumetric;
 
 pub use thermal_run::{ThermalRecord, run_thermal};
-pub use volumetric::{GridAxis, VolumetricMap, VolumetricRow, volumetric_map};
 
 use crate::errors::{Deviation, ErrorModel, Lu2012Error, lu2012_deviation};
 use crate::machine::{Machine, MachineState, Workspace};

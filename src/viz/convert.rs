@@ -4,27 +4,27 @@ use crate::math::{Pose, Real, Rotation, Vector};
 use glam::DQuat;
 
 /// A point or vector (m) for rerun.
-pub(super) fn vec3(v: Vector) -> [f32; 3] {
+pub(crate) fn vec3(v: Vector) -> [f32; 3] {
     v.as_vec3().to_array()
 }
 
 /// A rotation for rerun.
-pub(super) fn quaternion(rotation: Rotation) -> rerun::Quaternion {
+pub(crate) fn quaternion(rotation: Rotation) -> rerun::Quaternion {
     rerun::Quaternion::from_xyzw(DQuat::from_mat3(&rotation).as_quat().to_array())
 }
 
 /// A rigid transform (parent_from_child) for rerun.
-pub(super) fn transform(pose: &Pose) -> rerun::Transform3D {
+pub(crate) fn transform(pose: &Pose) -> rerun::Transform3D {
     rerun::Transform3D::from_translation_rotation(vec3(pose.translation), quaternion(pose.matrix3))
 }
 
 /// A 2D plot point, y drawn upward (rerun's 2D views have y down).
-pub(super) fn plot_point(x: Real, y: Real) -> [f32; 2] {
+pub(crate) fn plot_point(x: Real, y: Real) -> [f32; 2] {
     [x as f32, -y as f32]
 }
 
 /// Blue (0) through grey to red (1), for thermal state and error size.
-pub(super) fn cold_to_warm(fraction: Real) -> rerun::Color {
+pub(crate) fn cold_to_warm(fraction: Real) -> rerun::Color {
     let f = fraction.clamp(0.0, 1.0);
     let channel = |a: Real, b: Real| (a + (b - a) * f).round() as u8;
     rerun::Color::from_rgb(

@@ -13,7 +13,7 @@ use rerun::RecordingStream;
 const FRAME_AXIS_LENGTH: f32 = 0.08;
 
 /// Draws one twin: keeps the scratch for its kinematics and the entity paths of its bodies.
-pub(super) struct MachineScene<'a> {
+pub(crate) struct MachineScene<'a> {
     twin: &'a Twin,
     workspace: Workspace,
     frames: Vec<Pose>,
@@ -24,7 +24,7 @@ pub(super) struct MachineScene<'a> {
 
 /// The nominal and actual ends of both branches in the bed frame: (tool, workpiece).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Ends {
+pub(crate) struct Ends {
     pub nominal: (Pose, Pose),
     pub actual: (Pose, Pose),
 }
@@ -228,7 +228,7 @@ impl<'a> MachineScene<'a> {
 
 /// `actual` with its difference from `nominal` (in the nominal frame) enlarged `m` times:
 /// translation times `m`, rotation angle times `m` about the same axis.
-pub(super) fn magnified(nominal: &Pose, actual: &Pose, m: Real) -> Pose {
+pub(crate) fn magnified(nominal: &Pose, actual: &Pose, m: Real) -> Pose {
     let error = rigid_inverse(nominal) * *actual;
     let rotation = DQuat::from_mat3(&error.matrix3).to_scaled_axis() * m;
     *nominal

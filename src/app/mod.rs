@@ -1,0 +1,20 @@
+//! The application layer, above every test kind: a whole [`Scenario`] assembled from the
+//! shared sections and the kinds' own, running it ([`simulate`]: programme → twin →
+//! instruments → tables and truth) and the files of a run ([`RunOutput`]); with the `viz`
+//! feature, the teaching recording of a run (`record`).
+//!
+//! ```
+//! use mtwin::app::{Scenario, run_scenario};
+//! let scenario = Scenario::load("scenarios/vmc3_iso230_2.toml").unwrap();
+//! let output = run_scenario(&scenario).unwrap();
+//! let names: Vec<&str> = output.files.iter().map(|(name, _)| name.as_str()).collect();
+//! assert_eq!(names, ["positioning.csv", "truth.json", "manifest.json"]);
+//! ```
+
+#[cfg(feature = "viz")]
+pub mod record;
+mod run;
+mod scenario;
+
+pub use run::{RunError, RunOutput, Simulation, run_scenario, simulate, write_outputs};
+pub use scenario::Scenario;

@@ -1,0 +1,220 @@
+//! Running a scenario (`mtwin run`): every test kind it asks for through the twin, then the
+//! output files (tables, `truth.json`, `manifest.json`) in memory, written whole.
+
+use super::scenario::Scenario;
+use crate::errors::{Lu2012Error, ParameterName};
+use crate::kinds::ballbar::{self, BallbarTable};
+use crate::kinds::positioning::{self, LaserRun};
+use crate::kinds::volumetric::{VolumetricMap, VolumetricRow, volumetric_map};
+use crate::machine::Side;
+use crate::math::sha256_hex;
+use crate::scenario::ThermalSetup;
+use serde_json::{Value, json};
+use std::path::Path;
+
+/// Why a run failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RunError {
+    /// The evaluation model does not fit the machine.
+    #[error(transparent)]
+    Model(#[from] Lu2012Error),
+    /// The model produced a deviation that is not a number (nothing is written).
+    #[error("the deviation at grid point {row} is not finite; check the error functions")]
+    NotFinite {
+        /// The 0-based row of the volumetric map.
+        row: usize,
+    },
+    /// An output could not be written.
+    #[error(transparent)]
+    Write(#[from] crate::io::WriteError),
+}
+
+/// The files of one run, in memory, in the order they are listed in the manifest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutput {
+    /// `(file name, bytes)`; `manifest.json` last.
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+/// What simulating a scenario produced, before anything is written: the measurement tables
+/// and, beside them, what the twin knew (for the files and for the teaching scenes).
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    /// The volumetric map, if asked for.
+    pub volumetric: Option<VolumetricMap>,
+    /// The laser test, if asked for.
+    pub laser: Option<LaserRun>,
+    /// One ball-bar table per circle, in the scenario's order.
+    pub ballbar: Vec<BallbarTable>,
+}
+
+/// Simulates everything `scenario` asks for. Nothing here depends on the clock, the thread
+/// count or the path the scenario was given by: the same scenario and seed give the same
+/// results.
+pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
+    let volumetric = match &scenario.volumetric {
+        Some(spec) => {
+            let map = volumetric_map(&scenario.twin, &spec.grid, spec.model)?;
+            let finite = |r: &VolumetricRow| {
+                r.deviation.translation.is_finite()
+                    && r.deviation.tilt.iter().all(|t| t.is_finite())
+            };
+            if let Some(row) = map.rows.iter().position(|r| !finite(r)) {
+                return Err(RunError::NotFinite { row });
+            }
+            Some(map)
+        }
+        None => None,
+    };
+    let laser = scenario.laser_test.as_ref().map(|test| {
+        positioning::run::simulate(
+            &scenario.twin,
+            test,
+            scenario.thermal.as_ref(),
+            scenario.seed,
+        )
+    });
+    let ballbar = scenario
+        .ballbar_test
+        .as_ref()
+        .map_or_else(Vec::new, |test| {
+            ballbar::run::simulate(&scenario.twin, test, scenario.seed)
+        });
+    Ok(Simulation {
+        volumetric,
+        laser,
+        ballbar,
+    })
+}
+
+/// Computes every output of `scenario` in memory ([`simulate`], then [`Simulation::output`]).
+pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
+    Ok(simulate(scenario)?.output(scenario))
+}
+
+impl Simulation {
+    /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv` (as
+    /// the scenario asks), `truth.json` and `manifest.json`.
+    pub fn output(&self, scenario: &Scenario) -> RunOutput {
+        let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+        if let Some(map) = &self.volumetric {
+            let mut bytes = Vec::new();
+            map.write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("volumetric.csv".into(), bytes));
+        }
+        if let Some(run) = &self.laser {
+            let mut bytes = Vec::new();
+            run.table
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("positioning.csv".into(), bytes));
+        }
+        let circles = scenario.ballbar_test.iter().flat_map(|t| &t.circles);
+        for (circle, table) in circles.zip(&self.ballbar) {
+            let mut bytes = Vec::new();
+            table
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push((format!("ballbar_{}.csv", circle.plane.lower()), bytes));
+        }
+        let thermal_truth = self
+            .laser
+            .as_ref()
+            .and_then(|run| Some(scenario.thermal.as_ref()?.states(run.thermal.as_ref()?)));
+        let mut truth = truth(scenario);
+        if let Some(states) = thermal_truth {
+            truth["thermal_states"] = states;
+        }
+        files.push(("truth.json".into(), to_json_bytes(&truth)));
+
+        let listed: Vec<Value> = files
+        .iter()
+        .map(|(name, bytes)| json!({ "name": name, "bytes": bytes.len(), "sha256": sha256_hex(bytes) }))
+        .collect();
+        let manifest = json!({
+            "mtwin_version": env!("CARGO_PKG_VERSION"),
+            "scenario": { "file": file_name(&scenario.file), "sha256": scenario.sha256 },
+            "machine": {
+                "name": scenario.twin.machine.name(),
+                "file": file_name(&scenario.machine_file),
+                "sha256": scenario.machine_sha256,
+            },
+            "seed": scenario.seed,
+            "volumetric_model": scenario.volumetric.as_ref().map(|v| v.model.name()),
+            "files": listed,
+        });
+        files.push(("manifest.json".into(), to_json_bytes(&manifest)));
+        RunOutput { files }
+    }
+}
+
+/// Writes the files into `dir` (created if needed), all or none: see [`crate::io::write_files`].
+pub fn write_outputs(output: &RunOutput, dir: &Path) -> Result<(), RunError> {
+    Ok(crate::io::write_files(&output.files, dir)?)
+}
+
+/// Every injected parameter, as written (file units), with where it acts, plus the linear
+/// coefficients in SI in the order of the Jacobian.
+fn truth(scenario: &Scenario) -> Value {
+    let machine = &scenario.twin.machine;
+    let mut errors = serde_json::Map::new();
+    for parameter in scenario.twin.errors.parameters() {
+        let name = parameter.name;
+        let (kind, axis) = match name {
+            ParameterName::Component { axis, .. } => ("component", Some(axis)),
+            ParameterName::Location { axis, .. } if axis.is_linear() => ("squareness", Some(axis)),
+            ParameterName::Location { axis, .. } => ("location", Some(axis)),
+            ParameterName::Tool { .. } => ("tool", None),
+        };
+        let side = axis
+            .and_then(|a| machine.axis(a))
+            .map_or(Side::Tool, |info| info.side);
+        errors.insert(
+            name.to_string(),
+            json!({
+                "kind": kind,
+                "axis": axis.map(|a| a.to_string()),
+                "axis_side": if side == Side::Tool { "tool" } else { "workpiece" },
+                "unit": name.file_unit(),
+                "terms": scenario.error_specs.get(&name.to_string()),
+            }),
+        );
+    }
+    let coefficients: Vec<Value> = scenario
+        .twin
+        .errors
+        .coefficient_labels()
+        .into_iter()
+        .zip(scenario.twin.errors.coefficients())
+        .map(|(label, value)| json!({ "label": label, "value_si": value }))
+        .collect();
+    let laser_test = scenario.laser_test.as_ref().map(positioning::run::truth);
+    let thermal_model = scenario.thermal.as_ref().map(ThermalSetup::truth);
+    json!({
+        "machine": machine.name(),
+        "seed": scenario.seed,
+        "laser_test": laser_test,
+        "ballbar_test": scenario.ballbar_test.as_ref().map(ballbar::run::truth),
+        "thermal_model": thermal_model,
+        "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
+                       motions of the tool relative to the workpiece in the frame of their axis; location errors \
+                       (E?0?) are the axis line itself, actual - nominal, zero at the axis zero (ISO 230-1 names)",
+        "errors": errors,
+        "coefficients_si": coefficients,
+    })
+}
+
+fn to_json_bytes(value: &Value) -> Vec<u8> {
+    let mut bytes = serde_json::to_vec_pretty(value).expect("JSON values serialise");
+    bytes.push(b'\n');
+    bytes
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}

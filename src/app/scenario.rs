@@ -1,0 +1,316 @@
+//! A whole scenario: the machine, its errors and every test kind's sections, loaded and checked
+//! together (see [`crate::scenario`] for the file format and the shared sections).
+
+use crate::kinds::ballbar::{self, BallbarTest};
+use crate::kinds::positioning::{self, LaserTest};
+use crate::kinds::volumetric::{self, VolumetricSpec};
+use crate::machine::Machine;
+use crate::math::sha256_hex;
+use crate::scenario::errors::error_model;
+use crate::scenario::lesson::RawLesson;
+use crate::scenario::thermal::RawThermal;
+use crate::scenario::{
+    Context, ErrorSpec, Lesson, SCHEMA_VERSION, ScenarioError, ScenarioErrorKind, ThermalSetup,
+};
+use crate::twin::Twin;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+#[derive(Deserialize)]
+struct SchemaOnly {
+    schema: Option<Spanned<toml::Value>>,
+}
+
+#[derive(Deserialize)]
+struct ExtendsOnly {
+    extends: Option<toml::Value>,
+}
+
+/// How many scenarios deep `extends` may go.
+const MAX_EXTENDS_DEPTH: usize = 8;
+
+/// A scenario that extends another: only its errors (and description) differ.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawExtension {
+    /// Checked before this struct is read.
+    #[serde(rename = "schema")]
+    _schema: i64,
+    extends: Spanned<String>,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    /// Checked before this struct is read.
+    #[serde(rename = "schema")]
+    _schema: i64,
+    #[serde(default)]
+    description: Option<String>,
+    machine: Spanned<String>,
+    seed: u64,
+    #[serde(default)]
+    errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+    volumetric: Option<Spanned<volumetric::scenario::RawVolumetric>>,
+    iso230_2: Option<Spanned<positioning::scenario::RawIso230_2>>,
+    warmup: Option<Spanned<positioning::thermal_tests::RawWarmup>>,
+    iso230_3_linear: Option<Spanned<positioning::thermal_tests::RawLinearMotion>>,
+    laser: Option<Spanned<positioning::scenario::RawLaser>>,
+    thermal: Option<Spanned<RawThermal>>,
+    ballbar: Option<Spanned<ballbar::scenario::RawBallbar>>,
+    servo: Option<Spanned<ballbar::scenario::RawServo>>,
+    lesson: Option<Spanned<RawLesson>>,
+}
+
+/// A loaded and validated scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    /// The scenario file.
+    pub file: PathBuf,
+    /// SHA-256 of its bytes.
+    pub sha256: String,
+    /// Free text.
+    pub description: Option<String>,
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// The machine model file.
+    pub machine_file: PathBuf,
+    /// SHA-256 of the machine model file.
+    pub machine_sha256: String,
+    /// Machine and injected errors.
+    pub twin: Twin,
+    /// The injected errors as written (file units), by name.
+    pub error_specs: BTreeMap<String, ErrorSpec>,
+    /// The volumetric map to compute, if asked for.
+    pub volumetric: Option<VolumetricSpec>,
+    /// The laser positioning test to simulate, if asked for.
+    pub laser_test: Option<LaserTest>,
+    /// The machine's thermal model, if the scenario has one: the laser test then runs through
+    /// it (temperatures change the errors, sensors are read at each measurement).
+    pub thermal: Option<ThermalSetup>,
+    /// The ball-bar circular tests to simulate, if asked for.
+    pub ballbar_test: Option<BallbarTest>,
+    /// The explanation a teaching recording carries, if the scenario is a lesson.
+    pub lesson: Option<Lesson>,
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file, its machine and its errors, without running it.
+    ///
+    /// A scenario with `extends = "BASE.toml"` (relative to itself) is the base scenario with
+    /// its own `[errors.*]` sections replacing the base's of the same name (and its
+    /// `description`, if given); nothing else may be set. This is how `mtwin discover
+    /// --write-model` hands an extended model back to `mtwin run`.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
+        Scenario::load_at(path.as_ref(), 0)
+    }
+
+    /// [`Scenario::load`], `depth` files down a chain of `extends`.
+    fn load_at(path: &Path, depth: usize) -> Result<Scenario, ScenarioError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Context::new(file.clone(), "").error(
+                None,
+                ScenarioErrorKind::Io,
+                format!("cannot read the scenario: {e}"),
+            )
+        })?;
+        let context = Context::new(file, &text);
+        let toml_error = |mut e: toml::de::Error| {
+            let message = e.message().trim().to_string();
+            let kind = if message.starts_with("unknown field") {
+                ScenarioErrorKind::UnknownKey
+            } else {
+                ScenarioErrorKind::Syntax
+            };
+            let span = e.span();
+            // The key path is private to the error but printed when it has no input to quote.
+            e.set_input(None);
+            let rendered = e.to_string();
+            let mut path = rendered
+                .lines()
+                .find_map(|l| l.strip_prefix("in `").and_then(|l| l.strip_suffix('`')))
+                .unwrap_or_default()
+                .to_string();
+            if kind == ScenarioErrorKind::UnknownKey
+                && let Some(field) = message.split('`').nth(1)
+            {
+                path = if path.is_empty() {
+                    field.to_string()
+                } else {
+                    format!("{path}.{field}")
+                };
+            }
+            let message = if path.is_empty() {
+                message
+            } else {
+                format!("{path}: {message}")
+            };
+            context.error(span, kind, message)
+        };
+        let schema: SchemaOnly = toml::from_str(&text).map_err(toml_error)?;
+        match schema.schema {
+            None => {
+                return Err(context.error(
+                    None,
+                    ScenarioErrorKind::Schema,
+                    format!("schema: missing; expected `schema = {SCHEMA_VERSION}` at the top"),
+                ));
+            }
+            Some(value) if value.get_ref().as_integer() != Some(SCHEMA_VERSION) => {
+                return Err(context.error(
+                    Some(value.span()),
+                    ScenarioErrorKind::Schema,
+                    format!(
+                        "schema: {} is not supported; this mtwin reads schema {SCHEMA_VERSION}",
+                        value.get_ref()
+                    ),
+                ));
+            }
+            Some(_) => {}
+        }
+        let probe: ExtendsOnly = toml::from_str(&text).map_err(toml_error)?;
+        if probe.extends.is_some() {
+            let raw: RawExtension = toml::from_str(&text).map_err(toml_error)?;
+            return Scenario::extend(path, &text, &context, raw, depth);
+        }
+        let raw: RawScenario = toml::from_str(&text).map_err(toml_error)?;
+
+        let machine_file = path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(raw.machine.get_ref());
+        let machine_text = std::fs::read(&machine_file).map_err(|e| {
+            context.error(
+                Some(raw.machine.span()),
+                ScenarioErrorKind::Machine,
+                format!("machine: cannot read {}: {e}", machine_file.display()),
+            )
+        })?;
+        // Parse the very bytes that are hashed into the manifest.
+        let machine_error = |message: String| {
+            context.error(
+                Some(raw.machine.span()),
+                ScenarioErrorKind::Machine,
+                format!("machine: {message}"),
+            )
+        };
+        let machine_source = std::str::from_utf8(&machine_text).map_err(|e| {
+            machine_error(format!("{}: not UTF-8 text: {e}", machine_file.display()))
+        })?;
+        let machine = Machine::from_urdf_str(machine_source, &machine_file.display().to_string())
+            .map_err(|e| machine_error(e.to_string()))?;
+
+        let (errors, error_specs) = error_model(&context, &machine, &raw.errors, Vec::new())?;
+
+        let volumetric = raw
+            .volumetric
+            .as_ref()
+            .map(|v| volumetric::scenario::volumetric_spec(&context, &machine, v))
+            .transpose()?;
+        let (thermal, laser_test) = positioning::scenario::sections(
+            &context,
+            &machine,
+            raw.seed,
+            positioning::scenario::RawSections {
+                iso230_2: raw.iso230_2.as_ref(),
+                warmup: raw.warmup.as_ref(),
+                iso230_3_linear: raw.iso230_3_linear.as_ref(),
+                laser: raw.laser.as_ref(),
+                thermal: raw.thermal.as_ref(),
+            },
+        )?;
+        let ballbar_test = ballbar::scenario::sections(
+            &context,
+            &machine,
+            raw.ballbar.as_ref(),
+            raw.servo.as_ref(),
+        )?;
+        let lesson = raw
+            .lesson
+            .as_ref()
+            .map(|section| crate::scenario::lesson::lesson(&context, section))
+            .transpose()?;
+        if volumetric.is_none() && laser_test.is_none() && ballbar_test.is_none() {
+            return Err(context.error(
+                None,
+                ScenarioErrorKind::Nothing,
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear] or [ballbar] section",
+            ));
+        }
+
+        Ok(Scenario {
+            file: path.to_path_buf(),
+            sha256: sha256_hex(text.as_bytes()),
+            description: raw.description,
+            seed: raw.seed,
+            machine_sha256: sha256_hex(&machine_text),
+            machine_file,
+            twin: Twin { machine, errors },
+            error_specs,
+            volumetric,
+            laser_test,
+            thermal,
+            ballbar_test,
+            lesson,
+        })
+    }
+}
+
+impl Scenario {
+    /// The scenario `raw` (read from `path`, whose text is `text`) extends.
+    fn extend(
+        path: &Path,
+        text: &str,
+        context: &Context<'_>,
+        raw: RawExtension,
+        depth: usize,
+    ) -> Result<Scenario, ScenarioError> {
+        if depth >= MAX_EXTENDS_DEPTH {
+            return Err(context.error(
+                Some(raw.extends.span()),
+                ScenarioErrorKind::Value,
+                format!("extends: more than {MAX_EXTENDS_DEPTH} scenarios deep (do they extend each other?)"),
+            ));
+        }
+        let base_path = path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(raw.extends.get_ref());
+        let base = Scenario::load_at(&base_path, depth + 1).map_err(|e| {
+            context.error(Some(raw.extends.span()), e.kind(), format!("extends: {e}"))
+        })?;
+        let inherited = base.twin.errors.parameters().to_vec();
+        let (errors, specs) = error_model(context, &base.twin.machine, &raw.errors, inherited)?;
+        let mut error_specs = base.error_specs;
+        error_specs.extend(specs);
+        Ok(Scenario {
+            file: path.to_path_buf(),
+            // The base's content is part of what this file means.
+            sha256: sha256_hex(format!("{text}\n{}", base.sha256).as_bytes()),
+            description: raw.description.or(base.description),
+            twin: Twin {
+                machine: base.twin.machine,
+                errors,
+            },
+            error_specs,
+            ..base
+        })
+    }
+}
+
+impl Scenario {
+    /// One line for each test the scenario asks for, as `mtwin check` lists them.
+    pub fn describe(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        lines.extend(self.volumetric.as_ref().map(VolumetricSpec::describe));
+        lines.extend(self.ballbar_test.iter().flat_map(BallbarTest::describe));
+        lines
+    }
+}

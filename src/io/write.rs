@@ -1,0 +1,59 @@
+//! Writing files whole: each goes to a temporary name beside its target and is renamed when
+//! complete, so a failure leaves no partial file and a reader never sees half of one.
+
+use std::path::Path;
+
+/// A file or folder that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: cannot write: {message}")]
+pub struct WriteError {
+    /// The file or folder.
+    pub path: String,
+    /// The system's message.
+    pub message: String,
+}
+
+impl WriteError {
+    fn new(path: &Path, error: std::io::Error) -> WriteError {
+        WriteError {
+            path: path.display().to_string(),
+            message: error.to_string(),
+        }
+    }
+}
+
+/// The temporary name of `name` in `dir` while it is being written.
+fn temporary(dir: &Path, name: &str) -> std::path::PathBuf {
+    dir.join(format!(".{name}.partial"))
+}
+
+/// Writes `(file name, bytes)` pairs into `dir` (created if needed). All are first written
+/// under temporary names and only then renamed, so a failure while writing leaves none of the
+/// new files (and removes the temporary ones).
+pub fn write_files(files: &[(String, Vec<u8>)], dir: &Path) -> Result<(), WriteError> {
+    std::fs::create_dir_all(dir).map_err(|e| WriteError::new(dir, e))?;
+    for (index, (name, bytes)) in files.iter().enumerate() {
+        if let Err(e) = std::fs::write(temporary(dir, name), bytes) {
+            for (written, _) in &files[..=index] {
+                let _ = std::fs::remove_file(temporary(dir, written)); // best effort: already failing
+            }
+            return Err(WriteError::new(&temporary(dir, name), e));
+        }
+    }
+    for (name, _) in files {
+        let target = dir.join(name);
+        std::fs::rename(temporary(dir, name), &target).map_err(|e| WriteError::new(&target, e))?;
+    }
+    Ok(())
+}
+
+/// Writes `bytes` to `path` through a temporary file beside it.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    let name = path.file_name().ok_or_else(|| WriteError {
+        path: path.display().to_string(),
+        message: "not a file name".into(),
+    })?;
+    let temporary = path.with_file_name(format!(".{}.partial", name.to_string_lossy()));
+    std::fs::write(&temporary, bytes).map_err(|e| WriteError::new(&temporary, e))?;
+    std::fs::rename(&temporary, path).map_err(|e| WriteError::new(path, e))
+}

@@ -1,0 +1,282 @@
+//! The `positioning` measurement table: linear positioning deviations along one axis, as a
+//! laser interferometer records them (ISO 230-2) — simulated or exported from a real
+//! instrument, written by hand, in any column order.
+//!
+//! | column | required | meaning |
+//! |---|---|---|
+//! | `target_mm` | yes | target position (mm) |
+//! | `deviation_um` | yes | reached − target (µm) |
+//! | `axis` | no | `X`, `Y` or `Z` |
+//! | `run` | no | run label; runs are ordered by first appearance |
+//! | `direction` | no | `+` reached while travelling positive, `-` negative |
+//! | `time_min` | no | time since the start of the test (min) |
+//! | `temp_<sensor>_degc` | no, any number | temperatures (°C) |
+//!
+//! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
+//! reading at a target in a direction belongs to run k.
+
+use crate::io::{TableError, csv_reader, read_file, read_header};
+use crate::machine::Axis;
+use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
+pub use crate::program::Approach;
+use std::path::Path;
+
+/// One reading.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositioningReading {
+    /// Target position (m).
+    pub target: Real,
+    /// Reached − target (m).
+    pub deviation: Real,
+    /// Direction of approach.
+    pub approach: Approach,
+    /// Index into [`PositioningTable::runs`].
+    pub run: usize,
+    /// Time since the start of the test (s), if recorded.
+    pub time: Option<Real>,
+    /// Temperatures (°C), in the order of [`PositioningTable::sensors`].
+    pub temperatures: Vec<Real>,
+}
+
+/// A positioning table of one axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositioningTable {
+    /// The axis, if the file names it.
+    pub axis: Option<Axis>,
+    /// Run labels in order of first appearance.
+    pub runs: Vec<String>,
+    /// Temperature sensor names (the `<sensor>` of `temp_<sensor>_degc`), in column order.
+    pub sensors: Vec<String>,
+    /// Whether the file has a `direction` column.
+    pub has_direction: bool,
+    /// The readings, in file order.
+    pub readings: Vec<PositioningReading>,
+}
+
+const KNOWN: [&str; 6] = [
+    "target_mm",
+    "deviation_um",
+    "axis",
+    "run",
+    "direction",
+    "time_min",
+];
+
+impl PositioningTable {
+    /// Reads a positioning table file.
+    pub fn read(path: impl AsRef<Path>) -> Result<PositioningTable, TableError> {
+        let (bytes, file) = read_file(path.as_ref())?;
+        PositioningTable::parse(&bytes, &file)
+    }
+
+    /// Reads a positioning table from bytes; `file` names it in messages.
+    pub fn parse(bytes: &[u8], file: &str) -> Result<PositioningTable, TableError> {
+        let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
+        let mut reader = csv_reader(bytes);
+        let header = read_header(&mut reader, file)?;
+        let column = |name: &str| header.iter().position(|h| h == name);
+        let mut sensors = Vec::new();
+        let mut sensor_columns = Vec::new();
+        for (index, name) in header.iter().enumerate() {
+            if KNOWN.contains(&name) {
+                continue;
+            }
+            match name
+                .strip_prefix("temp_")
+                .and_then(|rest| rest.strip_suffix("_degc"))
+            {
+                Some(sensor) if !sensor.is_empty() => {
+                    sensors.push(sensor.to_string());
+                    sensor_columns.push(index);
+                }
+                _ => {
+                    return Err(fail(
+                        Some(1),
+                        format!(
+                            "unknown column `{name}`: expected target_mm, deviation_um, axis, run, direction, \
+                             time_min or temp_<sensor>_degc"
+                        ),
+                    ));
+                }
+            }
+        }
+        let required = |name: &str| {
+            column(name).ok_or_else(|| {
+                fail(
+                    Some(1),
+                    format!("missing column `{name}` (required: target_mm, deviation_um)"),
+                )
+            })
+        };
+        let (target_column, deviation_column) = (required("target_mm")?, required("deviation_um")?);
+        let (axis_column, run_column, direction_column, time_column) = (
+            column("axis"),
+            column("run"),
+            column("direction"),
+            column("time_min"),
+        );
+
+        let mut axis: Option<Axis> = None;
+        let mut runs: Vec<String> = Vec::new();
+        let mut readings = Vec::new();
+        // Without a run column: the k-th reading at a (target, direction) is run k.
+        let mut visits: Vec<(Real, Approach, usize)> = Vec::new();
+        for record in reader.records() {
+            let record = record.map_err(|e| {
+                fail(
+                    e.position().map(|p| p.line()),
+                    format!("not a valid CSV row: {e}"),
+                )
+            })?;
+            let line = record.position().map(|p| p.line());
+            let number = |index: usize, name: &str| -> Result<Real, TableError> {
+                let text = &record[index];
+                match text.parse::<Real>() {
+                    Ok(value) if value.is_finite() => Ok(value),
+                    _ => Err(fail(
+                        line,
+                        format!("column `{name}`: expected a finite number, found \"{text}\""),
+                    )),
+                }
+            };
+            let target = number(target_column, "target_mm")? * M_PER_MM;
+            let deviation = number(deviation_column, "deviation_um")? * M_PER_UM;
+            if let Some(index) = axis_column {
+                let text = &record[index];
+                let this = match text {
+                    "X" | "x" => Axis::X,
+                    "Y" | "y" => Axis::Y,
+                    "Z" | "z" => Axis::Z,
+                    _ => {
+                        return Err(fail(
+                            line,
+                            format!("column `axis`: expected X, Y or Z, found \"{text}\""),
+                        ));
+                    }
+                };
+                match axis {
+                    Some(first) if first != this => {
+                        return Err(fail(
+                            line,
+                            format!(
+                                "column `axis`: axis {this} after {first}; a positioning table holds one axis"
+                            ),
+                        ));
+                    }
+                    _ => axis = Some(this),
+                }
+            }
+            let approach = match direction_column.map(|index| &record[index]) {
+                None | Some("+") => Approach::Up,
+                Some("-") => Approach::Down,
+                Some(other) => {
+                    return Err(fail(
+                        line,
+                        format!("column `direction`: expected + or -, found \"{other}\""),
+                    ));
+                }
+            };
+            let run = match run_column {
+                Some(index) => {
+                    let label = &record[index];
+                    if label.is_empty() {
+                        return Err(fail(line, "column `run`: empty label".into()));
+                    }
+                    match runs.iter().position(|r| r == label) {
+                        Some(run) => run,
+                        None => {
+                            runs.push(label.to_string());
+                            runs.len() - 1
+                        }
+                    }
+                }
+                None => {
+                    let key = (target / M_PER_MM * 1e6).round() * M_PER_MM / 1e6;
+                    let count = match visits
+                        .iter_mut()
+                        .find(|(t, a, _)| *t == key && *a == approach)
+                    {
+                        Some(visit) => {
+                            visit.2 += 1;
+                            visit.2
+                        }
+                        None => {
+                            visits.push((key, approach, 1));
+                            1
+                        }
+                    };
+                    while runs.len() < count {
+                        runs.push((runs.len() + 1).to_string());
+                    }
+                    count - 1
+                }
+            };
+            let time = time_column
+                .map(|index| number(index, "time_min").map(|t| t * 60.0))
+                .transpose()?;
+            let temperatures = sensor_columns
+                .iter()
+                .zip(&sensors)
+                .map(|(&index, sensor)| number(index, &format!("temp_{sensor}_degc")))
+                .collect::<Result<Vec<_>, _>>()?;
+            readings.push(PositioningReading {
+                target,
+                deviation,
+                approach,
+                run,
+                time,
+                temperatures,
+            });
+        }
+        if readings.is_empty() {
+            return Err(fail(
+                None,
+                "no readings: expected one row per reading after the header".into(),
+            ));
+        }
+        Ok(PositioningTable {
+            axis,
+            runs,
+            sensors,
+            has_direction: direction_column.is_some(),
+            readings,
+        })
+    }
+}
+
+impl PositioningTable {
+    /// Writes the table: `axis, run, direction, target_mm, deviation_um, time_min` (the columns
+    /// it has) then `temp_<sensor>_degc`; positions to 1 nm, deviations to 1 pm, times to
+    /// 1 µmin, temperatures to 1 µK, so the same table gives the same bytes.
+    pub fn write_csv(&self, out: impl std::io::Write) -> csv::Result<()> {
+        let mut writer = csv::Writer::from_writer(out);
+        let timed = self.readings.iter().any(|r| r.time.is_some());
+        let mut header: Vec<String> = Vec::new();
+        if self.axis.is_some() {
+            header.push("axis".into());
+        }
+        header.extend(["run", "direction", "target_mm", "deviation_um"].map(String::from));
+        if timed {
+            header.push("time_min".into());
+        }
+        header.extend(self.sensors.iter().map(|s| format!("temp_{s}_degc")));
+        writer.write_record(&header)?;
+        for r in &self.readings {
+            let mut record: Vec<String> = Vec::with_capacity(header.len());
+            if let Some(axis) = self.axis {
+                record.push(axis.to_string());
+            }
+            record.push(self.runs[r.run].clone());
+            record.push(if r.approach == Approach::Up { "+" } else { "-" }.into());
+            record.push(fixed(r.target / M_PER_MM, 6));
+            record.push(fixed(r.deviation / M_PER_UM, 6));
+            if timed {
+                record.push(r.time.map_or_else(String::new, |t| fixed(t / 60.0, 6)));
+            }
+            record.extend(r.temperatures.iter().map(|t| fixed(*t, 6)));
+            writer.write_record(&record)?;
+        }
+        writer.flush()?;
+        Ok(())
+    }
+}

@@ -1,0 +1,459 @@
+//! The `[errors.NAME]` sections: ISO 230-1 error parameters as written (file units), checked
+//! and turned into the error model.
+
+use super::{Context, ScenarioError, ScenarioErrorKind};
+use crate::errors::{
+    ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Interpolation, ParameterName,
+    Table, TableError,
+};
+use crate::machine::{Axis, Machine, axis_unit_to_si};
+use crate::math::{RAD_PER_URAD, Real};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// The largest error the small-motion model is meant for: 10 mm or 10 mrad. Larger values are
+/// typing mistakes (a unit off by 10³), not machine errors.
+const LARGEST_ERROR: Real = 1e-2;
+
+/// The terms of one error parameter, in file units (the `[errors.NAME]` table).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ErrorSpec {
+    /// Constant (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub constant_um: Option<Real>,
+    /// Constant (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub constant_urad: Option<Real>,
+    /// Polynomial coefficients from degree 0, in µm per (mm or deg)^k.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polynomial_um: Option<Vec<Real>>,
+    /// Polynomial coefficients from degree 0, in µrad per (mm or deg)^k.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polynomial_urad: Option<Vec<Real>>,
+    /// Lost motion (the axis lags the command by half of it against its direction of travel).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reversal_um: Option<Real>,
+    /// Angular lost motion.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reversal_urad: Option<Real>,
+    /// Cyclic errors.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub harmonic: Vec<HarmonicSpec>,
+    /// A measured map.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub table: Option<TableSpec>,
+}
+
+/// `amplitude · sin(360° · q / period + phase)`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HarmonicSpec {
+    /// Period along a linear axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_mm: Option<Real>,
+    /// Period about a rotary axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_deg: Option<Real>,
+    /// Amplitude (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_um: Option<Real>,
+    /// Amplitude (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_urad: Option<Real>,
+    /// Phase at q = 0.
+    #[serde(default)]
+    pub phase_deg: Real,
+}
+
+/// Values at knots, interpolated linearly or by a natural cubic spline; end values held
+/// outside.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableSpec {
+    /// Knots along a linear axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub positions_mm: Option<Vec<Real>>,
+    /// Knots about a rotary axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub positions_deg: Option<Vec<Real>>,
+    /// Values (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub values_um: Option<Vec<Real>>,
+    /// Values (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub values_urad: Option<Vec<Real>>,
+    /// `linear` (default) or `cubic`.
+    #[serde(default)]
+    pub interpolation: InterpolationSpec,
+}
+
+/// Table interpolation as written in files.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InterpolationSpec {
+    /// Straight lines.
+    #[default]
+    Linear,
+    /// Natural cubic spline.
+    Cubic,
+}
+
+/// Builds the error model of `machine` from the `[errors.*]` sections of one file (messages
+/// name it through `context`), on top of `inherited` parameters (an extended scenario's), which
+/// the sections replace by name. Returns the model and the specs as written.
+pub(crate) fn error_model(
+    context: &Context<'_>,
+    machine: &Machine,
+    errors_raw: &BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+    inherited: Vec<ErrorParameter>,
+) -> Result<(ErrorModel, BTreeMap<String, ErrorSpec>), ScenarioError> {
+    let mut parameters = Vec::new();
+    let mut error_specs = BTreeMap::new();
+    for (name, spec) in errors_raw {
+        let at = Some(name.span());
+        let parameter: ParameterName = name.get_ref().parse().map_err(|message| {
+            context.error(
+                at.clone(),
+                ScenarioErrorKind::Parameter,
+                format!("errors.{}: {message}", name.get_ref()),
+            )
+        })?;
+        let argument = parameter
+            .axis()
+            .filter(|_| matches!(parameter, ParameterName::Component { .. }));
+        if let Some(axis) = parameter.axis().filter(|axis| !machine.has_axis(*axis)) {
+            return Err(context.error(
+                at,
+                ScenarioErrorKind::Parameter,
+                format!(
+                    "errors.{parameter}: machine \"{}\" has no axis {axis}",
+                    machine.name()
+                ),
+            ));
+        }
+        if *spec.get_ref() == ErrorSpec::default() {
+            let unit = parameter.file_unit();
+            return Err(context.error(
+                Some(spec.span()),
+                ScenarioErrorKind::Value,
+                format!(
+                    "errors.{parameter}: no term given; expected one or more of constant_{unit}, \
+                     polynomial_{unit}, reversal_{unit}, harmonic, table"
+                ),
+            ));
+        }
+        let key_error = |kind, key: &str, message: String| {
+            let line = context.key_line(spec.span().start, key);
+            let mut error = context.error(
+                Some(spec.span()),
+                kind,
+                format!("errors.{parameter}.{key}: {message}"),
+            );
+            error.line = line.or(error.line);
+            error
+        };
+        let function = spec_to_function(spec.get_ref(), parameter, argument)
+            .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
+        if argument.is_none() && !function.is_constant() {
+            return Err(key_error(
+                ScenarioErrorKind::Value,
+                varying_key(spec.get_ref()),
+                format!(
+                    "location, squareness and tool errors are constants; use constant_{}",
+                    parameter.file_unit()
+                ),
+            ));
+        }
+        parameters.push(ErrorParameter {
+            name: parameter,
+            function,
+        });
+        error_specs.insert(parameter.to_string(), spec.get_ref().clone());
+    }
+    let mut all: Vec<ErrorParameter> = inherited
+        .into_iter()
+        .filter(|p| !error_specs.contains_key(&p.name.to_string()))
+        .collect();
+    all.extend(parameters);
+    let errors = ErrorModel::new(machine, all).map_err(|e| {
+        let name = e.parameter().to_string();
+        let span = errors_raw
+            .iter()
+            .find(|(key, _)| *key.get_ref() == name)
+            .map(|(_, spec)| spec.span());
+        let kind = match e {
+            ErrorModelError::NotPeriodic { .. } | ErrorModelError::NotConstant(_) => {
+                ScenarioErrorKind::Value
+            }
+            _ => ScenarioErrorKind::Parameter,
+        };
+        context.error(span, kind, format!("errors.{e}"))
+    })?;
+    for parameter in errors.parameters() {
+        if let Some(message) = implausible(parameter, machine) {
+            let spec = errors_raw
+                .iter()
+                .find(|(key, _)| *key.get_ref() == parameter.name.to_string());
+            return Err(context.error(
+                spec.map(|(_, spec)| spec.span()),
+                ScenarioErrorKind::Value,
+                format!("errors.{}: {message}", parameter.name),
+            ));
+        }
+    }
+    Ok((errors, error_specs))
+}
+
+/// What is wrong with one key of an `[errors.NAME]` table: the kind, the key's path inside the
+/// table (e.g. `table.positions_deg`) and the message.
+type SpecError = (ScenarioErrorKind, String, String);
+
+/// Turns the terms of `[errors.NAME]` into a function (SI), checking units and values.
+/// `argument` is the axis whose position the function takes (component errors only).
+fn spec_to_function(
+    spec: &ErrorSpec,
+    name: ParameterName,
+    argument: Option<Axis>,
+) -> Result<ErrorFunction, SpecError> {
+    use ScenarioErrorKind::{Units, Value};
+    let translation = name.motion().is_translation();
+    let (value_unit, other_unit) = if translation {
+        ("um", "urad")
+    } else {
+        ("urad", "um")
+    };
+    let (position_unit, other_position_unit) = match argument {
+        Some(axis) if !axis.is_linear() => ("deg", "mm"),
+        _ => ("mm", "deg"),
+    };
+    let position_scale = argument.map_or(crate::math::M_PER_MM, axis_unit_to_si);
+    let value_scale = RAD_PER_URAD; // µm → m and µrad → rad are the same factor
+    fn fail<T>(kind: ScenarioErrorKind, key: String, message: String) -> Result<T, SpecError> {
+        Err((kind, key, message))
+    }
+    let wrong_value_unit = |key: &str| -> SpecError {
+        let what = if translation {
+            "a translation"
+        } else {
+            "a rotation"
+        };
+        (
+            Units,
+            format!("{key}_{other_unit}"),
+            format!("{name} is {what}; give it in {value_unit} as {key}_{value_unit}"),
+        )
+    };
+    let wrong_position_unit = |key: &str| -> SpecError {
+        (
+            Units,
+            format!("{key}_{other_position_unit}"),
+            format!("the axis is measured in {position_unit}; give {key}_{position_unit}"),
+        )
+    };
+    let finite = |key: String, values: &[Real]| -> Result<(), SpecError> {
+        match values.iter().position(|v| !v.is_finite()) {
+            Some(i) if values.len() > 1 => fail(
+                Value,
+                key,
+                format!("value {} is not a finite number", i + 1),
+            ),
+            Some(_) => fail(Value, key, "not a finite number".into()),
+            None => Ok(()),
+        }
+    };
+    let by_unit = |um: &Option<Real>, urad: &Option<Real>| {
+        if translation {
+            (*um, *urad)
+        } else {
+            (*urad, *um)
+        }
+    };
+
+    let mut terms = Vec::new();
+    let (constant, constant_other) = by_unit(&spec.constant_um, &spec.constant_urad);
+    if constant_other.is_some() {
+        return Err(wrong_value_unit("constant"));
+    }
+    if let Some(c) = constant {
+        finite(format!("constant_{value_unit}"), &[c])?;
+        terms.push(ErrorFunction::Constant(c * value_scale));
+    }
+    let (polynomial, polynomial_other) = if translation {
+        (&spec.polynomial_um, &spec.polynomial_urad)
+    } else {
+        (&spec.polynomial_urad, &spec.polynomial_um)
+    };
+    if polynomial_other.is_some() {
+        return Err(wrong_value_unit("polynomial"));
+    }
+    if let Some(coefficients) = polynomial {
+        let key = format!("polynomial_{value_unit}");
+        finite(key.clone(), coefficients)?;
+        if coefficients.is_empty() {
+            return fail(Value, key, "give at least one coefficient".into());
+        }
+        let si = coefficients
+            .iter()
+            .enumerate()
+            .map(|(k, c)| c * value_scale / position_scale.powi(k as i32))
+            .collect();
+        terms.push(ErrorFunction::Polynomial(si));
+    }
+    let (reversal, reversal_other) = by_unit(&spec.reversal_um, &spec.reversal_urad);
+    if reversal_other.is_some() {
+        return Err(wrong_value_unit("reversal"));
+    }
+    if let Some(r) = reversal {
+        finite(format!("reversal_{value_unit}"), &[r])?;
+        terms.push(ErrorFunction::Reversal(r * value_scale));
+    }
+    for (i, h) in spec.harmonic.iter().enumerate() {
+        let key = |field: &str| format!("harmonic[{i}].{field}");
+        let (period, period_other) = if position_unit == "mm" {
+            (h.period_mm, h.period_deg)
+        } else {
+            (h.period_deg, h.period_mm)
+        };
+        if period_other.is_some() {
+            let (kind, field, message) = wrong_position_unit("period");
+            return fail(kind, key(&field), message);
+        }
+        let (amplitude, amplitude_other) = by_unit(&h.amplitude_um, &h.amplitude_urad);
+        if amplitude_other.is_some() {
+            let (kind, field, message) = wrong_value_unit("amplitude");
+            return fail(kind, key(&field), message);
+        }
+        let period_key = key(&format!("period_{position_unit}"));
+        let Some(period) = period else {
+            return fail(Value, period_key, "required".into());
+        };
+        let amplitude_key = key(&format!("amplitude_{value_unit}"));
+        let Some(amplitude) = amplitude else {
+            return fail(Value, amplitude_key, "required".into());
+        };
+        finite(period_key.clone(), &[period])?;
+        finite(amplitude_key, &[amplitude])?;
+        finite(key("phase_deg"), &[h.phase_deg])?;
+        if (period * position_scale).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return fail(Value, period_key, format!("must be positive, got {period}"));
+        }
+        terms.push(ErrorFunction::Harmonic {
+            period: period * position_scale,
+            amplitude: amplitude * value_scale,
+            phase: h.phase_deg * crate::math::RAD_PER_DEG,
+        });
+    }
+    if let Some(t) = &spec.table {
+        let key = |field: &str| format!("table.{field}");
+        let (positions, positions_other) = if position_unit == "mm" {
+            (&t.positions_mm, &t.positions_deg)
+        } else {
+            (&t.positions_deg, &t.positions_mm)
+        };
+        if positions_other.is_some() {
+            let (kind, field, message) = wrong_position_unit("positions");
+            return fail(kind, key(&field), message);
+        }
+        let (values, values_other) = if translation {
+            (&t.values_um, &t.values_urad)
+        } else {
+            (&t.values_urad, &t.values_um)
+        };
+        if values_other.is_some() {
+            let (kind, field, message) = wrong_value_unit("values");
+            return fail(kind, key(&field), message);
+        }
+        let positions_key = key(&format!("positions_{position_unit}"));
+        let values_key = key(&format!("values_{value_unit}"));
+        let Some(positions) = positions else {
+            return fail(Value, positions_key, "required".into());
+        };
+        let Some(values) = values else {
+            return fail(Value, values_key, "required".into());
+        };
+        finite(positions_key.clone(), positions)?;
+        finite(values_key.clone(), values)?;
+        let interpolation = match t.interpolation {
+            InterpolationSpec::Linear => Interpolation::Linear,
+            InterpolationSpec::Cubic => Interpolation::Cubic,
+        };
+        let table = Table::new(
+            positions.iter().map(|p| p * position_scale).collect(),
+            values.iter().map(|v| v * value_scale).collect(),
+            interpolation,
+        );
+        match table {
+            Ok(table) => terms.push(ErrorFunction::Table(table)),
+            Err(e @ TableError::Shape { .. }) => return fail(Value, key("values"), e.to_string()),
+            Err(e @ TableError::Order(_)) => return fail(Value, positions_key, e.to_string()),
+            Err(e @ TableError::Value(_)) => return fail(Value, values_key, e.to_string()),
+        }
+    }
+    match terms.len() {
+        1 => Ok(terms.pop().expect("one term")),
+        _ => Ok(ErrorFunction::Sum(terms)),
+    }
+}
+
+/// Why an error parameter is not a plausible machine error, if it is not: its largest value
+/// over its axis's travel (or a turn, sampled at 1001 points) beyond [`LARGEST_ERROR`], or not
+/// finite once in SI units (e.g. a period that underflows to zero).
+fn implausible(parameter: &ErrorParameter, machine: &Machine) -> Option<String> {
+    let (lower, upper) = match parameter.name {
+        ParameterName::Component { axis, .. } => machine
+            .axis(axis)
+            .and_then(|info| info.limits)
+            .unwrap_or((0.0, std::f64::consts::TAU)),
+        _ => (0.0, 0.0),
+    };
+    let mut largest: Real = 0.0;
+    for i in 0..=1000 {
+        let q = lower + (upper - lower) * i as Real / 1000.0;
+        for direction in [
+            crate::machine::Direction::Positive,
+            crate::machine::Direction::Negative,
+        ] {
+            let value = parameter.function.value(q, direction);
+            if !value.is_finite() {
+                return Some(format!(
+                    "not a finite number at {q} (SI units) once converted"
+                ));
+            }
+            largest = largest.max(value.abs());
+        }
+    }
+    let unit = parameter.name.file_unit();
+    (largest > LARGEST_ERROR).then(|| {
+        format!(
+            "reaches {:.0} {unit} over the travel, more than the {:.0} {unit} the small-motion error model is for",
+            largest / RAD_PER_URAD,
+            LARGEST_ERROR / RAD_PER_URAD
+        )
+    })
+}
+
+/// The first key of a spec that makes it vary with position or direction (to name it when a
+/// constant is required).
+fn varying_key(spec: &ErrorSpec) -> &'static str {
+    let candidates: [(&'static str, bool); 7] = [
+        (
+            "polynomial_um",
+            spec.polynomial_um.as_ref().is_some_and(|c| c.len() > 1),
+        ),
+        (
+            "polynomial_urad",
+            spec.polynomial_urad.as_ref().is_some_and(|c| c.len() > 1),
+        ),
+        ("reversal_um", spec.reversal_um.is_some()),
+        ("reversal_urad", spec.reversal_urad.is_some()),
+        ("harmonic", !spec.harmonic.is_empty()),
+        ("table", spec.table.is_some()),
+        ("", true),
+    ];
+    candidates
+        .into_iter()
+        .find(|(_, present)| *present)
+        .map_or("", |(key, _)| key)
+}
