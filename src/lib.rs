@@ -36,7 +36,7 @@
 //! | [`io`] | file primitives: the CSV dialect and header, located table errors, writing whole |
 //! | [`scenario`] | scenario-file primitives: located errors, `[errors.*]`, `[thermal]`, `[lesson]` |
 //! | [`discovery`] | the discovery engine (problems, folds, forward selection) |
-//! | [`viz`] | rerun helpers and conventions (feature `viz`) |
+//! | `viz` | rerun helpers and conventions (feature `viz`) |
 //! | [`kinds`] | one folder per test kind: section, programme, instrument, table, run, analysis, discovery, command line, scene |
 //! | [`app`] | a whole scenario: loading it from every kind's sections, running it, its output files and recording |
 //!

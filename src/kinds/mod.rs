@@ -13,7 +13,7 @@
 //! (`table.rs`: reader and writer, on [`crate::io`]'s CSV primitives), the run that turns a
 //! section into tables and truth (`run.rs`), its analysis, its discovery problem (on
 //! [`crate::discovery::engine`]), its command line (`cli.rs`) and its teaching scene
-//! (`scene.rs`, feature `viz`, on [`crate::viz`]'s helpers).
+//! (`scene.rs`, feature `viz`, on `crate::viz`'s helpers).
 //!
 //! Layers: a kind's files use the shared layers below them (math, machine, errors, thermal,
 //! program, twin, io, scenario, discovery, viz) and its own siblings, never another kind.

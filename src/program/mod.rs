@@ -5,7 +5,7 @@
 //!
 //! Simplified: the steps of a [`Program`] move axes at constant speed along straight lines,
 //! starting and stopping instantly (no acceleration, no servo lag), which is what the thermal
-//! model needs. Circular tests have their own interpolator ([`CircularInterpolation`]: ramps,
+//! model needs. Circular tests have their own interpolator ([`crate::kinds::ballbar::CircularInterpolation`]: ramps,
 //! overshoot arcs) and controller model ([`servo`]: position loops, feed-forward, reversal
 //! spikes, vibration), which turn commands into actual axis positions.
 

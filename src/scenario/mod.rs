@@ -28,7 +28,7 @@
 //!
 //! A scenario may instead extend another (`schema = 1`, `extends = "base.toml"`, then only
 //! `description` and `[errors.*]`): the base with those error sections replacing its own of the
-//! same name (see [`Scenario::load`]).
+//! same name (see [`crate::app::Scenario::load`]).
 //!
 //! This module holds what every section shares: located errors ([`ScenarioError`]), the key
 //! finder that points an error at its line ([`Context`]), the `[errors.*]` sections

@@ -5,8 +5,7 @@
 //!
 //! | file | owns |
 //! |---|---|
-//! | [`scenario`] | `[iso230_2]` and `[laser]` → [`LaserTest`] |
-//! | [`thermal_tests`] | `[warmup]` and `[iso230_3_linear]` → [`LaserTest`] (with `[thermal]`) |
+//! | [`scenario`] | `[iso230_2]`, the `[laser]` ([`scenario::laser`]), `[warmup]` and `[iso230_3_linear]` ([`scenario::thermal_tests`], with `[thermal]`) → [`LaserTest`] |
 //! | [`program`] | the ISO 230-2 [`LinearCycle`], the [`LinearMotionTest`], irregular targets |
 //! | [`laser`], [`air`] | the virtual [`Laser`] (set-up, air and material compensation, dead path, noise) |
 //! | [`table`] | the `positioning` table ([`PositioningTable`]) |
@@ -29,7 +28,6 @@ pub mod scenario;
 pub mod scene;
 pub mod table;
 pub mod thermal_series;
-pub mod thermal_tests;
 
 pub use air::{Air, HENE_WAVELENGTH_UM};
 pub use discovery::{

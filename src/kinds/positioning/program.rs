@@ -1,6 +1,6 @@
 //! The programmes of the laser tests: the ISO 230-2 linear cycle with its irregular targets,
 //! and the ISO 230-3 §7 linear-motion test (the warm-up experiment is built from
-//! [`LinearCycle`] runs in [`super::thermal_tests`]).
+//! [`LinearCycle`] runs in [`super::scenario::thermal_tests`]).
 
 use crate::machine::{Axis, AxisValues};
 use crate::math::Real;

@@ -14,8 +14,8 @@
 //! idle = { from_mm = 0.0, to_mm = 750.0, feed_mm_per_min = 4800.0, minutes = 45.0 }   # between runs
 //! ```
 
-use super::program::LinearCycle;
-use super::scenario::{LaserTest, RawLaser, laser_for};
+use super::{LaserTest, RawLaser, laser_for};
+use crate::kinds::positioning::LinearCycle;
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real};
 use crate::program::{Program, Step};
@@ -339,7 +339,7 @@ pub(crate) fn linear_motion_test(
     };
     let program = test.program();
     let runs = crate::program::visits(&program.timeline(Real::INFINITY)).len() / 2;
-    if let Some((span, message)) = laser.and_then(super::scenario::drift_conflict) {
+    if let Some((span, message)) = laser.and_then(super::laser::drift_conflict) {
         return Err(context.error(Some(span), ScenarioErrorKind::Value, message));
     }
     let (mut laser, _) = laser_for(context, axis, laser)?;
