@@ -1,0 +1,114 @@
+//! The effect library: each effect positioning discovery can add to the base model, with its
+//! stable identifier, its physical cause and the shape of its terms.
+
+/// The effects positioning discovery can add to the base model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum PositioningEffect {
+    /// Constant lost motion `v`: the reading is `−s·v/2`.
+    Reversal,
+    /// Lost motion changing along the axis: `−s·k·(x − x_c)/2` about the targets' centre.
+    ReversalPosition,
+    /// Lost motion changing with temperature: `−s·k·(T − T_ref)/2`.
+    ReversalThermal,
+    /// The expanding structure follows a first-order lag (τ) of the measured temperature.
+    ThermalLag,
+    /// Expansion coefficient different from the nominal one: `Δα·x·(T − T_ref)`.
+    ThermalScale,
+    /// Origin drift with temperature: `c·(T − T_ref)`.
+    ThermalOffset,
+    /// Expansion driven by machine activity since the first reading: `b·x·(1 − e^(−t/τ))`.
+    SecondHeatSource,
+    /// Cyclic error `a·sin(2πx/p) + b·cos(2πx/p)`, period `p` searched.
+    Periodic,
+    /// Quadratic and cubic terms in position beyond the profile's knots.
+    NonlinearScale,
+    /// Drift linear in time not explained by temperature: `d·(t − t_ref)`.
+    TimeDrift,
+}
+
+impl PositioningEffect {
+    /// Every effect, in the order they are reported.
+    pub const ALL: [PositioningEffect; 10] = [
+        PositioningEffect::Reversal,
+        PositioningEffect::ReversalPosition,
+        PositioningEffect::ReversalThermal,
+        PositioningEffect::ThermalLag,
+        PositioningEffect::ThermalScale,
+        PositioningEffect::ThermalOffset,
+        PositioningEffect::SecondHeatSource,
+        PositioningEffect::Periodic,
+        PositioningEffect::NonlinearScale,
+        PositioningEffect::TimeDrift,
+    ];
+
+    /// The stable identifier.
+    pub fn id(self) -> &'static str {
+        match self {
+            PositioningEffect::Reversal => "reversal",
+            PositioningEffect::ReversalPosition => "reversal_position",
+            PositioningEffect::ReversalThermal => "reversal_thermal",
+            PositioningEffect::ThermalLag => "thermal_lag",
+            PositioningEffect::ThermalScale => "thermal_scale",
+            PositioningEffect::ThermalOffset => "thermal_offset",
+            PositioningEffect::SecondHeatSource => "second_heat_source",
+            PositioningEffect::Periodic => "periodic",
+            PositioningEffect::NonlinearScale => "nonlinear_scale",
+            PositioningEffect::TimeDrift => "time_drift",
+        }
+    }
+
+    /// The physical cause, as a metrologist would name it.
+    pub fn cause(self) -> &'static str {
+        match self {
+            PositioningEffect::Reversal => {
+                "lost motion (backlash): play and elastic wind-up in the screw, nut and drive leave the axis short of the target in the direction of travel"
+            }
+            PositioningEffect::ReversalPosition => {
+                "lost motion that changes along the travel: uneven nut preload or screw wear, guideway friction varying with position"
+            }
+            PositioningEffect::ReversalThermal => {
+                "lost motion that changes with temperature: nut preload and friction changing as the drive warms"
+            }
+            PositioningEffect::ThermalLag => {
+                "the expanding structure (the screw) warms later than the sensor reads: its effective temperature is a first-order lag of the measured one"
+            }
+            PositioningEffect::ThermalScale => {
+                "the axis expands per degree differently from the nominal coefficient: another material, a sensor that is not at the screw's temperature, or thermal compensation in the control"
+            }
+            PositioningEffect::ThermalOffset => {
+                "the axis origin moves with temperature: the screw's fixed end (thrust bearing) or the measurement zero is away from the axis zero, or the structure carrying the reference grows"
+            }
+            PositioningEffect::SecondHeatSource => {
+                "a heat source the sensor does not see (motor, support bearings, the nut on the screw) expands the axis as the machine runs, with its own time constant"
+            }
+            PositioningEffect::Periodic => {
+                "cyclic error with the period of the drive or scale: screw lead (pitch) error, thread drunkenness, scale interpolation error"
+            }
+            PositioningEffect::NonlinearScale => {
+                "curved positioning error between the reference targets: lead error varying along the screw, guideway bending"
+            }
+            PositioningEffect::TimeDrift => {
+                "slow drift with time that the temperature does not explain: laser set-up drift, creep, an unmeasured part of the environment"
+            }
+        }
+    }
+
+    /// Whether the effect has a searched (nonlinear) parameter.
+    pub(super) fn searched(self) -> bool {
+        matches!(
+            self,
+            PositioningEffect::ThermalLag
+                | PositioningEffect::SecondHeatSource
+                | PositioningEffect::Periodic
+        )
+    }
+
+    /// The number of linear coefficients it adds.
+    pub(super) fn columns(self) -> usize {
+        match self {
+            PositioningEffect::ThermalLag => 0,
+            PositioningEffect::Periodic | PositioningEffect::NonlinearScale => 2,
+            _ => 1,
+        }
+    }
+}

@@ -1,0 +1,276 @@
+//! Fitting: the columns of the base model and of each effect, the linear fit on a fold's
+//! training readings, the fitted model and its parameters in file units.
+
+use super::problem::Reference;
+use super::{PositioningEffect, PositioningProblem};
+use crate::discovery::least_squares::Design;
+use crate::math::{M_PER_MM, Real};
+use std::collections::BTreeMap;
+use std::f64::consts::TAU;
+
+/// The values of the searched parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Searched {
+    pub(super) lag_tau: Option<Real>,
+    pub(super) heat_tau: Option<Real>,
+    pub(super) period: Option<Real>,
+}
+
+impl Searched {
+    fn has(&self, effect: PositioningEffect) -> bool {
+        match effect {
+            PositioningEffect::ThermalLag => self.lag_tau.is_some(),
+            PositioningEffect::SecondHeatSource => self.heat_tau.is_some(),
+            PositioningEffect::Periodic => self.period.is_some(),
+            _ => true,
+        }
+    }
+}
+
+/// A fitted positioning model.
+#[derive(Clone, Debug)]
+pub struct PositioningFit {
+    pub(super) effects: Vec<PositioningEffect>,
+    pub(super) reference: Reference,
+    /// The reference temperature (°C): the reference run's mean (lagged, with `thermal_lag`).
+    pub(super) reference_temperature: Option<Real>,
+    pub(super) searched: Searched,
+    /// Profile values at the knots (m), then each effect's coefficients in order.
+    pub(super) coefficients: Vec<Real>,
+    pub(super) residuals: Vec<Real>,
+}
+
+impl PositioningProblem {
+    /// Every reading's columns (profile hats, then each effect's), the known part of the
+    /// prediction (nominal expansion) and the reference temperature.
+    fn columns(
+        &self,
+        effects: &[PositioningEffect],
+        reference: &Reference,
+        searched: &Searched,
+    ) -> (Vec<Vec<Real>>, Vec<Real>, Option<Real>) {
+        let n = self.x.len();
+        let knots = &reference.knots;
+        let mut columns: Vec<Vec<Real>> = vec![vec![0.0; n]; knots.len()];
+        for (i, &x) in self.x.iter().enumerate() {
+            let j = knots.partition_point(|&k| k <= x);
+            if j == 0 {
+                columns[0][i] = 1.0;
+            } else if j == knots.len() {
+                columns[j - 1][i] = 1.0;
+            } else {
+                let w = (x - knots[j - 1]) / (knots[j] - knots[j - 1]);
+                columns[j - 1][i] = 1.0 - w;
+                columns[j][i] = w;
+            }
+        }
+        let driver = self.driver(
+            effects
+                .contains(&PositioningEffect::ThermalLag)
+                .then_some(searched.lag_tau)
+                .flatten(),
+        );
+        let reference_temperature = driver.as_ref().map(|d| {
+            let (sum, count) = (0..n)
+                .filter(|&i| self.run[i] == reference.run)
+                .fold((0.0, 0usize), |(s, c), i| (s + d[i], c + 1));
+            sum / count.max(1) as Real
+        });
+        let rise: Vec<Real> = match (&driver, reference_temperature) {
+            (Some(d), Some(t_ref)) => d.iter().map(|t| t - t_ref).collect(),
+            _ => vec![0.0; n],
+        };
+        let known: Vec<Real> = (0..n)
+            .map(|i| self.options.expansion * self.x[i] * rise[i])
+            .collect();
+        let map = |f: &dyn Fn(usize) -> Real| (0..n).map(f).collect::<Vec<Real>>();
+        for &effect in effects {
+            match effect {
+                PositioningEffect::Reversal => columns.push(map(&|i| -self.s[i] / 2.0)),
+                PositioningEffect::ReversalPosition => {
+                    columns.push(map(&|i| -self.s[i] / 2.0 * (self.x[i] - self.centre)))
+                }
+                PositioningEffect::ReversalThermal => {
+                    columns.push(map(&|i| -self.s[i] / 2.0 * rise[i]))
+                }
+                PositioningEffect::ThermalLag => {}
+                PositioningEffect::ThermalScale => columns.push(map(&|i| self.x[i] * rise[i])),
+                PositioningEffect::ThermalOffset => columns.push(rise.clone()),
+                PositioningEffect::SecondHeatSource => {
+                    let g = self.activity(searched.heat_tau.expect("searched first"));
+                    columns.push(map(&|i| self.x[i] * g[i]));
+                }
+                PositioningEffect::Periodic => {
+                    let w = TAU / searched.period.expect("searched first");
+                    columns.push(map(&|i| (w * self.x[i]).sin()));
+                    columns.push(map(&|i| (w * self.x[i]).cos()));
+                }
+                PositioningEffect::NonlinearScale => {
+                    let xi = |i: usize| (self.x[i] - self.centre) / self.half_range;
+                    columns.push(map(&|i| xi(i).powi(2)));
+                    columns.push(map(&|i| xi(i).powi(3)));
+                }
+                PositioningEffect::TimeDrift => {
+                    let time = self
+                        .time
+                        .as_ref()
+                        .expect("only proposed with a time column");
+                    columns.push(map(&|i| (time[i] - reference.time) / 3600.0));
+                }
+            }
+        }
+        (columns, known, reference_temperature)
+    }
+
+    /// The linear fit of `effects` with `searched` fixed: coefficients, every residual and the
+    /// training sum of squares.
+    pub(super) fn solve(
+        &self,
+        effects: &[PositioningEffect],
+        train: &[bool],
+        reference: &Reference,
+        searched: &Searched,
+    ) -> (Vec<Real>, Vec<Real>, Real, Option<Real>) {
+        let (columns, known, reference_temperature) = self.columns(effects, reference, searched);
+        let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
+        let mut design = Design::new(rows.len());
+        for column in &columns {
+            design.push(rows.iter().map(|&i| column[i]).collect());
+        }
+        let target: Vec<Real> = rows.iter().map(|&i| self.y[i] - known[i]).collect();
+        let coefficients = design.solve(&target);
+        let residuals: Vec<Real> = (0..self.x.len())
+            .map(|i| {
+                let predicted: Real = columns
+                    .iter()
+                    .zip(&coefficients)
+                    .map(|(c, k)| c[i] * k)
+                    .sum();
+                self.y[i] - known[i] - predicted
+            })
+            .collect();
+        let sse = rows.iter().map(|&i| residuals[i].powi(2)).sum();
+        (coefficients, residuals, sse, reference_temperature)
+    }
+
+    /// Searches every searched parameter (in order, twice when there are several, each with
+    /// the others held), then fits.
+    pub(super) fn fit_with(&self, effects: &[PositioningEffect], train: &[bool]) -> PositioningFit {
+        let reference = self.reference(train);
+        let mut searched = Searched::default();
+        let nonlinear: Vec<PositioningEffect> =
+            effects.iter().copied().filter(|e| e.searched()).collect();
+        let passes = if nonlinear.len() > 1 { 2 } else { 1 };
+        for _ in 0..passes {
+            for &effect in &nonlinear {
+                let active: Vec<PositioningEffect> = effects
+                    .iter()
+                    .copied()
+                    .filter(|&e| e == effect || searched.has(e))
+                    .collect();
+                let sse_with = |trial: Searched| self.solve(&active, train, &reference, &trial).2;
+                match effect {
+                    PositioningEffect::ThermalLag => {
+                        searched.lag_tau = Some(self.search_tau(|tau| {
+                            sse_with(Searched {
+                                lag_tau: Some(tau),
+                                ..searched
+                            })
+                        }));
+                    }
+                    PositioningEffect::SecondHeatSource => {
+                        searched.heat_tau = Some(self.search_tau(|tau| {
+                            sse_with(Searched {
+                                heat_tau: Some(tau),
+                                ..searched
+                            })
+                        }));
+                    }
+                    _ => {
+                        searched.period =
+                            Some(self.search_period(&active, train, &reference, &searched));
+                    }
+                }
+            }
+        }
+        let (coefficients, residuals, _, reference_temperature) =
+            self.solve(effects, train, &reference, &searched);
+        PositioningFit {
+            effects: effects.to_vec(),
+            reference,
+            reference_temperature,
+            searched,
+            coefficients,
+            residuals,
+        }
+    }
+}
+
+impl PositioningFit {
+    /// The coefficients of `effect` (in SI), if it is in the fit.
+    fn coefficients_of(&self, effect: PositioningEffect) -> Option<&[Real]> {
+        let mut start = self.reference.knots.len();
+        for &e in &self.effects {
+            let end = start + e.columns();
+            if e == effect {
+                return Some(&self.coefficients[start..end]);
+            }
+            start = end;
+        }
+        None
+    }
+
+    /// The profile: knot positions (m) and values (m).
+    pub fn profile(&self) -> (&[Real], &[Real]) {
+        (
+            &self.reference.knots,
+            &self.coefficients[..self.reference.knots.len()],
+        )
+    }
+
+    /// The fitted parameters of `effect`, in file units with the unit in the name.
+    pub fn params(&self, effect: PositioningEffect) -> BTreeMap<&'static str, Real> {
+        let c = self
+            .coefficients_of(effect)
+            .expect("parameters are asked of effects in the fit");
+        let mut params = BTreeMap::new();
+        let per_million = |v: Real| v * 1e6;
+        match effect {
+            PositioningEffect::Reversal => {
+                params.insert("lost_motion_um", per_million(c[0]));
+            }
+            PositioningEffect::ReversalPosition => {
+                params.insert("lost_motion_change_um_per_m", per_million(c[0]));
+            }
+            PositioningEffect::ReversalThermal => {
+                params.insert("lost_motion_change_um_per_degc", per_million(c[0]));
+            }
+            PositioningEffect::ThermalLag => {
+                params.insert("tau_min", self.searched.lag_tau.unwrap_or(0.0) / 60.0);
+            }
+            PositioningEffect::ThermalScale => {
+                params.insert("expansion_change_ppm_per_degc", per_million(c[0]));
+            }
+            PositioningEffect::ThermalOffset => {
+                params.insert("offset_um_per_degc", per_million(c[0]));
+            }
+            PositioningEffect::SecondHeatSource => {
+                params.insert("expansion_um_per_m", per_million(c[0]));
+                params.insert("tau_min", self.searched.heat_tau.unwrap_or(0.0) / 60.0);
+            }
+            PositioningEffect::Periodic => {
+                params.insert("period_mm", self.searched.period.unwrap_or(0.0) / M_PER_MM);
+                params.insert("amplitude_um", per_million(c[0].hypot(c[1])));
+                params.insert("phase_deg", c[1].atan2(c[0]).to_degrees());
+            }
+            PositioningEffect::NonlinearScale => {
+                params.insert("quadratic_um", per_million(c[0]));
+                params.insert("cubic_um", per_million(c[1]));
+            }
+            PositioningEffect::TimeDrift => {
+                params.insert("rate_um_per_h", per_million(c[0]));
+            }
+        }
+        params
+    }
+}

@@ -1,0 +1,339 @@
+//! A positioning table prepared for discovery: its readings as columns, the checks, which
+//! effects the file can show, the reference run and its knots, and the temperature and
+//! activity inputs of the model's terms.
+
+use super::{
+    DiscoveryError, MAX_FREQUENCIES, MIN_TEMPERATURE_RANGE, PositioningEffect, PositioningOptions,
+    SAME_POSITION,
+};
+use crate::discovery::engine::Folds;
+use crate::kinds::positioning::PositioningTable;
+use crate::machine::Axis;
+use crate::math::{M_PER_MM, Real};
+use crate::program::Approach;
+use crate::thermal::first_order_lag;
+
+/// A positioning table prepared for discovery.
+#[derive(Clone, Debug)]
+pub struct PositioningProblem {
+    pub(super) axis: Option<Axis>,
+    pub(super) run_labels: Vec<String>,
+    /// Position (m), deviation (m), direction sign, run of every reading.
+    pub(super) x: Vec<Real>,
+    pub(super) y: Vec<Real>,
+    pub(super) s: Vec<Real>,
+    pub(super) run: Vec<usize>,
+    /// Time since the start (s) and temperature (°C), when the file has them.
+    pub(super) time: Option<Vec<Real>>,
+    pub(super) temperature: Option<Vec<Real>>,
+    pub(super) sensor: Option<String>,
+    /// Reading indices in the order they were taken.
+    pub(super) order: Vec<usize>,
+    /// Centre and half-range of the targets (m), for the polynomial terms.
+    pub(super) centre: Real,
+    pub(super) half_range: Real,
+    pub(super) options: PositioningOptions,
+    pub(super) folds: Folds,
+    pub(super) testable: Vec<PositioningEffect>,
+    pub(super) untestable: Vec<(PositioningEffect, String)>,
+}
+
+/// The run a fit is referred to and its knots.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Reference {
+    pub(super) run: usize,
+    pub(super) knots: Vec<Real>,
+    pub(super) time: Real,
+}
+
+impl PositioningProblem {
+    /// Prepares `table`: checks it, chooses the temperature column, the folds and which
+    /// effects the file can show at all.
+    pub fn new(
+        table: &PositioningTable,
+        options: PositioningOptions,
+    ) -> Result<PositioningProblem, DiscoveryError> {
+        let n = table.readings.len();
+        if n < 6 {
+            return Err(DiscoveryError(format!(
+                "{n} readings: discovery needs at least 6 (one model fit per fold)"
+            )));
+        }
+        if options.folds < 2 {
+            return Err(DiscoveryError(format!(
+                "{} folds: cross-validation needs at least 2",
+                options.folds
+            )));
+        }
+        if !(options.expansion.is_finite() && options.min_period > 0.0) {
+            return Err(DiscoveryError(
+                "the expansion coefficient must be finite and the shortest period positive".into(),
+            ));
+        }
+        let finite = |r: &crate::kinds::positioning::PositioningReading| {
+            [r.target, r.deviation, r.time.unwrap_or(0.0)]
+                .iter()
+                .chain(&r.temperatures)
+                .all(|v| v.is_finite())
+        };
+        if let Some(k) = table.readings.iter().position(|r| !finite(r)) {
+            return Err(DiscoveryError(format!(
+                "reading {}: a value is not a finite number",
+                k + 1
+            )));
+        }
+        let sensor_index =
+            match &options.sensor {
+                Some(name) => Some(table.sensors.iter().position(|s| s == name).ok_or_else(
+                    || {
+                        DiscoveryError(format!(
+                            "no column temp_{name}_degc; the file has {}",
+                            if table.sensors.is_empty() {
+                                "no temperature columns".to_string()
+                            } else {
+                                table
+                                    .sensors
+                                    .iter()
+                                    .map(|s| format!("temp_{s}_degc"))
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            }
+                        ))
+                    },
+                )?),
+                None => (!table.sensors.is_empty()).then_some(0),
+            };
+        let x: Vec<Real> = table.readings.iter().map(|r| r.target).collect();
+        let y = table.readings.iter().map(|r| r.deviation).collect();
+        let s = table
+            .readings
+            .iter()
+            .map(|r| {
+                if r.approach == Approach::Up {
+                    1.0
+                } else {
+                    -1.0
+                }
+            })
+            .collect::<Vec<_>>();
+        let run: Vec<usize> = table.readings.iter().map(|r| r.run).collect();
+        let time: Option<Vec<Real>> = table.readings.iter().map(|r| r.time).collect();
+        let temperature: Option<Vec<Real>> =
+            sensor_index.map(|k| table.readings.iter().map(|r| r.temperatures[k]).collect());
+        let mut order: Vec<usize> = (0..n).collect();
+        if let Some(t) = &time {
+            order.sort_by(|&a, &b| t[a].total_cmp(&t[b]));
+        }
+        let (low, high) = x
+            .iter()
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(l, h), &v| {
+                (l.min(v), h.max(v))
+            });
+        // The period search tests 4 frequencies per 1/travel down to the shortest period.
+        let frequencies = 4.0 * (high - low) / options.min_period;
+        if frequencies > MAX_FREQUENCIES {
+            return Err(DiscoveryError(format!(
+                "a shortest period of {} mm over {} mm of travel would test {frequencies:.0} frequencies (at most {MAX_FREQUENCIES}); give a longer one",
+                options.min_period / M_PER_MM,
+                (high - low) / M_PER_MM
+            )));
+        }
+        let n_runs = table.runs.len();
+        let folds = if n_runs >= 3 {
+            Folds::leave_one_group_out(&run, "leave-one-run-out")
+        } else {
+            Folds::contiguous(&order, options.folds)
+        };
+        let mut problem = PositioningProblem {
+            axis: table.axis,
+            run_labels: table.runs.clone(),
+            x,
+            y,
+            s,
+            run,
+            time,
+            temperature,
+            sensor: sensor_index.map(|k| table.sensors[k].clone()),
+            order,
+            centre: (low + high) / 2.0,
+            half_range: ((high - low) / 2.0).max(SAME_POSITION),
+            options,
+            folds,
+            testable: Vec::new(),
+            untestable: Vec::new(),
+        };
+        problem.sort_effects();
+        Ok(problem)
+    }
+
+    /// Splits the library into what this file can and cannot show, with the reason.
+    fn sort_effects(&mut self) {
+        let both_directions = self.s.contains(&1.0) && self.s.contains(&-1.0);
+        let repeats = self.has_repeats();
+        let temperature_range = self.temperature.as_ref().map(|t| {
+            let (l, h) = t
+                .iter()
+                .fold((Real::INFINITY, Real::NEG_INFINITY), |(l, h), &v| {
+                    (l.min(v), h.max(v))
+                });
+            h - l
+        });
+        let reference = self.reference(&vec![true; self.x.len()]);
+        let off_knot = self
+            .x
+            .iter()
+            .filter(|&&x| {
+                reference
+                    .knots
+                    .iter()
+                    .all(|k| (k - x).abs() > SAME_POSITION)
+            })
+            .count();
+        for effect in PositioningEffect::ALL {
+            let mut reasons: Vec<String> = Vec::new();
+            let directional = matches!(
+                effect,
+                PositioningEffect::Reversal
+                    | PositioningEffect::ReversalPosition
+                    | PositioningEffect::ReversalThermal
+            );
+            let thermal = matches!(
+                effect,
+                PositioningEffect::ReversalThermal
+                    | PositioningEffect::ThermalLag
+                    | PositioningEffect::ThermalScale
+                    | PositioningEffect::ThermalOffset
+            );
+            let timed = matches!(
+                effect,
+                PositioningEffect::ThermalLag
+                    | PositioningEffect::SecondHeatSource
+                    | PositioningEffect::TimeDrift
+            );
+            let changing = thermal || timed;
+            let positional = matches!(
+                effect,
+                PositioningEffect::Periodic | PositioningEffect::NonlinearScale
+            );
+            if directional && !both_directions {
+                reasons.push("every reading is in one direction".into());
+            }
+            if thermal {
+                match temperature_range {
+                    None => reasons.push("the file has no temperature column".into()),
+                    Some(range) if range < MIN_TEMPERATURE_RANGE => reasons.push(format!(
+                        "the temperature varies by only {range:.3} °C (at least {MIN_TEMPERATURE_RANGE} °C needed)"
+                    )),
+                    Some(_) => {}
+                }
+            }
+            if timed && self.time.is_none() {
+                reasons.push("the file has no time_min column".into());
+            }
+            if changing && !repeats {
+                reasons.push(
+                    "no target is read twice in the same direction, so a change with time or temperature cannot be told from the profile"
+                        .into(),
+                );
+            }
+            if positional && off_knot < 4 {
+                reasons.push(format!(
+                    "{off_knot} readings lie between the reference run's targets (at least 4 needed); at the targets the profile already holds any error that depends on position only"
+                ));
+            }
+            if reasons.is_empty() {
+                self.testable.push(effect);
+            } else {
+                self.untestable.push((effect, reasons.join("; ")));
+            }
+        }
+    }
+
+    /// Whether some target is read more than once in the same direction.
+    fn has_repeats(&self) -> bool {
+        let mut seen: Vec<(Real, Real)> = Vec::new();
+        for (&x, &s) in self.x.iter().zip(&self.s) {
+            if seen
+                .iter()
+                .any(|&(px, ps)| ps == s && (px - x).abs() <= SAME_POSITION)
+            {
+                return true;
+            }
+            seen.push((x, s));
+        }
+        false
+    }
+
+    /// The effects this file cannot show, with the reason.
+    pub fn untestable(&self) -> &[(PositioningEffect, String)] {
+        &self.untestable
+    }
+
+    /// The reference run among the training readings (coldest, else first) and its knots.
+    pub(super) fn reference(&self, train: &[bool]) -> Reference {
+        let runs = self.run_labels.len();
+        let mut sum = vec![0.0; runs];
+        let mut count = vec![0usize; runs];
+        for i in (0..self.x.len()).filter(|&i| train[i]) {
+            sum[self.run[i]] += self.temperature.as_ref().map_or(0.0, |t| t[i]);
+            count[self.run[i]] += 1;
+        }
+        let present = (0..runs).filter(|&r| count[r] > 0);
+        let run = if self.temperature.is_some() {
+            present
+                .min_by(|&a, &b| {
+                    (sum[a] / count[a] as Real).total_cmp(&(sum[b] / count[b] as Real))
+                })
+                .unwrap_or(0)
+        } else {
+            present.min().unwrap_or(0)
+        };
+        let mut knots: Vec<Real> = Vec::new();
+        let mut time_sum = 0.0;
+        for i in (0..self.x.len()).filter(|&i| train[i] && self.run[i] == run) {
+            if knots.iter().all(|k| (k - self.x[i]).abs() > SAME_POSITION) {
+                knots.push(self.x[i]);
+            }
+            time_sum += self.time.as_ref().map_or(0.0, |t| t[i]);
+        }
+        knots.sort_by(Real::total_cmp);
+        Reference {
+            run,
+            knots,
+            time: time_sum / count[run].max(1) as Real,
+        }
+    }
+
+    /// The temperature the structure follows: measured, or lagged by `tau` (s).
+    pub(super) fn driver(&self, lag_tau: Option<Real>) -> Option<Vec<Real>> {
+        let measured = self.temperature.as_ref()?;
+        let Some(tau) = lag_tau else {
+            return Some(measured.clone());
+        };
+        let time = self.time.as_ref()?;
+        let mut lagged = vec![0.0; measured.len()];
+        let mut previous: Option<usize> = None;
+        for &i in &self.order {
+            lagged[i] = match previous {
+                None => measured[i],
+                Some(p) => {
+                    first_order_lag(lagged[p], measured[p], measured[i], time[i] - time[p], tau)
+                }
+            };
+            previous = Some(i);
+        }
+        Some(lagged)
+    }
+
+    /// Activity response `1 − e^(−(t − t₀)/τ)` since the first reading.
+    pub(super) fn activity(&self, tau: Real) -> Vec<Real> {
+        let time = self
+            .time
+            .as_ref()
+            .expect("only proposed with a time column");
+        let start = self.order.first().map_or(0.0, |&i| time[i]);
+        time.iter()
+            .map(|t| 1.0 - (-(t - start) / tau).exp())
+            .collect()
+    }
+}

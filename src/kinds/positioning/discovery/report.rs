@@ -1,0 +1,307 @@
+//! The result of discovery for people and programs: the accepted, rejected and untestable
+//! effects, scores and parameters, the residual steps, and the text and JSON reports.
+
+use super::{Association, PositioningDiscovery, PositioningEffect, PositioningFit};
+use crate::discovery::engine::{self, ResidualStep, Score, params_json, round_json as round};
+use crate::math::{M_PER_MM, M_PER_UM, Real};
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+
+fn association_json(a: &Option<Association>, slope_unit: &str, scale: Real) -> Value {
+    match a {
+        None => Value::Null,
+        Some(a) => json!({
+            format!("slope_{slope_unit}"): round(a.slope * scale),
+            "correlation": round(a.correlation),
+            "t": round(a.t),
+        }),
+    }
+}
+
+impl PositioningDiscovery {
+    /// The base model's name.
+    fn base_name(&self) -> &'static str {
+        if self.problem.temperature.is_some() {
+            "profile + nominal expansion"
+        } else {
+            "profile"
+        }
+    }
+
+    /// The model after the first `k` accepted effects, by name.
+    pub(super) fn model_name(&self, k: usize) -> String {
+        let mut name = self.base_name().to_string();
+        for step in &self.selection.steps[..k] {
+            name.push_str(" + ");
+            name.push_str(step.effect.id());
+        }
+        name
+    }
+
+    /// The base model and each accepted effect in turn, with the residual it leaves.
+    pub fn residual_steps(&self) -> Vec<ResidualStep<'_>> {
+        self.selection
+            .residual_steps(|k| self.model_name(k), |fit| &fit.residuals)
+    }
+
+    /// The accepted effects in order.
+    pub fn accepted(&self) -> Vec<PositioningEffect> {
+        self.selection.effects()
+    }
+
+    /// The effects tested in the last round and not accepted, with their held-out RMS (m).
+    pub fn rejected(&self) -> &[(PositioningEffect, Real)] {
+        &self.selection.rejected
+    }
+
+    /// The effects the file cannot show, with why.
+    pub fn untestable(&self) -> &[(PositioningEffect, String)] {
+        self.problem.untestable()
+    }
+
+    /// The final model's score.
+    pub fn final_score(&self) -> &Score {
+        self.selection.last().0
+    }
+
+    /// The base model's score.
+    pub fn baseline_score(&self) -> &Score {
+        &self.selection.baseline.0
+    }
+
+    /// The final model's parameters of an accepted effect.
+    pub fn final_params(&self, effect: PositioningEffect) -> Option<BTreeMap<&'static str, Real>> {
+        let fit = self.selection.last().1;
+        fit.effects.contains(&effect).then(|| fit.params(effect))
+    }
+
+    fn baseline_params(&self, fit: &PositioningFit) -> Value {
+        let mut params = serde_json::Map::new();
+        if self.problem.temperature.is_some() {
+            params.insert(
+                "expansion_ppm_per_degc".into(),
+                round(self.problem.options.expansion * 1e6),
+            );
+        }
+        if let Some(t) = fit.reference_temperature {
+            params.insert("reference_temperature_degc".into(), round(t));
+        }
+        params.insert("profile_knots".into(), json!(fit.reference.knots.len()));
+        Value::Object(params)
+    }
+
+    /// The report with stable keys.
+    pub fn to_json(&self) -> Value {
+        let um = |v: Real| round(v / M_PER_UM);
+        let (base_score, base_fit) = &self.selection.baseline;
+        let (knots, values) = base_fit.profile();
+        let steps: Vec<Value> = self
+            .selection
+            .steps
+            .iter()
+            .zip(self.selection.gains())
+            .map(|(step, (gain, pct))| {
+                json!({
+                    "effect": step.effect.id(),
+                    "together_with": step.together_with.map(PositioningEffect::id),
+                    "cause": step.effect.cause(),
+                    "evidence": step.evidence,
+                    "params": params_json(&step.fit.params(step.effect)),
+                    "rms_um": um(step.score.rms),
+                    "cv_rms_um": um(step.score.cv_rms),
+                    "gain_um": um(gain),
+                    "gain_pct": round(pct),
+                })
+            })
+            .collect();
+        let (final_score, final_fit) = self.selection.last();
+        let final_params: serde_json::Map<String, Value> = final_fit
+            .effects
+            .iter()
+            .map(|&e| (e.id().to_string(), params_json(&final_fit.params(e))))
+            .collect();
+        json!({
+            "kind": "positioning",
+            "n_samples": self.problem.x.len(),
+            "n_runs": self.problem.run_labels.len(),
+            "axis": self.problem.axis.map(|a| a.to_string()),
+            "sensor": self.problem.sensor,
+            "validation": {
+                "scheme": self.problem.folds.scheme,
+                "folds": self.problem.folds.count,
+                "rule": engine::RULE,
+            },
+            "baseline": {
+                "model": self.base_name(),
+                "reference_run": self.problem.run_labels[base_fit.reference.run],
+                "params": self.baseline_params(base_fit),
+                "profile": {
+                    "positions_mm": knots.iter().map(|k| round(k / M_PER_MM)).collect::<Vec<_>>(),
+                    "values_um": values.iter().map(|v| um(*v)).collect::<Vec<_>>(),
+                },
+                "rms_um": um(base_score.rms),
+                "cv_rms_um": um(base_score.cv_rms),
+            },
+            "steps": steps,
+            "rejected": self.selection.rejected.iter().map(|(e, cv)| json!({
+                "effect": e.id(),
+                "cv_rms_um": um(*cv),
+            })).collect::<Vec<_>>(),
+            "untestable": self.problem.untestable.iter().map(|(e, why)| json!({
+                "effect": e.id(),
+                "reason": why,
+            })).collect::<Vec<_>>(),
+            "final": {
+                "model": self.model_name(self.selection.steps.len()),
+                "params": Value::Object(final_params),
+                "rms_um": um(final_score.rms),
+                "cv_rms_um": um(final_score.cv_rms),
+            },
+            "diagnostics": {
+                "baseline": self.diagnostics_json(base_fit),
+                "final": self.diagnostics_json(final_fit),
+            },
+        })
+    }
+
+    fn diagnostics_json(&self, fit: &PositioningFit) -> Value {
+        let d = self.problem.diagnose(fit);
+        let um = |v: Real| round(v / M_PER_UM);
+        json!({
+            "rms_um": um(d.rms),
+            "position": {
+                "targets": d.by_target.iter().map(|t| json!({
+                    "target_mm": round(t.target / M_PER_MM),
+                    "mean_up_um": t.mean_up.map(um),
+                    "mean_down_um": t.mean_down.map(um),
+                    "rms_um": um(t.rms),
+                    "n": t.count,
+                })).collect::<Vec<_>>(),
+                "periodogram": d.periodogram.map(|(p, a, f)| json!({
+                    "period_mm": round(p / M_PER_MM),
+                    "amplitude_um": um(a),
+                    "f_statistic": round(f),
+                })),
+                "curvature_f_statistic": d.curvature_f.map(round),
+            },
+            "direction": d.direction.map(|(diff, se)| json!({
+                "up_minus_down_um": um(diff),
+                "standard_error_um": um(se),
+            })),
+            "runs": d.runs.iter().map(|(label, mean, rms, t)| json!({
+                "run": label,
+                "mean_um": um(*mean),
+                "rms_um": um(*rms),
+                "temperature_degc": t.map(round),
+            })).collect::<Vec<_>>(),
+            "time": association_json(&d.time, "um_per_h", 3600.0 / M_PER_UM),
+            "temperature": association_json(&d.temperature, "um_per_degc", 1.0 / M_PER_UM),
+            "position_x_temperature": association_json(&d.position_x_temperature, "ppm_per_degc", 1e6),
+            "lagged_temperature": d.lagged_temperature.map(|(tau, a)| json!({
+                "tau_min": round(tau / 60.0),
+                "correlation": round(a.correlation),
+                "t": round(a.t),
+            })),
+            "activity": d.activity.map(|(tau, a)| json!({
+                "tau_min": round(tau / 60.0),
+                "correlation": round(a.correlation),
+                "t": round(a.t),
+            })),
+            "reversal_x_position": association_json(&d.reversal_x_position, "um_per_m", 1e6),
+            "reversal_x_temperature": association_json(&d.reversal_x_temperature, "um_per_degc", 1.0 / M_PER_UM),
+        })
+    }
+
+    /// The report for people.
+    pub fn to_text(&self) -> String {
+        let um = |v: Real| v / M_PER_UM;
+        let (base_score, base_fit) = &self.selection.baseline;
+        let mut out = String::new();
+        let axis = self
+            .problem
+            .axis
+            .map_or_else(|| "axis not named".to_string(), |a| format!("axis {a}"));
+        out.push_str(&format!(
+            "Model discovery, positioning table ({axis}): {} readings in {} runs\n",
+            self.problem.x.len(),
+            self.problem.run_labels.len()
+        ));
+        out.push_str(&format!(
+            "Held-out data: {} ({} folds); {}.\n\n",
+            self.problem.folds.scheme,
+            self.problem.folds.count,
+            engine::RULE
+        ));
+        out.push_str(&format!(
+            "Base model: {} — profile through {} targets of run {}",
+            self.base_name(),
+            base_fit.reference.knots.len(),
+            self.problem.run_labels[base_fit.reference.run]
+        ));
+        if let (Some(t), Some(sensor)) = (base_fit.reference_temperature, &self.problem.sensor) {
+            out.push_str(&format!(
+                ", {:.1} µm/(m·°C) × x × (temp_{sensor} − {t:.2} °C)",
+                self.problem.options.expansion * 1e6
+            ));
+        }
+        out.push_str(&format!(
+            "\n  RMS {:.3} µm, held-out RMS {:.3} µm\n",
+            um(base_score.rms),
+            um(base_score.cv_rms)
+        ));
+        let d = self.problem.diagnose(base_fit);
+        out.push_str("\nWhat the base model leaves:\n");
+        for effect in PositioningEffect::ALL {
+            if let Some(text) = d.evidence(effect) {
+                out.push_str(&format!("  {:<19} {text}\n", effect.id()));
+            }
+        }
+        out.push_str("\nAccepted, in order:\n");
+        if self.selection.steps.is_empty() {
+            out.push_str("  nothing: no effect lowers the held-out RMS more than noise can\n");
+        }
+        for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
+            let params = step
+                .fit
+                .params(step.effect)
+                .iter()
+                .map(|(k, v)| format!("{k} = {v:.3}"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let together = step.together_with.map_or_else(String::new, |other| {
+                format!(
+                    " (accepted together with {}: neither passes alone)",
+                    other.id()
+                )
+            });
+            out.push_str(&format!(
+                "  + {}{together}: {params}\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)\n",
+                step.effect.id(),
+                step.effect.cause(),
+                um(step.score.cv_rms),
+                um(gain),
+                pct
+            ));
+        }
+        if !self.selection.rejected.is_empty() {
+            out.push_str("\nTested and rejected (held-out RMS):\n");
+            for (effect, cv) in &self.selection.rejected {
+                out.push_str(&format!("  {:<19} {:.3} µm\n", effect.id(), um(*cv)));
+            }
+        }
+        if !self.problem.untestable.is_empty() {
+            out.push_str("\nCannot be tested with this file:\n");
+            for (effect, why) in &self.problem.untestable {
+                out.push_str(&format!("  {:<19} {why}\n", effect.id()));
+            }
+        }
+        let final_score = self.selection.last().0;
+        out.push_str(&format!(
+            "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm\n",
+            self.model_name(self.selection.steps.len()),
+            um(final_score.rms),
+            um(final_score.cv_rms)
+        ));
+        out
+    }
+}

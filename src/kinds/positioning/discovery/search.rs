@@ -1,0 +1,125 @@
+//! The searched (nonlinear) parameters: the time constants of `thermal_lag` and
+//! `second_heat_source` (log grid, then golden section) and the period of `periodic`
+//! (periodogram, then golden section).
+
+use super::fit::Searched;
+use super::problem::Reference;
+use super::{PositioningEffect, PositioningProblem, TAU_GRID};
+use crate::math::Real;
+use crate::math::golden_minimum;
+use std::f64::consts::TAU;
+
+impl PositioningProblem {
+    /// The time span of the file (s), for the time-constant search range.
+    pub(super) fn time_span(&self) -> Real {
+        let time = self
+            .time
+            .as_ref()
+            .expect("only searched with a time column");
+        let (first, last) = (self.order[0], self.order[self.order.len() - 1]);
+        (time[last] - time[first]).max(60.0)
+    }
+
+    /// Searches a time constant (s) on a log grid from 1 min to twice the file's span, then
+    /// refines by golden section between the best point's neighbours.
+    pub(super) fn search_tau(&self, sse: impl Fn(Real) -> Real) -> Real {
+        let (low, high) = (60.0_f64.ln(), (2.0 * self.time_span()).max(120.0).ln());
+        let grid: Vec<Real> = (0..TAU_GRID)
+            .map(|k| low + (high - low) * k as Real / (TAU_GRID - 1) as Real)
+            .collect();
+        let values: Vec<Real> = grid.iter().map(|&g| sse(g.exp())).collect();
+        let best = (0..TAU_GRID)
+            .min_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .unwrap_or(0);
+        let (a, b) = (
+            grid[best.saturating_sub(1)],
+            grid[(best + 1).min(TAU_GRID - 1)],
+        );
+        let (refined, value) = golden_minimum(|g| sse(g.exp()), a, b, 16);
+        if value < values[best] {
+            refined.exp()
+        } else {
+            grid[best].exp()
+        }
+    }
+
+    /// Searches the period (m): a periodogram of the residual of the model without the cyclic
+    /// term over frequencies from 1/(span) to 1/min_period (4 points per 1/span), then a
+    /// golden-section refinement of the full fit around the peak.
+    pub(super) fn search_period(
+        &self,
+        effects: &[PositioningEffect],
+        train: &[bool],
+        reference: &Reference,
+        searched: &Searched,
+    ) -> Real {
+        let without: Vec<PositioningEffect> = effects
+            .iter()
+            .copied()
+            .filter(|&e| e != PositioningEffect::Periodic)
+            .collect();
+        let (_, residuals, _, _) = self.solve(&without, train, reference, searched);
+        let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
+        let x: Vec<Real> = rows.iter().map(|&i| self.x[i]).collect();
+        let r: Vec<Real> = rows.iter().map(|&i| residuals[i]).collect();
+        let (step, f_low) = self.frequency_grid();
+        let (peak, _) = self.periodogram_peak(&x, &r);
+        let sse = |f: Real| {
+            let trial = Searched {
+                period: Some(1.0 / f),
+                ..*searched
+            };
+            self.solve(effects, train, reference, &trial).2
+        };
+        let (low, high) = ((peak - step).max(f_low / 2.0), peak + step);
+        let (refined, value) = golden_minimum(sse, low, high, 16);
+        if value < sse(peak) {
+            1.0 / refined
+        } else {
+            1.0 / peak
+        }
+    }
+
+    /// The periodogram's frequency step and lowest frequency (1/m): from 1/travel to
+    /// 1/min_period, 4 points per 1/travel.
+    fn frequency_grid(&self) -> (Real, Real) {
+        let span = (2.0 * self.half_range).max(self.options.min_period);
+        (1.0 / (4.0 * span), 1.0 / span)
+    }
+
+    /// The frequency (1/m) whose sinusoid removes the largest fraction of `r`'s sum of squares
+    /// over positions `x`, and that fraction.
+    pub(super) fn periodogram_peak(&self, x: &[Real], r: &[Real]) -> (Real, Real) {
+        let (step, f_low) = self.frequency_grid();
+        let count = ((1.0 / self.options.min_period - f_low) / step).ceil() as usize + 1;
+        (0..count)
+            .map(|k| f_low + step * k as Real)
+            .map(|f| (f, sinusoid_reduction(x, r, f)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((f_low, 0.0))
+    }
+}
+
+/// The fraction of `r`'s sum of squares removed by fitting `a·sin(2πfx) + b·cos(2πfx) + c`
+/// (normal equations of the three columns: this runs for every trial frequency).
+fn sinusoid_reduction(x: &[Real], r: &[Real], frequency: Real) -> Real {
+    let mut normal = nalgebra::Matrix3::<Real>::zeros();
+    let mut right = nalgebra::Vector3::<Real>::zeros();
+    let mut total = 0.0;
+    for (x, r) in x.iter().zip(r) {
+        let (sin, cos) = (TAU * frequency * x).sin_cos();
+        let row = nalgebra::Vector3::new(sin, cos, 1.0);
+        normal += row * row.transpose();
+        right += row * *r;
+        total += r * r;
+    }
+    let Some(c) = normal.cholesky().map(|c| c.solve(&right)) else {
+        return 0.0;
+    };
+    // Residual sum of squares = total − cᵀ·(Aᵀr) at the least-squares solution.
+    if total > 0.0 {
+        (c.dot(&right) / total).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
