@@ -78,8 +78,11 @@ pub struct Verb {
     pub command: fn() -> clap::Command,
     /// Runs it on the parsed flags and returns what to print on standard output; `progress`
     /// hears about long work.
-    pub run: fn(&clap::ArgMatches, &mut dyn FnMut(&str)) -> anyhow::Result<String>,
+    pub run: VerbRun,
 }
+
+/// How a [`Verb`] runs: on the parsed flags, with a progress callback, returning what to print.
+pub type VerbRun = fn(&clap::ArgMatches, &mut dyn FnMut(&str)) -> anyhow::Result<String>;
 
 /// Every test kind, in the order the command line lists them.
 pub const KINDS: &[Kind] = &[

@@ -84,7 +84,7 @@ pub struct Diagnostics {
     pub lagged_temperature: Option<(Real, Association)>,
     /// Best activity time constant (s): residual against x·(1 − e^(−t/τ)).
     pub activity: Option<(Real, Association)>,
-    /// Direction-signed residual against position and against temperature rise.
+    /// Direction-signed residual against position.
     pub reversal_x_position: Option<Association>,
     /// Direction-signed residual against temperature rise.
     pub reversal_x_temperature: Option<Association>,

@@ -15,7 +15,7 @@
 //!
 //! The nominal coefficient is not fitted: a fitted coefficient *is* the `thermal_scale` effect,
 //! which would otherwise be undiscoverable. Effects add terms to this model (see
-//! [`PositioningEffect`]); the engine in [`super::engine`] selects them by held-out RMS.
+//! [`PositioningEffect`]); the engine in [`crate::discovery::engine`] selects them by held-out RMS.
 //!
 //! Temperatures and times are inputs: the lagged temperature of `thermal_lag` is computed from
 //! the whole file's temperature record (readings held out of a fold keep their temperatures,
