@@ -1,0 +1,247 @@
+//! A ball-bar table prepared for fitting ([`CircleData`]): the checks of the table and the
+//! test, the readings as basis points (times, the reversals each sense crossed), the searched
+//! parameters' ranges ([`SearchRanges`]), and the columns of terms over chosen readings.
+
+use super::{BallbarError, CircularTest, MIN_READINGS, MIN_SPAN_DEG};
+use super::{BasisPoint, Shape, Term, arc_since_reversal, diagnostic_column};
+use crate::kinds::ballbar::BallbarTable;
+use crate::math::{M_PER_MM, RAD_PER_DEG, Real};
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// A reversal counts as crossed when the sense has readings this close before it (rad).
+const CROSSING_WINDOW: Real = 3.0 * RAD_PER_DEG;
+
+/// Decay search bounds (s) and the arc (rad) whose duration also bounds it.
+const DECAY_MIN: Real = 1e-3;
+const DECAY_MAX: Real = 0.2;
+const DECAY_ARC: Real = 30.0 * RAD_PER_DEG;
+/// Shortest cyclic period searched (m).
+const PERIOD_MIN: Real = 1e-3;
+/// The most lobes searched.
+const LOBES_MAX: u32 = 60;
+
+/// The searched parameters' ranges for a table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchRanges {
+    /// Reversal lag (s): shortest (0) and longest.
+    pub lag: (Real, Real),
+    /// Spike decay (s): shortest and longest.
+    pub decay: (Real, Real),
+    /// Cyclic period (m): shortest and longest.
+    pub period: (Real, Real),
+    /// Lobes per turn: fewest and most.
+    pub lobes: (u32, u32),
+}
+
+/// A table prepared for fitting: its readings as basis points and deviations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CircleData {
+    /// The test conditions.
+    pub test: CircularTest,
+    /// Every reading's place on the circle, in file order.
+    pub points: Vec<BasisPoint>,
+    /// Every reading's deviation (m).
+    pub deviation: Vec<Real>,
+    /// The searched parameters' ranges.
+    pub ranges: SearchRanges,
+    /// Readings per sense (ccw, cw).
+    pub counts: [usize; 2],
+    /// Angular span per sense (rad), when present.
+    pub spans: [Option<Real>; 2],
+}
+
+/// Index of a sense: ccw 0, cw 1.
+pub(super) fn sense_index(sense: Real) -> usize {
+    usize::from(sense < 0.0)
+}
+
+pub(super) const SENSE_NAMES: [&str; 2] = ["ccw", "cw"];
+
+/// The arc that angles in [0, 2π) cover (rad): where it starts (the angle after the largest
+/// gap, the wrap at 360° included) and its span (2π less that gap). Empty input: (0, 0).
+pub fn covered_arc(angles: &[Real]) -> (Real, Real) {
+    let mut sorted = angles.to_vec();
+    sorted.sort_by(Real::total_cmp);
+    let (Some(&first), Some(&last)) = (sorted.first(), sorted.last()) else {
+        return (0.0, 0.0);
+    };
+    let (mut largest, mut start) = (first + TAU - last, first);
+    for pair in sorted.windows(2) {
+        if pair[1] - pair[0] > largest {
+            largest = pair[1] - pair[0];
+            start = pair[1];
+        }
+    }
+    (start, TAU - largest)
+}
+
+impl CircleData {
+    /// Checks `table` and `test` and prepares the readings.
+    pub fn new(table: &BallbarTable, test: &CircularTest) -> Result<CircleData, BallbarError> {
+        if !(test.radius.is_finite() && test.radius > 0.0) {
+            return Err(BallbarError::Radius(test.radius / M_PER_MM));
+        }
+        if !(test.feed.is_finite() && test.feed > 0.0) {
+            return Err(BallbarError::Feed(test.feed / M_PER_MM * 60.0));
+        }
+        if table.readings.is_empty() {
+            return Err(BallbarError::Empty);
+        }
+        if let Some(k) = table.readings.iter().position(|r| {
+            !(r.angle.is_finite()
+                && r.deviation.is_finite()
+                && r.time.is_none_or(|t| t.is_finite()))
+        }) {
+            return Err(BallbarError::NotFinite(k + 1));
+        }
+        let n = table.readings.len();
+        let sense: Vec<Real> = table.readings.iter().map(|r| r.sense.sign()).collect();
+        let angle: Vec<Real> = table
+            .readings
+            .iter()
+            .map(|r| r.angle.rem_euclid(TAU) % TAU)
+            .collect();
+        let mut counts = [0; 2];
+        let mut spans = [None; 2];
+        let mut test_time = 0.0;
+        for s in 0..2 {
+            let angles: Vec<Real> = (0..n)
+                .filter(|&i| sense_index(sense[i]) == s)
+                .map(|i| angle[i])
+                .collect();
+            counts[s] = angles.len();
+            if angles.is_empty() {
+                continue;
+            }
+            if angles.len() < MIN_READINGS {
+                return Err(BallbarError::TooFewReadings {
+                    sense: SENSE_NAMES[s],
+                    n: angles.len(),
+                });
+            }
+            let (_, span) = covered_arc(&angles);
+            if span < MIN_SPAN_DEG * RAD_PER_DEG {
+                return Err(BallbarError::SpanTooSmall {
+                    sense: SENSE_NAMES[s],
+                    span_deg: span / RAD_PER_DEG,
+                });
+            }
+            spans[s] = Some(span);
+            test_time += span * test.radius / test.feed;
+        }
+        let timed = table.readings.iter().all(|r| r.time.is_some());
+        let time: Vec<Real> = if timed {
+            let start = table
+                .readings
+                .iter()
+                .filter_map(|r| r.time)
+                .fold(Real::INFINITY, Real::min);
+            table
+                .readings
+                .iter()
+                .map(|r| r.time.unwrap_or(start) - start)
+                .collect()
+        } else {
+            (0..n).map(|i| test_time * i as Real / n as Real).collect()
+        };
+        // crossed[sense][reversal k at k·90°]: readings of the sense just before it.
+        let mut crossed = [[false; 4]; 2];
+        for i in 0..n {
+            let s = sense_index(sense[i]);
+            for (k, flag) in crossed[s].iter_mut().enumerate() {
+                let before = (sense[i] * (k as Real * FRAC_PI_2 - angle[i])).rem_euclid(TAU);
+                if before > 0.0 && before <= CROSSING_WINDOW {
+                    *flag = true;
+                }
+            }
+        }
+        let unlagged = Shape::default();
+        let points: Vec<BasisPoint> = (0..n)
+            .map(|i| {
+                let mut point = BasisPoint::new(angle[i], sense[i], time[i], [false; 2]);
+                for axis in 0..2 {
+                    let reversal = (angle[i]
+                        - sense[i] * arc_since_reversal(axis, &point, test, &unlagged))
+                    .rem_euclid(TAU);
+                    let k = (reversal / FRAC_PI_2).round() as usize % 4;
+                    point.crossed[axis] = crossed[sense_index(sense[i])][k];
+                }
+                point
+            })
+            .collect();
+        let ranges = Self::ranges(&points, test, n);
+        Ok(CircleData {
+            test: *test,
+            points,
+            deviation: table.readings.iter().map(|r| r.deviation).collect(),
+            ranges,
+            counts,
+            spans,
+        })
+    }
+
+    /// The searched parameters' ranges: reversal lags from 0 and decays from max(1 ms, two
+    /// sampling intervals), both to min(200 ms, time for 30° of arc); periods from max(1 mm,
+    /// 4 sample spacings) to R/2; lobes from 3 to min(60, a quarter of the readings per turn).
+    fn ranges(points: &[BasisPoint], test: &CircularTest, n: usize) -> SearchRanges {
+        let mut steps: Vec<Real> = points
+            .windows(2)
+            .filter(|w| w[0].sense == w[1].sense)
+            .map(|w| w[1].time - w[0].time)
+            .filter(|dt| *dt > 0.0)
+            .collect();
+        steps.sort_by(Real::total_cmp);
+        let interval = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+        let spacing = interval * test.feed;
+        let per_turn = (n as Real / 2.0).max(1.0);
+        let longest = DECAY_MAX.min(DECAY_ARC * test.radius / test.feed);
+        SearchRanges {
+            lag: (0.0, longest),
+            decay: (DECAY_MIN.max(2.0 * interval), longest),
+            period: (PERIOD_MIN.max(4.0 * spacing), test.radius / 2.0),
+            lobes: (3, LOBES_MAX.min((per_turn / 4.0) as u32)),
+        }
+    }
+
+    /// The number of readings.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Whether there are no readings.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// Whether both senses are present.
+    pub fn both_senses(&self) -> bool {
+        self.counts[0] > 0 && self.counts[1] > 0
+    }
+
+    /// Column `index` of `term` over `rows`.
+    pub(super) fn column_on(
+        &self,
+        term: Term,
+        index: usize,
+        shape: &Shape,
+        rows: &[usize],
+    ) -> Vec<Real> {
+        rows.iter()
+            .map(|&i| diagnostic_column(term, index, &self.points[i], &self.test, shape))
+            .collect()
+    }
+
+    /// Every column of `terms`, in order, over `rows`.
+    pub(super) fn columns_on(
+        &self,
+        terms: &[Term],
+        shape: &Shape,
+        rows: &[usize],
+    ) -> Vec<Vec<Real>> {
+        terms
+            .iter()
+            .flat_map(|&t| (0..t.columns()).map(move |k| (t, k)))
+            .map(|(t, k)| self.column_on(t, k, shape, rows))
+            .collect()
+    }
+}
