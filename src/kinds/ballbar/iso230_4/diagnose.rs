@@ -18,7 +18,8 @@ pub struct TermEstimate {
     /// Its standard uncertainty.
     pub u: Real,
     /// A spike's decay (s) or a cyclic term's period (m) and its uncertainty, when the
-    /// amplitude is significant (above twice its uncertainty).
+    /// amplitude is significant (above 2 u; for a cyclic term √(2·ln(M/0.05)) u, about 4.5 u,
+    /// for the M periods searched).
     pub shape: Option<(Real, Real)>,
     /// A cyclic term's phase φ (rad) and its uncertainty, when significant.
     pub phase: Option<(Real, Real)>,
