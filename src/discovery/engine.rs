@@ -413,6 +413,21 @@ pub(crate) fn round_json(value: Real) -> serde_json::Value {
     )
 }
 
+/// An effect's parameters for people: `key = value, …` to 3 decimals (the JSON gives 4).
+pub(crate) fn params_text(params: &std::collections::BTreeMap<&'static str, Real>) -> String {
+    params
+        .iter()
+        .map(|(k, v)| format!("{k} = {v:.3}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The heading of the final model's values in a report for people: they are the refit on all
+/// data with every accepted effect, the values of `--json`'s `final`, which differ from each
+/// step's values at acceptance.
+pub(crate) const FINAL_VALUES: &str =
+    "  values refit with every accepted effect (the --json `final`):";
+
 /// An effect's parameters as a JSON object, rounded by [`round_json`].
 pub(crate) fn params_json(
     params: &std::collections::BTreeMap<&'static str, Real>,

@@ -765,11 +765,7 @@ impl BallbarDiscovery {
             );
         }
         for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
-            let params = params(&step.fit, step.effect, data)
-                .iter()
-                .map(|(k, v)| format!("{k} = {v:.3}"))
-                .collect::<Vec<_>>()
-                .join(", ");
+            let params = engine::params_text(&params(&step.fit, step.effect, data));
             let together = step.together_with.map_or_else(String::new, |other| {
                 format!(
                     " (accepted together with {}: neither passes alone)",
@@ -778,7 +774,7 @@ impl BallbarDiscovery {
             });
             let _ = writeln!(
                 out,
-                "  + {}{together}: {params}\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)",
+                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)",
                 step.effect.id(plane),
                 step.effect.cause(),
                 um(step.score.cv_rms),
@@ -798,7 +794,7 @@ impl BallbarDiscovery {
                 let _ = writeln!(out, "  {:<18} {why}", effect.id(plane));
             }
         }
-        let final_score = self.selection.last().0;
+        let (final_score, final_fit) = self.selection.last();
         let _ = writeln!(
             out,
             "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm",
@@ -806,6 +802,23 @@ impl BallbarDiscovery {
             um(final_score.rms),
             um(final_score.cv_rms)
         );
+        let _ = writeln!(out, "{}", engine::FINAL_VALUES);
+        let base = self.base_params(final_fit);
+        let base: Vec<String> = base
+            .as_object()
+            .into_iter()
+            .flatten()
+            .filter_map(|(k, v)| Some(format!("{k} = {:.3}", v.as_f64()?)))
+            .collect();
+        let _ = writeln!(out, "    {:<18} {}", "base", base.join(", "));
+        for step in &self.selection.steps {
+            let _ = writeln!(
+                out,
+                "    {:<18} {}",
+                step.effect.id(plane),
+                engine::params_text(&params(final_fit, step.effect, data))
+            );
+        }
         out
     }
 }

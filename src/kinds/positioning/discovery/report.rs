@@ -261,13 +261,7 @@ impl PositioningDiscovery {
             out.push_str("  nothing: no effect lowers the held-out RMS more than noise can\n");
         }
         for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
-            let params = step
-                .fit
-                .params(step.effect)
-                .iter()
-                .map(|(k, v)| format!("{k} = {v:.3}"))
-                .collect::<Vec<_>>()
-                .join(", ");
+            let params = engine::params_text(&step.fit.params(step.effect));
             let together = step.together_with.map_or_else(String::new, |other| {
                 format!(
                     " (accepted together with {}: neither passes alone)",
@@ -275,7 +269,7 @@ impl PositioningDiscovery {
                 )
             });
             out.push_str(&format!(
-                "  + {}{together}: {params}\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)\n",
+                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)\n",
                 step.effect.id(),
                 step.effect.cause(),
                 um(step.score.cv_rms),
@@ -295,13 +289,24 @@ impl PositioningDiscovery {
                 out.push_str(&format!("  {:<19} {why}\n", effect.id()));
             }
         }
-        let final_score = self.selection.last().0;
+        let (final_score, final_fit) = self.selection.last();
         out.push_str(&format!(
             "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm\n",
             self.model_name(self.selection.steps.len()),
             um(final_score.rms),
             um(final_score.cv_rms)
         ));
+        if !final_fit.effects.is_empty() {
+            out.push_str(engine::FINAL_VALUES.trim_end_matches("):"));
+            out.push_str(" and the model --write-model writes):\n");
+            for &effect in &final_fit.effects {
+                out.push_str(&format!(
+                    "    {:<19} {}\n",
+                    effect.id(),
+                    engine::params_text(&final_fit.params(effect))
+                ));
+            }
+        }
         out
     }
 }
