@@ -96,6 +96,21 @@ pub fn fixed(value: Real, decimals: usize) -> String {
     }
 }
 
+/// `value` as a person writes it: at most `decimals` decimals, no trailing zeros (`150`,
+/// `0.5`, `-2.25`).
+pub fn trimmed(value: Real, decimals: usize) -> String {
+    let text = fixed(value, decimals);
+    if !text.contains('.') {
+        return text;
+    }
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".into()
+    } else {
+        text.to_string()
+    }
+}
+
 /// The minimum of `f` over `[low, high]` by golden-section search (`iterations` shrinks the
 /// bracket by 0.618 each); returns (argument, value).
 pub fn golden_minimum(

@@ -104,7 +104,10 @@ fn simulate(hidden: &Hidden, seed: u64) -> BallbarTable {
         }
         clock += t_arc + 2.0 * lead + 2.0;
     }
-    BallbarTable { readings }
+    BallbarTable {
+        readings,
+        ..Default::default()
+    }
 }
 
 fn xy() -> CircularTest {
@@ -309,6 +312,7 @@ fn one_sense_cannot_test_the_sense_dependent_effects() {
             .filter(|r| r.sense == Sense::Ccw)
             .copied()
             .collect(),
+        ..Default::default()
     };
     let found = discover_ballbar(&ccw, &xy(), |_| {}).unwrap();
     let untestable: Vec<BallbarEffect> = found.untestable().iter().map(|(e, _)| *e).collect();
@@ -332,6 +336,7 @@ fn too_few_readings_are_refused() {
     let table = simulate(&Hidden::default(), 5);
     let sparse = BallbarTable {
         readings: table.readings.iter().step_by(150).copied().collect(),
+        ..Default::default()
     };
     let error = discover_ballbar(&sparse, &xy(), |_| {}).unwrap_err();
     assert!(error.to_string().contains("at least 200"), "{error}");

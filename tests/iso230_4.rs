@@ -192,7 +192,10 @@ fn simulate(machine: &Machine, runs: &[Run], noise: f64, seed: u64) -> BallbarTa
         }
         clock += t_arc + 2.0 * lead + 2.0;
     }
-    BallbarTable { readings }
+    BallbarTable {
+        readings,
+        ..Default::default()
+    }
 }
 
 fn test_in(plane: Plane) -> CircularTest {
@@ -735,6 +738,7 @@ fn hand_table(ccw: &[(f64, f64)], cw: &[(f64, f64)]) -> BallbarTable {
             .map(|r| reading(Sense::Ccw, r))
             .chain(cw.iter().map(|r| reading(Sense::Cw, r)))
             .collect(),
+        ..Default::default()
     }
 }
 
@@ -830,6 +834,7 @@ fn one_sense_is_evaluated_with_the_sense_dependent_terms_flagged() {
             .filter(|r| r.sense == Sense::Ccw)
             .copied()
             .collect(),
+        ..Default::default()
     };
     let e = evaluate(&ccw, &xy()).unwrap();
     assert!(e.circular_deviation[0].is_some() && e.circular_deviation[1].is_none());
@@ -1021,6 +1026,7 @@ fn bad_input_is_refused_with_a_clear_message() {
             )
             .copied()
             .collect(),
+        ..Default::default()
     };
     let error = evaluate(&few, &xy()).unwrap_err();
     assert_eq!(error, BallbarError::TooFewReadings { sense: "cw", n: 18 });

@@ -5,10 +5,12 @@
 //! Each test kind's table schema (reader and writer) lives in its folder
 //! (`crate::kinds::<kind>::table`), on these primitives.
 
+mod conditions;
 mod path;
 mod table;
 mod write;
 
+pub use conditions::Conditions;
 pub use path::{PathError, relative_path};
 pub use table::TableError;
 pub(crate) use table::{csv_reader, read_file, read_header};

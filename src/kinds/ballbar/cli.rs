@@ -7,6 +7,7 @@ use super::iso230_4::{self, CircularTest};
 use super::table::BallbarTable;
 use crate::kinds::{Kind, Verb};
 use crate::machine::Plane;
+use crate::math::{M_PER_MM, Real, trimmed};
 use anyhow::{Context, Result, bail};
 use clap::{ArgMatches, Args, FromArgMatches};
 use std::path::PathBuf;
@@ -23,7 +24,8 @@ pub const KIND: Kind = Kind {
                     .about(
                         "Ball-bar circular test (direction ccw/cw, angle_deg, deviation_um, optional \
                          time_s), evaluated to ISO 230-4 with the diagnostics of ball-bar software; \
-                         needs --plane, --radius-mm and --feed-mm-per-min",
+                         the plane, radius and feed from the table's preamble or from --plane, \
+                         --radius-mm and --feed-mm-per-min",
                     )
                     .after_long_help(BALLBAR_CONVENTIONS)
         },
@@ -40,8 +42,8 @@ pub const KIND: Kind = Kind {
 };
 
 const DISCOVER_ABOUT: &str = "\
-Circular-test radial deviations (ball-bar, ISO 230-4); needs --plane, --radius-mm and
---feed-mm-per-min.
+Circular-test radial deviations (ball-bar, ISO 230-4); the plane, radius and feed from the
+table's preamble or from --plane, --radius-mm and --feed-mm-per-min.
 
 The base model is the radius, the centre offset, squareness and scale mismatch. Effects (axis
 letters of the plane): servo_mismatch, backlash_*, lateral_play_*, reversal_spike_*,
@@ -66,8 +68,9 @@ Ball-bar diagnostics (keys use the plane's axis letters; p = first axis, q = sec
 Each comes with its standard uncertainty; what the data cannot separate is reported null
 with the reason.";
 
-/// The table and the conditions of the circular test, which a ball-bar table does not hold.
+/// The table, and the conditions of the circular test where its preamble lacks them.
 #[derive(Args)]
+#[command(allow_negative_numbers = true)]
 struct CircleArgs {
     /// The table (CSV with a header).
     file: PathBuf,
@@ -75,13 +78,14 @@ struct CircleArgs {
     #[arg(long)]
     json: bool,
     /// The plane, first axis then second (XY, YZ or ZX); angles run from the first axis
-    /// toward the second, counter-clockwise seen from +Z, +X, +Y.
+    /// toward the second, counter-clockwise seen from +Z, +X, +Y. Needed only when the
+    /// table's preamble does not say (`# plane = XY`); it must agree when it does.
     #[arg(long, value_name = "PLANE")]
     plane: Option<Plane>,
-    /// The radius of the test, the bar's nominal length (mm).
+    /// The radius of the test, the bar's nominal length (mm), when the preamble lacks it.
     #[arg(long, value_name = "MM")]
     radius_mm: Option<f64>,
-    /// The programmed feed (mm/min).
+    /// The programmed feed (mm/min), when the preamble lacks it.
     #[arg(long, value_name = "MM_PER_MIN")]
     feed_mm_per_min: Option<f64>,
 }
@@ -97,33 +101,108 @@ struct DiscoverArgs {
 }
 
 impl CircleArgs {
-    /// The test conditions, all three required for a ball-bar table.
-    fn test(&self) -> Result<CircularTest> {
-        let (Some(plane), Some(radius_mm), Some(feed)) =
-            (self.plane, self.radius_mm, self.feed_mm_per_min)
-        else {
+    /// The test conditions of `table`: each from its preamble or from its flag (a flag that
+    /// disagrees with the file is refused, naming both), then checked against what the data
+    /// imply (the angles against the times give feed ÷ radius).
+    fn test(&self, table: &BallbarTable) -> Result<CircularTest> {
+        let file = self.file.display();
+        let given = table.conditions;
+        let plane = match (self.plane, given.plane) {
+            (Some(flag), Some(stated)) if flag != stated => {
+                bail!("--plane {flag} disagrees with {file}, whose preamble says plane = {stated}")
+            }
+            (flag, stated) => flag.or(stated),
+        };
+        let mm = |v: Real| trimmed(v / M_PER_MM, 6);
+        let mm_per_min = |v: Real| trimmed(v / M_PER_MM * 60.0, 6);
+        if let Some(r) = self.radius_mm
+            && !(r.is_finite() && r > 0.0)
+        {
+            bail!("--radius-mm must be a positive number of millimetres, got {r}");
+        }
+        if let Some(f) = self.feed_mm_per_min
+            && !(f.is_finite() && f > 0.0)
+        {
+            bail!("--feed-mm-per-min must be a positive number, got {f}");
+        }
+        let same = |a: Real, b: Real| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+        let radius = match (self.radius_mm.map(|r| r * M_PER_MM), given.radius) {
+            (Some(flag), Some(stated)) if !same(flag, stated) => bail!(
+                "--radius-mm {} disagrees with {file}, whose preamble says radius_mm = {}",
+                mm(flag),
+                mm(stated)
+            ),
+            (flag, stated) => flag.or(stated),
+        };
+        let feed = match (
+            self.feed_mm_per_min.map(|f| f * M_PER_MM / 60.0),
+            given.feed,
+        ) {
+            (Some(flag), Some(stated)) if !same(flag, stated) => bail!(
+                "--feed-mm-per-min {} disagrees with {file}, whose preamble says feed_mm_per_min = {}",
+                mm_per_min(flag),
+                mm_per_min(stated)
+            ),
+            (flag, stated) => flag.or(stated),
+        };
+        let (Some(plane), Some(radius), Some(feed)) = (plane, radius, feed) else {
+            let missing: Vec<&str> = [
+                (plane.is_none(), "--plane XY|YZ|ZX"),
+                (radius.is_none(), "--radius-mm R"),
+                (feed.is_none(), "--feed-mm-per-min F"),
+            ]
+            .into_iter()
+            .filter_map(|(absent, flag)| absent.then_some(flag))
+            .collect();
             bail!(
-                "a ball-bar table needs its test conditions: --plane XY|YZ|ZX --radius-mm R --feed-mm-per-min F"
+                "a ball-bar table needs its test conditions and {file} does not give them all in \
+                 its preamble: {}",
+                missing.join(" ")
             );
         };
-        if !(radius_mm.is_finite() && radius_mm > 0.0) {
-            bail!("--radius-mm must be a positive number of millimetres, got {radius_mm}");
-        }
-        if !(feed.is_finite() && feed > 0.0) {
-            bail!("--feed-mm-per-min must be a positive number, got {feed}");
+        // The data's own word on feed ÷ radius: the programmed angle against time.
+        if let Some((speed, se)) = table.angular_speed() {
+            let stated = feed / radius;
+            let tolerance = 0.01 * stated + 3.0 * se;
+            if (speed - stated).abs() > tolerance {
+                let source = |flag: bool, text: String| {
+                    if flag {
+                        text
+                    } else {
+                        format!("the preamble's {text}")
+                    }
+                };
+                bail!(
+                    "{file}: its angle_deg against time_s turn at {:.4} rad/s, which at {} gives a \
+                     feed of {:.1} mm/min (or, at {}, a radius of {:.3} mm); the test conditions say \
+                     {:.4} rad/s",
+                    speed,
+                    source(
+                        self.radius_mm.is_some(),
+                        format!("radius {} mm", mm(radius))
+                    ),
+                    mm_per_min(speed * radius).parse::<Real>().unwrap_or(0.0),
+                    source(
+                        self.feed_mm_per_min.is_some(),
+                        format!("feed {} mm/min", mm_per_min(feed))
+                    ),
+                    (feed / speed) / M_PER_MM,
+                    stated
+                );
+            }
         }
         Ok(CircularTest {
             plane,
-            radius: radius_mm * 1e-3,
-            feed: feed * 1e-3 / 60.0,
+            radius,
+            feed,
         })
     }
 }
 
 fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
     let args = CircleArgs::from_arg_matches(matches)?;
-    let test = args.test()?;
     let table = BallbarTable::read(&args.file)?;
+    let test = args.test(&table)?;
     let evaluation =
         iso230_4::evaluate(&table, &test).with_context(|| format!("{}", args.file.display()))?;
     Ok(if args.json {
@@ -143,8 +222,8 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
             "--write-model is for positioning tables: ball-bar diagnostics (servo, lost motion, spikes) are not all error-model terms"
         );
     }
-    let test = args.test()?;
     let table = BallbarTable::read(&args.file)?;
+    let test = args.test(&table)?;
     let discovery = discover_ballbar(&table, &test, |what| progress(what))
         .with_context(|| format!("{}", args.file.display()))?;
     Ok(if args.json {

@@ -22,7 +22,7 @@
 //! Simplified: rigid bar and balls (no sphericity error, no bar sag or thermal growth of the
 //! bar), no tool-cup offset from the tool tip.
 
-use crate::kinds::ballbar::{BallbarReading, BallbarTable};
+use crate::kinds::ballbar::{BallbarReading, BallbarTable, Sense, TestConditions};
 use crate::kinds::ballbar::{CircularInterpolation, run_circle};
 use crate::machine::{MachineState, Workspace};
 use crate::math::{Real, Vector, standard_normal};
@@ -88,7 +88,16 @@ impl Ballbar {
                 time: Some(sample.time),
             });
         }
-        BallbarTable { readings }
+        BallbarTable {
+            readings,
+            conditions: TestConditions {
+                plane: Some(circle.plane),
+                radius: Some(circle.radius),
+                feed: Some(circle.feed),
+                sample_rate: Some(self.sample_rate),
+                first: Some(Sense::Ccw),
+            },
+        }
     }
 }
 

@@ -31,4 +31,4 @@ pub use instrument::{BALLBAR_LENGTHS, Ballbar};
 pub use iso230_4::{BallbarEvaluation, CircularTest};
 pub use program::{CircularInterpolation, CommandPoint, ServoSample, run_circle};
 pub use scenario::BallbarTest;
-pub use table::{BallbarReading, BallbarTable, Sense};
+pub use table::{BallbarReading, BallbarTable, Sense, TestConditions};

@@ -9,11 +9,23 @@
 //! | `deviation_um` | yes | measured distance − nominal radius (µm) |
 //! | `time_s` | no | time since the start of the test (s) |
 //!
-//! The plane, radius and feed are not in the file; they are the test conditions the user
-//! gives (`--plane`, `--radius-mm`, `--feed-mm-per-min`).
+//! The test conditions travel in the file's preamble (`# key = value` lines before the header,
+//! see [`crate::io::Conditions`]), as `mtwin run` writes them and a real export can carry them:
+//!
+//! | key | meaning |
+//! |---|---|
+//! | `plane` | `XY`, `YZ` or `ZX` |
+//! | `radius_mm` | the nominal radius of the test, the bar's length |
+//! | `feed_mm_per_min` | the programmed feed |
+//! | `sample_rate_hz` | the bar's sampling rate |
+//! | `first_direction` | `ccw` or `cw`, the sense of the first run |
+//!
+//! A table without them reads as well: its conditions are then given on the command line
+//! (`--plane`, `--radius-mm`, `--feed-mm-per-min`).
 
-use crate::io::{TableError, csv_reader, read_file, read_header};
-use crate::math::{M_PER_UM, RAD_PER_DEG, Real, fixed};
+use crate::io::{Conditions, TableError, csv_reader, read_file, read_header};
+use crate::machine::Plane;
+use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed, trimmed};
 use std::path::Path;
 
 /// The sense of travel around the circle.
@@ -56,11 +68,102 @@ pub struct BallbarReading {
     pub time: Option<Real>,
 }
 
-/// A ball-bar table: the readings of one plane, both senses, in file order.
+/// The conditions of the circular test a table was measured in, as its preamble gives them
+/// (SI; each absent when the file does not say).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TestConditions {
+    /// The plane of the circle.
+    pub plane: Option<Plane>,
+    /// The nominal radius (m).
+    pub radius: Option<Real>,
+    /// The programmed feed (m/s).
+    pub feed: Option<Real>,
+    /// The sampling rate (Hz).
+    pub sample_rate: Option<Real>,
+    /// The sense of the first run.
+    pub first: Option<Sense>,
+}
+
+impl TestConditions {
+    /// The typed conditions of a preamble; a value of the wrong form is an error naming the
+    /// file, line and key. Keys it does not know are left to other readers.
+    pub fn from_preamble(c: &Conditions, file: &str) -> Result<TestConditions, TableError> {
+        let positive = |key: &str| -> Result<Option<Real>, TableError> {
+            match c.number(key, file)? {
+                Some(v) if v <= 0.0 => {
+                    let line = c.get(key).map(|(_, l)| l);
+                    Err(TableError::new(
+                        file,
+                        line,
+                        format!("{key} = {v}: expected a positive number"),
+                    ))
+                }
+                other => Ok(other),
+            }
+        };
+        let plane = match c.get("plane") {
+            None => None,
+            Some((text, line)) => Some(text.parse::<Plane>().map_err(|_| {
+                TableError::new(
+                    file,
+                    Some(line),
+                    format!("plane = {text}: expected XY, YZ or ZX"),
+                )
+            })?),
+        };
+        let first = match c.get("first_direction") {
+            None => None,
+            Some((text, line)) => Some(match text.to_ascii_lowercase().as_str() {
+                "ccw" => Sense::Ccw,
+                "cw" => Sense::Cw,
+                _ => {
+                    return Err(TableError::new(
+                        file,
+                        Some(line),
+                        format!("first_direction = {text}: expected ccw or cw"),
+                    ));
+                }
+            }),
+        };
+        Ok(TestConditions {
+            plane,
+            radius: positive("radius_mm")?.map(|r| r * M_PER_MM),
+            feed: positive("feed_mm_per_min")?.map(|f| f * M_PER_MM / 60.0),
+            sample_rate: positive("sample_rate_hz")?,
+            first,
+        })
+    }
+
+    /// The preamble that says these conditions (file units).
+    pub fn to_preamble(&self) -> Conditions {
+        let mut pairs: Vec<(&str, String)> = Vec::new();
+        if let Some(plane) = self.plane {
+            pairs.push(("plane", plane.to_string()));
+        }
+        if let Some(r) = self.radius {
+            pairs.push(("radius_mm", trimmed(r / M_PER_MM, 6)));
+        }
+        if let Some(f) = self.feed {
+            pairs.push(("feed_mm_per_min", trimmed(f / M_PER_MM * 60.0, 6)));
+        }
+        if let Some(rate) = self.sample_rate {
+            pairs.push(("sample_rate_hz", trimmed(rate, 6)));
+        }
+        if let Some(first) = self.first {
+            pairs.push(("first_direction", first.name().to_string()));
+        }
+        Conditions::from_pairs(pairs)
+    }
+}
+
+/// A ball-bar table: the readings of one plane, both senses, in file order, and the test
+/// conditions its preamble gives.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BallbarTable {
     /// The readings.
     pub readings: Vec<BallbarReading>,
+    /// The test conditions from the file's preamble (none for a file without one).
+    pub conditions: TestConditions,
 }
 
 const KNOWN: [&str; 4] = ["direction", "angle_deg", "deviation_um", "time_s"];
@@ -75,6 +178,7 @@ impl BallbarTable {
     /// Reads a ball-bar table from bytes; `file` names it in messages.
     pub fn parse(bytes: &[u8], file: &str) -> Result<BallbarTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
+        let conditions = TestConditions::from_preamble(&Conditions::parse(bytes, file)?, file)?;
         let mut reader = csv_reader(bytes);
         let header = read_header(&mut reader, file)?;
         for name in &header {
@@ -157,12 +261,86 @@ impl BallbarTable {
                 "no readings: expected one row per reading after the header".into(),
             ));
         }
-        Ok(BallbarTable { readings })
+        Ok(BallbarTable {
+            readings,
+            conditions,
+        })
     }
 
-    /// Writes the table: `direction, angle_deg, deviation_um[, time_s]`; angles to 1 µ°,
-    /// deviations to 1 pm, times to 1 µs, so the same table gives the same bytes.
-    pub fn write_csv(&self, out: impl std::io::Write) -> csv::Result<()> {
+    /// The angular speed of the test (rad/s) that the angles and times imply, with its standard
+    /// error: a straight line θ(t) fitted to each sense's readings in time order (angles
+    /// unwrapped), pooled. `None` without times or with fewer than three timed readings in
+    /// each sense that has any.
+    pub fn angular_speed(&self) -> Option<(Real, Real)> {
+        let mut slopes = Vec::new();
+        for sense in [Sense::Ccw, Sense::Cw] {
+            let mut points: Vec<(Real, Real)> = self
+                .readings
+                .iter()
+                .filter(|r| r.sense == sense)
+                .map(|r| r.time.map(|t| (t, r.angle)))
+                .collect::<Option<_>>()?;
+            if points.is_empty() {
+                continue;
+            }
+            if points.len() < 3 {
+                return None;
+            }
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut unwrapped = Vec::with_capacity(points.len());
+            let mut previous = points[0].1;
+            let mut turns = 0.0;
+            for &(t, angle) in &points {
+                let step = angle - previous;
+                if step > std::f64::consts::PI {
+                    turns -= std::f64::consts::TAU;
+                } else if step < -std::f64::consts::PI {
+                    turns += std::f64::consts::TAU;
+                }
+                previous = angle;
+                unwrapped.push((t, angle + turns));
+            }
+            let n = unwrapped.len() as Real;
+            let (mt, ma) = unwrapped
+                .iter()
+                .fold((0.0, 0.0), |(a, b), (t, y)| (a + t / n, b + y / n));
+            let (mut stt, mut sty) = (0.0, 0.0);
+            for (t, y) in &unwrapped {
+                stt += (t - mt) * (t - mt);
+                sty += (t - mt) * (y - ma);
+            }
+            if stt <= 0.0 {
+                return None;
+            }
+            let slope = sty / stt;
+            let rss: Real = unwrapped
+                .iter()
+                .map(|(t, y)| (y - ma - slope * (t - mt)).powi(2))
+                .sum();
+            let se = (rss / (n - 2.0) / stt).sqrt();
+            slopes.push((slope.abs(), se));
+        }
+        if slopes.is_empty() {
+            return None;
+        }
+        let k = slopes.len() as Real;
+        let speed = slopes.iter().map(|s| s.0).sum::<Real>() / k;
+        let se = slopes.iter().map(|s| s.1 * s.1).sum::<Real>().sqrt() / k;
+        Some((speed, se))
+    }
+
+    /// Writes the table: its conditions as a preamble (when it has any), then `direction,
+    /// angle_deg, deviation_um[, time_s]`; angles to 1 µ°, deviations to 1 pm, times to 1 µs, so
+    /// the same table gives the same bytes.
+    pub fn write_csv(&self, mut out: impl std::io::Write) -> csv::Result<()> {
+        let preamble = self.conditions.to_preamble();
+        if !preamble.is_empty() {
+            out.write_all(
+                preamble
+                    .to_preamble("mtwin ballbar table (ISO 230-4 circular test)")
+                    .as_bytes(),
+            )?;
+        }
         let mut writer = csv::Writer::from_writer(out);
         let timed = self.readings.iter().any(|r| r.time.is_some());
         let mut header = vec!["direction", "angle_deg", "deviation_um"];
@@ -212,6 +390,7 @@ mod tests {
                     time: Some(0.008),
                 },
             ],
+            ..Default::default()
         };
         let mut bytes = Vec::new();
         table.write_csv(&mut bytes).unwrap();

@@ -484,7 +484,14 @@ mod tests {
                 });
             }
         }
-        let data = CircleData::new(&BallbarTable { readings }, &test).unwrap();
+        let data = CircleData::new(
+            &BallbarTable {
+                readings,
+                ..Default::default()
+            },
+            &test,
+        )
+        .unwrap();
         let terms = [Term::Radius, Term::BacklashP, Term::ReversalSpikeP];
         let rows: Vec<usize> = (0..data.len()).collect();
         let shape = Shape::default();
