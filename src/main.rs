@@ -169,7 +169,11 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             for (name, bytes) in &output.files {
                 println!("{}  ({} bytes)", out.join(name).display(), bytes.len());
             }
-            println!("seed {}", scenario.seed);
+            println!(
+                "{} (seed {})",
+                simulation.summary().join("; "),
+                scenario.seed
+            );
             Ok(())
         }
         Command::Check { file } => check(&file),
@@ -184,6 +188,7 @@ fn check_recording_path(path: &Path) -> Result<()> {
             path.display()
         );
     }
+    mtwin::io::check_folder_of(path)?;
     if !cfg!(feature = "viz") {
         bail!(
             "--rrd: this mtwin was built without teaching scenes; build it with `cargo build --release --features viz`"

@@ -94,6 +94,16 @@ pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
 }
 
 impl Simulation {
+    /// What the run found, for people: one short part per test (the volumetric map's largest
+    /// and RMS deviation, the ISO 230-2 figures, each ball-bar circle's G and H).
+    pub fn summary(&self) -> Vec<String> {
+        let mut parts = Vec::new();
+        parts.extend(self.volumetric.as_ref().map(VolumetricMap::summary));
+        parts.extend(self.laser.as_ref().map(LaserRun::summary));
+        parts.extend(self.ballbar.iter().map(ballbar::run::summary));
+        parts
+    }
+
     /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv` (as
     /// the scenario asks), `truth.json` and `manifest.json`.
     pub fn output(&self, scenario: &Scenario) -> RunOutput {
@@ -127,6 +137,7 @@ impl Simulation {
         if let Some(states) = thermal_truth {
             truth["thermal_states"] = states;
         }
+        round_numbers(&mut truth);
         files.push(("truth.json".into(), to_json_bytes(&truth)));
 
         let listed: Vec<Value> = files
@@ -204,6 +215,25 @@ fn truth(scenario: &Scenario) -> Value {
         "errors": errors,
         "coefficients_si": coefficients,
     })
+}
+
+/// Every number of `value` rounded to 12 significant digits, so that values converted between
+/// file units and SI read back as written (`0.1`, not `0.09999999999999999`); 12 digits keep
+/// 1 pm in 1 m.
+fn round_numbers(value: &mut Value) {
+    match value {
+        Value::Number(n) if n.is_f64() => {
+            if let Some(x) = n.as_f64()
+                && let Ok(rounded) = format!("{x:.11e}").parse::<f64>()
+                && let Some(number) = serde_json::Number::from_f64(rounded)
+            {
+                *n = number;
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(round_numbers),
+        Value::Object(map) => map.values_mut().for_each(round_numbers),
+        _ => {}
+    }
 }
 
 fn to_json_bytes(value: &Value) -> Vec<u8> {

@@ -14,4 +14,4 @@ pub use conditions::Conditions;
 pub use path::{PathError, relative_path};
 pub use table::TableError;
 pub(crate) use table::{csv_reader, read_file, read_header};
-pub use write::{WriteError, write_atomically, write_files};
+pub use write::{WriteError, check_folder_of, write_atomically, write_files};

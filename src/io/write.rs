@@ -37,7 +37,7 @@ pub fn write_files(files: &[(String, Vec<u8>)], dir: &Path) -> Result<(), WriteE
             for (written, _) in &files[..=index] {
                 let _ = std::fs::remove_file(temporary(dir, written)); // best effort: already failing
             }
-            return Err(WriteError::new(&temporary(dir, name), e));
+            return Err(WriteError::new(&dir.join(name), e));
         }
     }
     for (name, _) in files {
@@ -54,6 +54,23 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
         message: "not a file name".into(),
     })?;
     let temporary = path.with_file_name(format!(".{}.partial", name.to_string_lossy()));
-    std::fs::write(&temporary, bytes).map_err(|e| WriteError::new(&temporary, e))?;
+    std::fs::write(&temporary, bytes).map_err(|e| WriteError::new(path, e))?;
     std::fs::rename(&temporary, path).map_err(|e| WriteError::new(path, e))
+}
+
+/// Refuses, before any long work, a file that cannot be written because the folder that
+/// would hold it does not exist (or is not a folder).
+pub fn check_folder_of(path: &Path) -> Result<(), WriteError> {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if folder.is_dir() {
+        Ok(())
+    } else {
+        Err(WriteError {
+            path: path.display().to_string(),
+            message: format!("the folder {} does not exist", folder.display()),
+        })
+    }
 }

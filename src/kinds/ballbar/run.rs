@@ -65,3 +65,29 @@ pub fn truth(test: &BallbarTest) -> Value {
         },
     })
 }
+
+/// One line for people: the ISO 230-4 figures of a simulated table (its conditions are in it).
+pub fn summary(table: &BallbarTable) -> String {
+    let c = table.conditions;
+    let (Some(plane), Some(radius), Some(feed)) = (c.plane, c.radius, c.feed) else {
+        return format!("ball-bar: {} readings", table.readings.len());
+    };
+    let test = super::CircularTest {
+        plane,
+        radius,
+        feed,
+    };
+    match super::iso230_4::evaluate(table, &test) {
+        Ok(e) => {
+            let um = |v: Option<crate::math::Real>| {
+                v.map_or_else(|| "-".to_string(), |v| format!("{:.3} µm", v * 1e6))
+            };
+            format!(
+                "ball-bar {plane}: G = {}, H = {}",
+                um(e.bidirectional_deviation),
+                um(e.hysteresis)
+            )
+        }
+        Err(e) => format!("ball-bar {plane}: {e}"),
+    }
+}

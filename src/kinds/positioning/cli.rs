@@ -122,6 +122,9 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
             args.min_period_mm
         );
     }
+    if let Some(path) = &args.write_model {
+        crate::io::check_folder_of(path)?;
+    }
     let table = PositioningTable::read(file)?;
     let options = PositioningOptions {
         expansion: args.expansion_ppm_per_degc * 1e-6,

@@ -126,3 +126,29 @@ pub fn truth(test: &LaserTest) -> Value {
         })),
     })
 }
+
+impl LaserRun {
+    /// One line for people: the ISO 230-2 figures of the table, or what a drift test gives.
+    pub fn summary(&self) -> String {
+        let axis = self
+            .table
+            .axis
+            .map_or_else(String::new, |a| format!(" on {a}"));
+        match super::iso230_2::evaluate(&self.table) {
+            Ok(figures) => match figures.both {
+                Some(b) => format!(
+                    "laser{axis}: ISO 230-2 A = {:.3} µm, E = {:.3} µm, R = {:.3} µm, B = {:.3} µm",
+                    b.accuracy * 1e6,
+                    b.systematic * 1e6,
+                    b.repeatability * 1e6,
+                    b.reversal * 1e6
+                ),
+                None => format!("laser{axis}: {} readings", self.table.readings.len()),
+            },
+            Err(_) => format!(
+                "laser{axis}: {} readings, a drift test (mtwin analyze positioning for its figures)",
+                self.table.readings.len()
+            ),
+        }
+    }
+}

@@ -127,3 +127,23 @@ impl VolumetricMap {
         Ok(())
     }
 }
+
+impl VolumetricMap {
+    /// One line for people: the grid's size and the largest and RMS tool-tip deviation.
+    pub fn summary(&self) -> String {
+        let lengths: Vec<Real> = self
+            .rows
+            .iter()
+            .map(|r| r.deviation.translation.length())
+            .collect();
+        let largest = lengths.iter().copied().fold(0.0, Real::max);
+        let rms =
+            (lengths.iter().map(|l| l * l).sum::<Real>() / lengths.len().max(1) as Real).sqrt();
+        format!(
+            "volumetric map: {} points, largest deviation {:.3} µm, RMS {:.3} µm",
+            self.rows.len(),
+            largest * 1e6,
+            rms * 1e6
+        )
+    }
+}

@@ -1,0 +1,142 @@
+//! Edges a newcomer hits: values in truth.json read back as written, write errors that name
+//! the user's file, output folders checked before long work, a run that says what it found.
+
+use mtwin::app::{Scenario, run_scenario};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn mtwin(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mtwin"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn scenario(name: &str) -> String {
+    format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn truth_values_read_back_as_written() {
+    let output =
+        run_scenario(&Scenario::load(scenario("teach_squareness_ballbar.toml")).unwrap()).unwrap();
+    let truth = &output
+        .files
+        .iter()
+        .find(|(n, _)| n == "truth.json")
+        .unwrap()
+        .1;
+    let text = String::from_utf8(truth.clone()).unwrap();
+    // As written in the scenario: noise_um = 0.1, the centre's y_mm = 205, EC0Y = −40 µrad.
+    assert!(text.contains("\"noise_um\": 0.1,"), "{text}");
+    assert!(text.contains("\"y_mm\": 205.0,"), "{text}");
+    assert!(text.contains("\"value_si\": -0.00004"), "{text}");
+    // No bundled scenario's truth shows conversion noise (a run of eight 9s or 0s before a
+    // last digit).
+    for entry in std::fs::read_dir(scenario("")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let output = run_scenario(&Scenario::load(&path).unwrap()).unwrap();
+        let truth = &output
+            .files
+            .iter()
+            .find(|(n, _)| n == "truth.json")
+            .unwrap()
+            .1;
+        let text = String::from_utf8_lossy(truth);
+        let noisy: Vec<&str> = text
+            .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .filter(|number| {
+                let Some((_, fraction)) = number.split_once('.') else {
+                    return false;
+                };
+                fraction.contains("99999999")
+                    || fraction
+                        .find("00000000")
+                        .is_some_and(|at| fraction[at..].trim_end_matches('0').len() > 0)
+            })
+            .collect();
+        assert!(noisy.is_empty(), "{}: {noisy:?}", path.display());
+    }
+}
+
+#[test]
+fn a_write_error_names_the_users_file_not_the_temporary_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    // A folder where the temporary file would go: writing it fails.
+    std::fs::create_dir_all(out.join(".truth.json.partial")).unwrap();
+    let result = mtwin(&[
+        "run",
+        &scenario("vmc3_volumetric.toml"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!result.status.success());
+    let message = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        message.contains(&format!(
+            "{}: cannot write",
+            out.join("truth.json").display()
+        )),
+        "{message}"
+    );
+    assert!(!message.contains(".partial"), "{message}");
+    assert!(!out.join("volumetric.csv").exists(), "nothing half-written");
+}
+
+#[test]
+fn a_missing_output_folder_is_refused_before_the_search() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let run = mtwin(&[
+        "run",
+        &scenario("teach_warmup.toml"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    let model = dir.path().join("missing").join("model.toml");
+    let result = mtwin(&[
+        "discover",
+        "positioning",
+        out.join("positioning.csv").to_str().unwrap(),
+        "--write-model",
+        model.to_str().unwrap(),
+    ]);
+    assert!(!result.status.success());
+    let message = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        message.contains(&format!(
+            "{}: cannot write: the folder {} does not exist",
+            model.display(),
+            model.parent().unwrap().display()
+        )),
+        "{message}"
+    );
+    // Refused before discovery began: it reports progress as it searches, and said nothing.
+    assert!(!message.contains("discover:"), "{message}");
+}
+
+#[test]
+fn run_ends_with_what_it_found() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Path::new(dir.path()).join("vmc3");
+    let result = mtwin(&[
+        "run",
+        &scenario("vmc3_volumetric.toml"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(result.status.success());
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    let last = stdout.lines().last().unwrap();
+    // The vmc3 map is 9 × 5 × 5 points (tests/scenarios.rs).
+    assert!(
+        last.starts_with("volumetric map: 225 points, largest deviation "),
+        "{last}"
+    );
+    assert!(last.ends_with("(seed 1)"), "{last}");
+}
