@@ -140,3 +140,17 @@ fn run_ends_with_what_it_found() {
     );
     assert!(last.ends_with("(seed 1)"), "{last}");
 }
+
+#[test]
+fn check_lists_every_test_the_scenario_asks_for() {
+    let result = mtwin(&["check", &scenario("vmc3_warmup_laser.toml")]);
+    assert!(result.status.success());
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    // By hand from the scenario: [warmup] on X, targets 5..755 step 50 (16), 7 runs; one
+    // sensor on the X nut.
+    assert!(
+        stdout.contains("\n  laser: X, 16 targets × 7 runs, "),
+        "{stdout}"
+    );
+    assert!(stdout.contains(" nodes, 1 sensor (x_nut)\n"), "{stdout}");
+}

@@ -310,6 +310,8 @@ impl Scenario {
     pub fn describe(&self) -> Vec<String> {
         let mut lines = Vec::new();
         lines.extend(self.volumetric.as_ref().map(VolumetricSpec::describe));
+        lines.extend(self.laser_test.as_ref().map(LaserTest::describe));
+        lines.extend(self.thermal.as_ref().map(ThermalSetup::describe));
         lines.extend(self.ballbar_test.iter().flat_map(BallbarTest::describe));
         lines
     }

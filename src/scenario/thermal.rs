@@ -104,6 +104,22 @@ pub struct ThermalSetup {
 }
 
 impl ThermalSetup {
+    /// `thermal model: 4 nodes, 1 sensor (x_nut)`, as `mtwin check` lists it.
+    pub fn describe(&self) -> String {
+        let names: Vec<&str> = self.sensors.iter().map(|(_, s)| s.name.as_str()).collect();
+        format!(
+            "thermal model: {} nodes, {} sensor{}{}",
+            self.thermal.network.nodes().len(),
+            names.len(),
+            if names.len() == 1 { "" } else { "s" },
+            if names.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", names.join(", "))
+            }
+        )
+    }
+
     /// Fresh sensors for a run, each with its own seeded noise stream.
     pub fn sensors(&self, seed: u64) -> Vec<(usize, TemperatureSensor)> {
         self.sensors

@@ -87,6 +87,32 @@ pub struct LaserTest {
     pub material_sensor: Option<(String, Real)>,
 }
 
+impl LaserTest {
+    /// `laser: X, 9 targets × 5 runs, 7.9 min of programme`, as `mtwin check` lists it.
+    pub fn describe(&self) -> String {
+        let duration: Real = self
+            .program
+            .timeline(Real::INFINITY)
+            .iter()
+            .map(|e| match e {
+                Event::Interval(i) => i.duration,
+                Event::Measure(_) => 0.0,
+            })
+            .sum();
+        let duration = if duration < 7200.0 {
+            format!("{:.1} min", duration / 60.0)
+        } else {
+            format!("{:.1} h", duration / 3600.0)
+        };
+        format!(
+            "laser: {}, {} targets × {} runs, {duration} of programme",
+            self.laser.axis,
+            self.targets.len(),
+            self.runs,
+        )
+    }
+}
+
 pub(crate) fn laser_test(
     context: &Context<'_>,
     machine: &Machine,
