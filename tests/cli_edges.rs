@@ -154,3 +154,40 @@ fn check_lists_every_test_the_scenario_asks_for() {
     );
     assert!(stdout.contains(" nodes, 1 sensor (x_nut)\n"), "{stdout}");
 }
+
+#[test]
+fn an_error_name_one_keystroke_off_gets_a_suggestion() {
+    use mtwin::errors::ParameterName;
+    let message = |text: &str| text.parse::<ParameterName>().unwrap_err();
+    assert!(
+        message("ECOY").ends_with("; did you mean EC0Y?"),
+        "{}",
+        message("ECOY")
+    );
+    assert!(message("exx").ends_with("; did you mean EXX?"));
+    // Nothing is suggested when no valid name is that near, or several are.
+    assert!(
+        !message("EXQ").contains("did you mean"),
+        "{}",
+        message("EXQ")
+    );
+    assert!(!message("QQQQQ").contains("did you mean"));
+}
+
+#[test]
+fn text_reports_write_micrometres_as_people_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("drift.csv");
+    std::fs::write(
+        &path,
+        "time_min,x_um,a_urad,temp_air_degc\n0,0,0,20\n30,1,2,20.5\n60,2,3,21\n90,3,5,21.2\n",
+    )
+    .unwrap();
+    let result = mtwin(&["analyze", "drift", path.to_str().unwrap()]);
+    assert!(result.status.success());
+    let text = String::from_utf8_lossy(&result.stdout);
+    // x over the first 60 min: 0 → 2 µm; a: 0 → 3 µrad (by hand from the rows).
+    assert!(text.contains("2.000 µm"), "{text}");
+    assert!(text.contains("3.000 µrad"), "{text}");
+    assert!(!text.contains(" um") && !text.contains(" urad"), "{text}");
+}

@@ -218,14 +218,73 @@ impl fmt::Display for ParameterName {
     }
 }
 
+impl ParameterName {
+    /// Every valid name.
+    pub fn all() -> Vec<ParameterName> {
+        let mut names = Vec::new();
+        for motion in Motion::ALL {
+            names.push(ParameterName::Tool { motion });
+            for axis in Axis::ALL {
+                names.push(ParameterName::Component { motion, axis });
+                names.push(ParameterName::Location { motion, axis });
+            }
+        }
+        names.retain(|n| n.check().is_ok());
+        names
+    }
+
+    /// The valid name one keystroke from `text` (a letter replaced, added or dropped, or any
+    /// case), preferring a replacement (`ECOY` → `EC0Y`); none when it is not unique.
+    fn nearest(text: &str) -> Option<ParameterName> {
+        let text: Vec<char> = text.to_ascii_uppercase().chars().collect();
+        let names = ParameterName::all();
+        // 0: the name in other case; 1: one letter replaced; 2: one added or dropped.
+        let near = |stage: usize| -> Vec<ParameterName> {
+            names
+                .iter()
+                .copied()
+                .filter(|n| {
+                    let name: Vec<char> = n.to_string().chars().collect();
+                    if stage < 2 {
+                        name.len() == text.len()
+                            && name.iter().zip(&text).filter(|(a, b)| a != b).count() == stage
+                    } else {
+                        let (long, short) = if name.len() > text.len() {
+                            (&name, &text)
+                        } else {
+                            (&text, &name)
+                        };
+                        long.len() == short.len() + 1
+                            && (0..long.len()).any(|skip| {
+                                long.iter()
+                                    .enumerate()
+                                    .filter(|(i, _)| *i != skip)
+                                    .map(|(_, c)| c)
+                                    .eq(short.iter())
+                            })
+                    }
+                })
+                .collect()
+        };
+        (0..3)
+            .map(near)
+            .find(|found| !found.is_empty())
+            .and_then(|found| (found.len() == 1).then(|| found[0]))
+    }
+}
+
 impl FromStr for ParameterName {
     type Err = String;
 
     fn from_str(text: &str) -> Result<ParameterName, String> {
         let unknown = || {
-            "not an error parameter: expected a component error such as EXX or ECC, \
-                 a location error such as EX0C or EC0Y, or a tool error EXT, EYT, EZT"
-                .to_string()
+            let mut message = "not an error parameter: expected a component error such as EXX or \
+                 ECC, a location error such as EX0C or EC0Y, or a tool error EXT, EYT, EZT"
+                .to_string();
+            if let Some(near) = ParameterName::nearest(text) {
+                message += &format!("; did you mean {near}?");
+            }
+            message
         };
         let chars: Vec<char> = text.chars().collect();
         let name = match chars[..] {

@@ -78,12 +78,18 @@ fn drift_text(report: &serde_json::Value) -> String {
     };
     for c in report["channels"].as_array().into_iter().flatten() {
         let unit = c["unit"].as_str().unwrap_or("");
+        // Keys use the file's spelling; people read µm and µrad.
+        let shown = match unit {
+            "um" => "µm",
+            "urad" => "µrad",
+            other => other,
+        };
         let window = c["etve_window_min"].as_array().map_or_else(
             || "-".into(),
             |w| format!("{}-{}", cell(&w[0]), cell(&w[1])),
         );
         out += &format!(
-            "{:>12} {:>10} {unit:<4}{:>10} {unit:<4}{:>10} {:>8} {unit:<4}{:>16} {:>10}\n",
+            "{:>12} {:>10} {shown:<4}{:>10} {shown:<4}{:>10} {:>8} {shown:<4}{:>16} {:>10}\n",
             c["name"].as_str().unwrap_or(""),
             cell(&c[format!("range_60_{unit}")]),
             cell(&c[format!("range_{unit}")]),
