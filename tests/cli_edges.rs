@@ -191,3 +191,40 @@ fn text_reports_write_micrometres_as_people_do() {
     assert!(text.contains("3.000 µrad"), "{text}");
     assert!(!text.contains(" um") && !text.contains(" urad"), "{text}");
 }
+
+#[test]
+fn an_unidentifiable_term_names_the_inflation_that_broke_the_limit() {
+    // The YZ partial arc (180°): straightness of Y goes, as tests/iso230_4.rs shows; the words
+    // must give an inflation over the limit, whatever the dropped term's own.
+    let dir = tempfile::tempdir().unwrap();
+    let run = mtwin(&[
+        "run",
+        &scenario("vmc3_ballbar_3planes.toml"),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    let table = dir.path().join("ballbar_yz.csv");
+    let result = mtwin(&["analyze", "ballbar", table.to_str().unwrap(), "--json"]);
+    assert!(result.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+    let mut collinear = 0;
+    for entry in json["unidentifiable"].as_array().unwrap() {
+        let reason = entry["reason"].as_str().unwrap();
+        let Some((_, rest)) = reason.split_once("inflates a variance ") else {
+            continue;
+        };
+        collinear += 1;
+        let largest: f64 = rest.split(' ').next().unwrap().parse().unwrap();
+        assert!(largest > 1000.0, "{reason}");
+        assert!(reason.contains("over the limit of 1000"), "{reason}");
+    }
+    assert!(collinear > 0, "{}", json["unidentifiable"]);
+    assert!(
+        json["unidentifiable"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e["term"] == "straightness_y_um")
+    );
+}

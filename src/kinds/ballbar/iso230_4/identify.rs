@@ -158,8 +158,15 @@ fn screen(data: &CircleData, terms: &[Term], shape: &Shape) -> Vec<(Term, String
             .filter(|(_, s)| *s >= 0.25 * top && *s > 0.0)
             .map(|(t, _)| t.key(plane))
             .collect();
-        let inflation_text = if vif.is_finite() {
-            format!("variance inflation {vif:.3e}, limit {MAX_VARIANCE_INFLATION}")
+        // The rule fires on the group's largest inflation; the term dropped is the group's
+        // least important member, whose own inflation may be below the limit.
+        let largest = inflation.iter().copied().fold(0.0, Real::max);
+        let inflation_text = if vif.is_finite() && largest.is_finite() {
+            format!(
+                "their near-collinear group inflates a variance {largest:.3e} times, over the \
+                 limit of {MAX_VARIANCE_INFLATION}; this term, its least important member, by \
+                 {vif:.3e}"
+            )
         } else {
             "exactly collinear".to_string()
         };
