@@ -228,3 +228,28 @@ fn an_unidentifiable_term_names_the_inflation_that_broke_the_limit() {
             .any(|e| e["term"] == "straightness_y_um")
     );
 }
+
+#[test]
+fn the_ball_bar_report_says_which_centre_offset_is_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = mtwin(&[
+        "run",
+        &scenario("teach_squareness_ballbar.toml"),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    let table = dir.path().join("ballbar_xy.csv");
+    let result = mtwin(&["analyze", "ballbar", table.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&result.stdout);
+    let circle = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("centre offset: "))
+        .expect("a line on the ISO circle's centre offset");
+    let joint = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("centre_offset_* below: "))
+        .expect("a line on the joint fit's centre offsets");
+    assert!(circle.contains("least-squares circle"), "{circle}");
+    assert!(joint.contains("joint fit"), "{joint}");
+}

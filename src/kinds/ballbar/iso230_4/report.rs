@@ -206,6 +206,11 @@ impl BallbarEvaluation {
             out,
             "  (centre offset removed by a first-order least-squares circle; F relative to the nominal radius)"
         );
+        let _ = writeln!(
+            out,
+            "  centre offset: of the ISO 230-4 least-squares circle through the trace, every shape in it included\n  \
+             centre_offset_* below: of the joint fit, where backlash, bows and the other terms take their own share"
+        );
         match &self.diagnostics {
             Err(reason) => {
                 let _ = writeln!(out, "\nDiagnostics not computed: {reason}");
