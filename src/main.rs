@@ -10,6 +10,21 @@ use mtwin::machine::{Machine, Side};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// `println!` to standard output that does not panic when the reader has gone (`mtwin … |
+/// head`): what cannot be printed is dropped.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `print!` of a whole report, likewise.
+fn say_raw(text: &str) {
+    use std::io::Write as _;
+    let _ = std::io::stdout().write_all(text.as_bytes());
+}
+
 /// A digital twin of a machine tool for metrology.
 #[derive(Parser)]
 #[command(version, about, long_about = None)]
@@ -146,7 +161,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             .find_map(verb)
             .expect("clap offers only registered kinds");
         let output = (verb.run)(matches, &mut |what| eprintln!("{verb_name}: {what}"))?;
-        print!("{output}");
+        say_raw(&output);
         Ok(())
     };
     match matches.subcommand() {
@@ -167,9 +182,9 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             }
             write_outputs(&output, &out)?;
             for (name, bytes) in &output.files {
-                println!("{}  ({} bytes)", out.join(name).display(), bytes.len());
+                say!("{}  ({} bytes)", out.join(name).display(), bytes.len());
             }
-            println!(
+            say!(
                 "{} (seed {})",
                 simulation.summary().join("; "),
                 scenario.seed
@@ -225,13 +240,13 @@ fn check(file: &Path) -> Result<()> {
     match file.extension().and_then(|e| e.to_str()) {
         Some("urdf") => {
             let machine = Machine::from_urdf_file(file)?;
-            println!("{}: ok, machine \"{}\"", file.display(), machine.name());
+            say!("{}: ok, machine \"{}\"", file.display(), machine.name());
             describe(&machine);
         }
         Some("toml") => {
             let scenario = Scenario::load(file)?;
             let machine = &scenario.twin.machine;
-            println!(
+            say!(
                 "{}: ok, machine \"{}\" ({}), {} error parameters, seed {}",
                 file.display(),
                 machine.name(),
@@ -240,7 +255,7 @@ fn check(file: &Path) -> Result<()> {
                 scenario.seed
             );
             for line in scenario.describe() {
-                println!("  {line}");
+                say!("  {line}");
             }
         }
         _ => bail!(
@@ -267,6 +282,6 @@ fn describe(machine: &Machine) {
             }
             None => "continuous".to_string(),
         };
-        println!("  {}  {side:<9}  {travel}", info.axis);
+        say!("  {}  {side:<9}  {travel}", info.axis);
     }
 }

@@ -56,7 +56,8 @@ pub enum MachineErrorKind {
         /// The two joints that have it as their child.
         joints: [String; 2],
     },
-    /// More than one link (or none, which means a cycle) has no parent.
+    /// More than one link (or none, which means a cycle) has no parent: the likely root (the
+    /// link most others hang from) first.
     Roots(Vec<String>),
     /// A joint type mtwin cannot model (floating, planar, spherical) or a mimic joint.
     UnsupportedJoint {
@@ -160,14 +161,23 @@ impl fmt::Display for MachineErrorKind {
                     "every link has a parent: the joints form a cycle, expected a tree with one root (the bed)"
                 )
             }
+            Roots(roots) if roots.is_empty() => write!(
+                f,
+                "every link has a parent joint, so the joints form a cycle: expected one root (the bed)"
+            ),
             Roots(roots) => write!(
                 f,
-                "links {} have no parent: expected one root (the bed)",
-                roots
+                "link{} {} {} no parent joint (is a <joint> with <child link=\"{}\"/> missing?): \
+                 expected one root (the bed, \"{}\" here) and a parent joint for every other link",
+                if roots.len() > 2 { "s" } else { "" },
+                roots[1..]
                     .iter()
                     .map(|r| format!("\"{r}\""))
                     .collect::<Vec<_>>()
-                    .join(", ")
+                    .join(", "),
+                if roots.len() > 2 { "have" } else { "has" },
+                roots[1],
+                roots[0]
             ),
             UnsupportedJoint { joint, joint_type } => write!(
                 f,
@@ -266,6 +276,14 @@ impl Machine {
 
     /// Loads and validates URDF text; `file` names it in error messages.
     pub fn from_urdf_str(text: &str, file: &str) -> Result<Machine, MachineError> {
+        if let Some((offset, message)) = xml_problem(text) {
+            let (line, column) = line_and_column(text, offset);
+            return Err(MachineError {
+                file: file.to_string(),
+                line: Some(line),
+                kind: MachineErrorKind::Xml(format!("column {column}: {message}")),
+            });
+        }
         let robot = urdf_rs::read_from_string(text).map_err(|e| MachineError {
             file: file.to_string(),
             line: None,
@@ -323,6 +341,28 @@ impl Machine {
             .map(|l| l.to_string())
             .collect();
         if roots.len() != 1 {
+            // The root is the link most others hang from (the bed): list it first.
+            let descendants = |root: &str| {
+                let mut found = vec![root];
+                let mut next = 0;
+                while next < found.len() {
+                    let parent = found[next];
+                    found.extend(
+                        robot
+                            .joints
+                            .iter()
+                            .filter(|j| j.parent.link == parent)
+                            .map(|j| j.child.link.as_str()),
+                    );
+                    next += 1;
+                    if found.len() > link_names.len() {
+                        break; // a cycle below: no use counting further
+                    }
+                }
+                found.len()
+            };
+            let mut roots = roots;
+            roots.sort_by_key(|r| std::cmp::Reverse(descendants(r)));
             return Err(fail(None, MachineErrorKind::Roots(roots)));
         }
         // Every link must hang from the root; a cycle elsewhere has no parentless link of its own.
@@ -725,4 +765,50 @@ fn line_of_element(text: &str, element: &str, name: &str, occurrence: usize) -> 
         })
         .nth(occurrence)
         .map(|(start, _)| text[..start].matches('\n').count() + 1)
+}
+
+/// Where `text` stops being well-formed XML, if it does: the byte offset and what is wrong
+/// (an unclosed element, a mismatched end tag, a truncated tag, …).
+fn xml_problem(text: &str) -> Option<(usize, String)> {
+    use quick_xml::events::Event;
+    let mut reader = quick_xml::Reader::from_str(text);
+    reader.config_mut().check_end_names = true;
+    let mut open: Vec<(String, usize)> = Vec::new();
+    loop {
+        let before = reader.buffer_position() as usize;
+        match reader.read_event() {
+            Ok(Event::Start(start)) => {
+                let name = String::from_utf8_lossy(start.name().as_ref()).into_owned();
+                open.push((name, before));
+            }
+            Ok(Event::End(_)) => {
+                open.pop();
+            }
+            Ok(Event::Eof) => {
+                return open.last().map(|(name, at)| {
+                    (
+                        text.len(),
+                        format!(
+                            "the document ends inside <{name}> (opened on line {})",
+                            line_and_column(text, *at).0
+                        ),
+                    )
+                });
+            }
+            Ok(_) => {}
+            Err(e) => return Some((reader.error_position() as usize, e.to_string())),
+        }
+    }
+}
+
+/// The 1-based line and column (in characters) of byte `offset` of `text`.
+fn line_and_column(text: &str, offset: usize) -> (usize, usize) {
+    let mut end = offset.min(text.len());
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    let before = &text[..end];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
 }

@@ -137,19 +137,44 @@ pub(crate) fn warmup_test(
         return Err(fail(raw.span(), format!("runs: 2 to 1000, got {}", w.runs)));
     }
     let idle = *w.idle.get_ref();
-    let idle_ok = [idle.from_mm, idle.to_mm, idle.feed_mm_per_min, idle.minutes]
-        .iter()
-        .all(|v| v.is_finite())
-        && idle.feed_mm_per_min > 0.0
-        && (0.0..=14_400.0).contains(&idle.minutes)
-        && info.within_travel(idle.from_mm * M_PER_MM)
-        && info.within_travel(idle.to_mm * M_PER_MM);
-    if !idle_ok {
+    let (lower, upper) = info.limits.expect("linear axes have limits");
+    let travel = format!(
+        "a position within the travel of {axis} ({} .. {} mm)",
+        lower / M_PER_MM,
+        upper / M_PER_MM
+    );
+    let problem = [
+        (
+            "from_mm",
+            idle.from_mm,
+            info.within_travel(idle.from_mm * M_PER_MM),
+            travel.as_str(),
+        ),
+        (
+            "to_mm",
+            idle.to_mm,
+            info.within_travel(idle.to_mm * M_PER_MM),
+            travel.as_str(),
+        ),
+        (
+            "feed_mm_per_min",
+            idle.feed_mm_per_min,
+            idle.feed_mm_per_min > 0.0,
+            "a positive feed",
+        ),
+        (
+            "minutes",
+            idle.minutes,
+            (0.0..=14_400.0).contains(&idle.minutes),
+            "0 to 14400 minutes",
+        ),
+    ]
+    .into_iter()
+    .find(|(_, value, ok, _)| !(value.is_finite() && *ok));
+    if let Some((key, value, _, expected)) = problem {
         return Err(fail(
             w.idle.span(),
-            format!(
-                "idle: a stroke within the travel of {axis}, a positive feed, 0 to 14400 minutes"
-            ),
+            format!("idle.{key}: {value}; expected {expected}"),
         ));
     }
     let rest = rest_positions(
