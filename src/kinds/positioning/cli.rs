@@ -56,6 +56,9 @@ struct AnalyzeArgs {
     /// Print JSON with stable keys instead of the report for people.
     #[arg(long)]
     json: bool,
+    /// In a thermal series, list every run's time and temperatures (else a few of them).
+    #[arg(long)]
+    verbose: bool,
 }
 
 #[derive(Args)]
@@ -84,14 +87,18 @@ struct DiscoverArgs {
 }
 
 fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
-    let AnalyzeArgs { file, json } = AnalyzeArgs::from_arg_matches(matches)?;
+    let AnalyzeArgs {
+        file,
+        json,
+        verbose,
+    } = AnalyzeArgs::from_arg_matches(matches)?;
     let table = PositioningTable::read(&file)?;
     Ok(match iso230_2::evaluate(&table) {
         Ok(result) if json => format!(
             "{}\n",
             serde_json::to_string_pretty(&result.to_json(&table))?
         ),
-        Ok(result) => result.to_text(&table),
+        Ok(result) => result.to_text_with(&table, verbose),
         // A drift test (e.g. ISO 230-3 §7) is a thermal series but not an ISO 230-2 test.
         Err(e) => match thermal_series(&table) {
             Some(series) if json => format!(
@@ -99,8 +106,11 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
                 serde_json::to_string_pretty(&series.report_json(&table, &e.to_string()))?
             ),
             Some(series) => format!(
-                "{}\nNote: no ISO 230-2 figures: {e}; drift only.\n",
-                series.to_text()
+                "ISO 230-3 drift record, axis {}: no ISO 230-2 figures ({e}).\n{}",
+                table
+                    .axis
+                    .map_or_else(|| "not named".to_string(), |a| a.to_string()),
+                series.to_text_with(verbose)
             ),
             None => bail!("{}: {e}", file.display()),
         },

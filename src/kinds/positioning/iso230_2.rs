@@ -131,13 +131,21 @@ pub enum Iso230_2Error {
         /// How many readings it has.
         n: usize,
     },
-    /// A target measured in one direction only in a bidirectional test.
+    /// A target measured in one direction only in a file with both directions.
     #[error(
-        "target {target_mm} mm has readings in one direction only, while other targets have both"
+        "target {target_mm} mm has readings in one direction only, {}",
+        if *with_both == 0 {
+            "and so has every other target (each approached from one side, as in an ISO 230-3 \
+             linear-motion test): ISO 230-2 needs every target in both directions".to_string()
+        } else {
+            format!("while {with_both} other target{} both", if *with_both == 1 { " has" } else { "s have" })
+        }
     )]
     MissingDirection {
         /// The target (mm).
         target_mm: Real,
+        /// How many targets have readings in both directions.
+        with_both: usize,
     },
 }
 
@@ -183,8 +191,19 @@ pub fn evaluate(table: &PositioningTable) -> Result<Iso230_2, Iso230_2Error> {
                 .collect();
             let n = values.len();
             if n == 0 && directions.len() == 2 {
+                let has = |p: Real, a: Approach| {
+                    table
+                        .readings
+                        .iter()
+                        .any(|r| r.approach == a && (r.target - p).abs() < SAME_TARGET)
+                };
+                let with_both = positions
+                    .iter()
+                    .filter(|&&p| has(p, Approach::Up) && has(p, Approach::Down))
+                    .count();
                 return Err(Iso230_2Error::MissingDirection {
                     target_mm: target * 1e3,
+                    with_both,
                 });
             }
             if n < 2 {
@@ -350,8 +369,13 @@ impl Iso230_2 {
         }
     }
 
-    /// The report for people.
+    /// The report for people, a thermal series' runs compact (see [`Self::to_text_with`]).
     pub fn to_text(&self, table: &PositioningTable) -> String {
+        self.to_text_with(table, false)
+    }
+
+    /// The report for people; `verbose` lists every run of a thermal series.
+    pub fn to_text_with(&self, table: &PositioningTable, verbose: bool) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let axis = table
@@ -421,7 +445,7 @@ impl Iso230_2 {
             self.both.map(|b| b.mean_reversal),
         );
         if let Some(series) = super::thermal_series::thermal_series(table) {
-            out += &series.to_text();
+            out += &series.to_text_with(verbose);
         }
         if let Some(note) = self.note() {
             let _ = writeln!(out, "\nNote: {note}.");

@@ -62,6 +62,9 @@ pub struct ThermalSeries {
 /// Targets closer than this (m) are the same target.
 const SAME_TARGET: Real = 1e-9;
 
+/// How many runs the report for people shows without `--verbose`.
+pub const COMPACT_RUNS: usize = 8;
+
 /// The spread of run times (min) that makes a timed table a thermal series.
 pub const MIN_SERIES_SPAN_MIN: Real = 30.0;
 
@@ -320,13 +323,64 @@ impl ThermalSeries {
         report
     }
 
-    /// A short report for people: each run's time and temperatures, and the drift range of
-    /// every target.
+    /// The report for people, its runs compact ([`Self::to_text_with`]).
     pub fn to_text(&self) -> String {
+        self.to_text_with(false)
+    }
+
+    /// The report for people: each target's drift figures first (drift range, the ISO 230-3
+    /// first-hour range and stop criterion, the slope against each sensor), then the runs'
+    /// times and temperatures: every run when `verbose`, else at most [`COMPACT_RUNS`] of them
+    /// spread over the series (the first and the last included).
+    pub fn to_text_with(&self, verbose: bool) -> String {
         use std::fmt::Write;
         let mut out =
             String::from("\nThermal series (drift relative to each target's first run):\n");
-        for run in &self.runs {
+        for d in &self.drift {
+            let sign = if d.approach == Approach::Up { '+' } else { '-' };
+            let first_hour = d.range_first_hour.map_or_else(String::new, |r| {
+                format!("  first 60 min {:>8.3} µm", r * 1e6)
+            });
+            let stop = d.stop_time.map_or_else(String::new, |t| {
+                format!("  15 % criterion met at {:.0} min", t / 60.0)
+            });
+            let slopes: String = self
+                .sensors
+                .iter()
+                .zip(&d.slopes)
+                .filter_map(|(name, slope)| {
+                    slope.map(|k| format!("  {:>7.3} µm/°C against {name}", k * 1e6))
+                })
+                .collect();
+            let _ = writeln!(
+                out,
+                "  target {:>10.4} mm {sign}  drift range {:>8.3} µm{first_hour}{stop}{slopes}",
+                d.target * 1e3,
+                d.range * 1e6
+            );
+        }
+        let shown: Vec<usize> = if verbose || self.runs.len() <= COMPACT_RUNS {
+            (0..self.runs.len()).collect()
+        } else {
+            let last = self.runs.len() - 1;
+            let mut picked: Vec<usize> = (0..COMPACT_RUNS)
+                .map(|k| (k * last + (COMPACT_RUNS - 1) / 2) / (COMPACT_RUNS - 1))
+                .collect();
+            picked.dedup();
+            picked
+        };
+        let _ = writeln!(
+            out,
+            "\n  {} runs{}:",
+            self.runs.len(),
+            if shown.len() < self.runs.len() {
+                format!(", {} of them shown (all with --verbose)", shown.len())
+            } else {
+                String::new()
+            }
+        );
+        for &k in &shown {
+            let run = &self.runs[k];
             let time = run
                 .time
                 .map_or_else(String::new, |t| format!("  t = {:.1} min", t / 60.0));
@@ -337,21 +391,6 @@ impl ThermalSeries {
                 .map(|(s, t)| format!("  {s} {t:.2} °C"))
                 .collect();
             let _ = writeln!(out, "  run {}{time}{temps}", run.label);
-        }
-        for d in &self.drift {
-            let sign = if d.approach == Approach::Up { '+' } else { '-' };
-            let first_hour = d.range_first_hour.map_or_else(String::new, |r| {
-                format!("  first 60 min {:>8.3} µm", r * 1e6)
-            });
-            let stop = d.stop_time.map_or_else(String::new, |t| {
-                format!("  15 % criterion met at {:.0} min", t / 60.0)
-            });
-            let _ = writeln!(
-                out,
-                "  target {:>10.4} mm {sign}  drift range {:>8.3} µm{first_hour}{stop}",
-                d.target * 1e3,
-                d.range * 1e6
-            );
         }
         out
     }
