@@ -55,7 +55,7 @@ fn truth_values_read_back_as_written() {
                 fraction.contains("99999999")
                     || fraction
                         .find("00000000")
-                        .is_some_and(|at| fraction[at..].trim_end_matches('0').len() > 0)
+                        .is_some_and(|at| !fraction[at..].trim_end_matches('0').is_empty())
             })
             .collect();
         assert!(noisy.is_empty(), "{}: {noisy:?}", path.display());
