@@ -16,6 +16,16 @@ fn scenario(name: &str) -> String {
     format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
+/// `mtwin run scenarios/NAME --out DIR`, which must succeed.
+fn simulate(name: &str, dir: &Path) {
+    let run = mtwin(&["run", &scenario(name), "--out", dir.to_str().unwrap()]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
 #[test]
 fn truth_values_read_back_as_written() {
     let output =
@@ -197,13 +207,7 @@ fn an_unidentifiable_term_names_the_inflation_that_broke_the_limit() {
     // The YZ partial arc (180°): straightness of Y goes, as tests/iso230_4.rs shows; the words
     // must give an inflation over the limit, whatever the dropped term's own.
     let dir = tempfile::tempdir().unwrap();
-    let run = mtwin(&[
-        "run",
-        &scenario("vmc3_ballbar_3planes.toml"),
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
-    assert!(run.status.success());
+    simulate("vmc3_ballbar_3planes.toml", dir.path());
     let table = dir.path().join("ballbar_yz.csv");
     let result = mtwin(&["analyze", "ballbar", table.to_str().unwrap(), "--json"]);
     assert!(result.status.success());
@@ -232,13 +236,7 @@ fn an_unidentifiable_term_names_the_inflation_that_broke_the_limit() {
 #[test]
 fn the_ball_bar_report_says_which_centre_offset_is_which() {
     let dir = tempfile::tempdir().unwrap();
-    let run = mtwin(&[
-        "run",
-        &scenario("teach_squareness_ballbar.toml"),
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
-    assert!(run.status.success());
+    simulate("teach_squareness_ballbar.toml", dir.path());
     let table = dir.path().join("ballbar_xy.csv");
     let result = mtwin(&["analyze", "ballbar", table.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&result.stdout);

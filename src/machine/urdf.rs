@@ -340,48 +340,35 @@ impl Machine {
             .filter(|l| !parent_joint.contains_key(*l))
             .map(|l| l.to_string())
             .collect();
+        // The links that hang from `root`, itself included (each link has one parent at most,
+        // so the walk cannot loop).
+        let hanging_from = |root: &str| {
+            let mut found = vec![root.to_string()];
+            let mut next = 0;
+            while next < found.len() {
+                let parent = found[next].clone();
+                found.extend(
+                    robot
+                        .joints
+                        .iter()
+                        .filter(|j| j.parent.link == parent)
+                        .map(|j| j.child.link.clone()),
+                );
+                next += 1;
+            }
+            found
+        };
         if roots.len() != 1 {
             // The root is the link most others hang from (the bed): list it first.
-            let descendants = |root: &str| {
-                let mut found = vec![root];
-                let mut next = 0;
-                while next < found.len() {
-                    let parent = found[next];
-                    found.extend(
-                        robot
-                            .joints
-                            .iter()
-                            .filter(|j| j.parent.link == parent)
-                            .map(|j| j.child.link.as_str()),
-                    );
-                    next += 1;
-                    if found.len() > link_names.len() {
-                        break; // a cycle below: no use counting further
-                    }
-                }
-                found.len()
-            };
             let mut roots = roots;
-            roots.sort_by_key(|r| std::cmp::Reverse(descendants(r)));
+            roots.sort_by_key(|r| std::cmp::Reverse(hanging_from(r).len()));
             return Err(fail(None, MachineErrorKind::Roots(roots)));
         }
         // Every link must hang from the root; a cycle elsewhere has no parentless link of its own.
-        let mut reachable = vec![roots[0].as_str()];
-        let mut next = 0;
-        while next < reachable.len() {
-            let parent = reachable[next];
-            reachable.extend(
-                robot
-                    .joints
-                    .iter()
-                    .filter(|j| j.parent.link == parent)
-                    .map(|j| j.child.link.as_str()),
-            );
-            next += 1;
-        }
+        let reachable = hanging_from(&roots[0]);
         let cut_off: Vec<String> = link_names
             .iter()
-            .filter(|l| !reachable.contains(l))
+            .filter(|l| !reachable.iter().any(|r| r == *l))
             .map(|l| l.to_string())
             .collect();
         if !cut_off.is_empty() {

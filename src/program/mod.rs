@@ -109,6 +109,17 @@ pub struct Program {
 }
 
 impl Program {
+    /// How long the programme runs (s): the sum of its timeline's intervals.
+    pub fn duration(&self) -> Real {
+        self.timeline(Real::INFINITY)
+            .iter()
+            .map(|e| match e {
+                Event::Interval(i) => i.duration,
+                Event::Measure(_) => 0.0,
+            })
+            .sum()
+    }
+
     /// The timeline, with no interval longer than `max_interval` seconds.
     pub fn timeline(&self, max_interval: Real) -> Vec<Event> {
         assert!(max_interval > 0.0, "intervals need a positive length");

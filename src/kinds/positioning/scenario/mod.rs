@@ -21,7 +21,6 @@ use crate::kinds::positioning::laser::{Laser, Zeroing};
 use crate::kinds::positioning::{LinearCycle, irregular_targets};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, RAD_PER_DEG, Real, seeded_rng};
-use crate::program::Event;
 use crate::program::Program;
 use crate::scenario::thermal::{RawThermal, thermal_setup};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind, ThermalSetup};
@@ -90,15 +89,7 @@ pub struct LaserTest {
 impl LaserTest {
     /// `laser: X, 9 targets × 5 runs, 7.9 min of programme`, as `mtwin check` lists it.
     pub fn describe(&self) -> String {
-        let duration: Real = self
-            .program
-            .timeline(Real::INFINITY)
-            .iter()
-            .map(|e| match e {
-                Event::Interval(i) => i.duration,
-                Event::Measure(_) => 0.0,
-            })
-            .sum();
+        let duration = self.program.duration();
         let duration = if duration < 7200.0 {
             format!("{:.1} min", duration / 60.0)
         } else {
@@ -350,15 +341,7 @@ pub(crate) fn sections(
         None
     };
     if let (Some(setup), Some(test)) = (&thermal, &laser_test) {
-        let duration: Real = test
-            .program
-            .timeline(Real::INFINITY)
-            .iter()
-            .map(|e| match e {
-                Event::Interval(i) => i.duration,
-                Event::Measure(_) => 0.0,
-            })
-            .sum();
+        let duration = test.program.duration();
         if duration / setup.max_interval > 5e6 {
             return Err(context.error(
                 raw.thermal.map(|t| t.span()),
