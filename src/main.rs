@@ -180,6 +180,14 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             if let Some(path) = &rrd {
                 record(path, &scenario, &simulation)?;
             }
+            let others = output.others_in(&out);
+            if !others.is_empty() {
+                eprintln!(
+                    "warning: {} holds files this run does not write ({}): another run's, left as they are",
+                    out.display(),
+                    others.join(", ")
+                );
+            }
             write_outputs(&output, &out)?;
             for (name, bytes) in &output.files {
                 say!("{}  ({} bytes)", out.join(name).display(), bytes.len());

@@ -251,3 +251,26 @@ fn the_ball_bar_report_says_which_centre_offset_is_which() {
     assert!(circle.contains("least-squares circle"), "{circle}");
     assert!(joint.contains("joint fit"), "{joint}");
 }
+
+#[test]
+fn a_reused_output_folder_with_another_runs_files_gets_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = |name: &str| {
+        let result = mtwin(&["run", &scenario(name), "--out", out.to_str().unwrap()]);
+        assert!(result.status.success());
+        String::from_utf8_lossy(&result.stderr).into_owned()
+    };
+    assert!(!run("teach_squareness_ballbar.toml").contains("warning"));
+    // The map's run writes volumetric.csv, truth.json and manifest.json: the ball-bar table
+    // stays behind, from the other run.
+    let warned = run("vmc3_volumetric.toml");
+    assert!(
+        warned.contains("holds files this run does not write (ballbar_xy.csv)"),
+        "{warned}"
+    );
+    assert!(out.join("ballbar_xy.csv").exists(), "left as it is");
+    // Its own files again: nothing to say but the leftover.
+    std::fs::remove_file(out.join("ballbar_xy.csv")).unwrap();
+    assert!(!run("vmc3_volumetric.toml").contains("warning"));
+}

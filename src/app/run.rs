@@ -161,6 +161,24 @@ impl Simulation {
     }
 }
 
+impl RunOutput {
+    /// The files already in `dir` that this run does not write (another run's, left as they
+    /// are): names in order, hidden files left out. Empty when `dir` does not exist.
+    pub fn others_in(&self, dir: &Path) -> Vec<String> {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return Vec::new();
+        };
+        let mut others: Vec<String> = entries
+            .filter_map(|e| e.ok())
+            .filter(|e| e.path().is_file())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|name| !name.starts_with('.') && !self.files.iter().any(|(n, _)| n == name))
+            .collect();
+        others.sort();
+        others
+    }
+}
+
 /// Writes the files into `dir` (created if needed), all or none: see [`crate::io::write_files`].
 pub fn write_outputs(output: &RunOutput, dir: &Path) -> Result<(), RunError> {
     Ok(crate::io::write_files(&output.files, dir)?)
