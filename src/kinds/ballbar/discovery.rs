@@ -27,11 +27,11 @@
 use crate::discovery::engine::{
     self, Folds, Problem, ResidualStep, Score, Selection, params_json, round_json as round,
 };
-use crate::kinds::ballbar::BallbarTable;
 use crate::kinds::ballbar::iso230_4::{
     BallbarError, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term,
     covered_arc, diagnostic_column,
 };
+use crate::kinds::ballbar::table::BallbarTable;
 use crate::machine::{Axis, Plane};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed};
 use serde_json::{Value, json};

@@ -22,8 +22,8 @@
 //! Simplified: rigid bar and balls (no sphericity error, no bar sag or thermal growth of the
 //! bar), no tool-cup offset from the tool tip.
 
-use crate::kinds::ballbar::{BallbarReading, BallbarTable, Sense, TestConditions};
-use crate::kinds::ballbar::{CircularInterpolation, run_circle};
+use crate::kinds::ballbar::program::{CircularInterpolation, run_circle};
+use crate::kinds::ballbar::table::{BallbarReading, BallbarTable, Sense, TestConditions};
 use crate::machine::{MachineState, Workspace};
 use crate::math::{Real, Vector, standard_normal};
 use crate::program::Servo;

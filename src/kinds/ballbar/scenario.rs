@@ -29,8 +29,8 @@
 //! 180° in YZ and from 270° through 0 to 90° in ZX; with the 20° overshoots that is the 220°
 //! partial arc of ball-bar practice.
 
-use crate::kinds::ballbar::CircularInterpolation;
 use crate::kinds::ballbar::instrument::{BALLBAR_LENGTHS, Ballbar};
+use crate::kinds::ballbar::program::CircularInterpolation;
 use crate::machine::{Axis, AxisValues, Machine, Plane};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Vector};
 use crate::program::{AxisServo, Servo};

@@ -4,8 +4,10 @@
 
 use super::discovery::discover_ballbar;
 use super::iso230_4::{self, BasisPoint, CircleData, CircularTest, Term};
-use crate::kinds::ballbar::{BallbarTable, BallbarTest};
-use crate::kinds::ballbar::{CircularInterpolation, run_circle};
+use crate::kinds::ballbar::table::BallbarTable;
+
+use crate::kinds::ballbar::program::{CircularInterpolation, run_circle};
+use crate::kinds::ballbar::scenario::BallbarTest;
 use crate::math::Real;
 use crate::viz::convert::{plot_point, vec3};
 use crate::viz::machine::MachineScene;

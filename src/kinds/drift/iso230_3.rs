@@ -144,7 +144,7 @@ fn interpolate(record: &[(Real, Real)], t: Real) -> Option<Real> {
 /// ("um" or "urad"), `range_60_<unit>`, `range_<unit>`, `stop_min`, `etve_<unit>`,
 /// `etve_window_min` [start, end], `etve_ambient_range_degc`, `note`).
 pub fn drift_report(
-    table: &crate::kinds::drift::DriftTable,
+    table: &crate::kinds::drift::table::DriftTable,
     etve_duration: Real,
 ) -> serde_json::Value {
     use serde_json::json;

@@ -18,7 +18,7 @@
 //! A file with readings in one direction only gets that direction's figures; the
 //! bidirectional ones (E, M, A, R, B, B̄, x̄ᵢ, Bᵢ, Rᵢ) are absent. SI inside (m).
 
-use crate::kinds::positioning::PositioningTable;
+use crate::kinds::positioning::table::PositioningTable;
 use crate::math::Real;
 use crate::program::Approach;
 

@@ -27,7 +27,7 @@
 //! no periodic nonlinearity of the interferometer optics.
 
 use super::air::{Air, HENE_WAVELENGTH_UM};
-use crate::kinds::positioning::{PositioningReading, PositioningTable};
+use crate::kinds::positioning::table::{PositioningReading, PositioningTable};
 use crate::machine::Axis;
 use crate::math::{Pose, Real, Vector, standard_normal};
 use crate::program::Visit;

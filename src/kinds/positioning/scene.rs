@@ -5,7 +5,9 @@
 use super::discovery::{PositioningOptions, discover_positioning};
 use super::table::PositioningTable;
 use crate::kinds::positioning::laser::{Mounting, Zeroing};
-use crate::kinds::positioning::{LaserRun, LaserTest};
+use crate::kinds::positioning::run::LaserRun;
+
+use crate::kinds::positioning::scenario::LaserTest;
 use crate::machine::{Direction, MachineState};
 use crate::math::{Real, rigid_inverse};
 use crate::program::Approach;

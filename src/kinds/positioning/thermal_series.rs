@@ -10,7 +10,7 @@
 //! that reached it; its sensitivity to a sensor is the least-squares slope of the deviation
 //! against that sensor's run temperature.
 
-use crate::kinds::positioning::PositioningTable;
+use crate::kinds::positioning::table::PositioningTable;
 use crate::math::Real;
 use crate::program::Approach;
 

@@ -1,7 +1,7 @@
 //! The volumetric error map: an arrow per grid point from the nominal tool tip (workpiece
 //! frame), the deviation enlarged and coloured by its size, and a tour of the grid.
 
-use crate::kinds::volumetric::VolumetricMap;
+use crate::kinds::volumetric::map::VolumetricMap;
 use crate::machine::MachineState;
 use crate::math::Real;
 use crate::viz::convert::{cold_to_warm, vec3};

@@ -4,7 +4,7 @@
 
 use super::{BallbarError, CircularTest, MIN_READINGS, MIN_SPAN_DEG};
 use super::{BasisPoint, Shape, Term, arc_since_reversal, diagnostic_column};
-use crate::kinds::ballbar::BallbarTable;
+use crate::kinds::ballbar::table::BallbarTable;
 use crate::math::{M_PER_MM, RAD_PER_DEG, Real};
 use std::f64::consts::{FRAC_PI_2, TAU};
 

@@ -6,7 +6,7 @@ use super::data::sense_index;
 use super::diagnose::diagnose;
 use super::linalg::Projection;
 use super::{BallbarError, BasisPoint, CircleData, CircularTest, Diagnostics, Shape, Term};
-use crate::kinds::ballbar::BallbarTable;
+use crate::kinds::ballbar::table::BallbarTable;
 use crate::math::Real;
 use std::f64::consts::TAU;
 

@@ -446,8 +446,8 @@ impl LagProfile<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kinds::ballbar::BallbarTable;
     use crate::kinds::ballbar::iso230_4::{BasisPoint, CircularTest, diagnostic_column};
+    use crate::kinds::ballbar::table::BallbarTable;
     use crate::machine::Plane;
 
     #[test]
@@ -467,8 +467,8 @@ mod tests {
         let n = 4000;
         let mut readings = Vec::new();
         for (sense, sign) in [
-            (crate::kinds::ballbar::Sense::Ccw, 1.0),
-            (crate::kinds::ballbar::Sense::Cw, -1.0),
+            (crate::kinds::ballbar::table::Sense::Ccw, 1.0),
+            (crate::kinds::ballbar::table::Sense::Cw, -1.0),
         ] {
             for k in 0..n {
                 let angle = (sign * TAU * (k as Real + 0.5) / n as Real).rem_euclid(TAU);
@@ -476,7 +476,7 @@ mod tests {
                 let deviation = 2e-6 * diagnostic_column(Term::BacklashP, 0, &at, &test, &truth)
                     + 3e-6 * diagnostic_column(Term::ReversalSpikeP, 0, &at, &test, &truth)
                     + 1e-7 * (7.0 * angle).sin();
-                readings.push(crate::kinds::ballbar::BallbarReading {
+                readings.push(crate::kinds::ballbar::table::BallbarReading {
                     sense,
                     angle,
                     deviation,

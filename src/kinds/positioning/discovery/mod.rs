@@ -39,7 +39,7 @@ pub use fit::PositioningFit;
 pub use problem::PositioningProblem;
 
 use crate::discovery::engine::{self, Folds, Problem, Selection};
-use crate::kinds::positioning::PositioningTable;
+use crate::kinds::positioning::table::PositioningTable;
 use crate::math::{M_PER_MM, Real};
 
 /// Knots and repeated targets are the same position when closer than this (m).

@@ -7,7 +7,7 @@ use super::{
     SAME_POSITION,
 };
 use crate::discovery::engine::Folds;
-use crate::kinds::positioning::PositioningTable;
+use crate::kinds::positioning::table::PositioningTable;
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, Real};
 use crate::program::Approach;
@@ -70,7 +70,7 @@ impl PositioningProblem {
                 "the expansion coefficient must be finite and the shortest period positive".into(),
             ));
         }
-        let finite = |r: &crate::kinds::positioning::PositioningReading| {
+        let finite = |r: &crate::kinds::positioning::table::PositioningReading| {
             [r.target, r.deviation, r.time.unwrap_or(0.0)]
                 .iter()
                 .chain(&r.temperatures)

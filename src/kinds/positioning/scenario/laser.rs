@@ -16,7 +16,7 @@
 //! interferometer_on = "workpiece"     # or "tool" (the reverse set-up)
 //! ```
 
-use crate::kinds::positioning::Air;
+use crate::kinds::positioning::air::Air;
 use crate::kinds::positioning::laser::{
     AirCompensation, Laser, MaterialCompensation, Mounting, Zeroing,
 };

@@ -18,7 +18,7 @@ pub mod thermal_tests;
 pub(crate) use laser::{RawLaser, air_temperature_given, laser_for, zero_given};
 
 use crate::kinds::positioning::laser::{Laser, Zeroing};
-use crate::kinds::positioning::{LinearCycle, irregular_targets};
+use crate::kinds::positioning::program::{LinearCycle, irregular_targets};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, RAD_PER_DEG, Real, seeded_rng};
 use crate::program::Program;

@@ -15,7 +15,7 @@
 //! ```
 
 use super::{LaserTest, RawLaser, laser_for};
-use crate::kinds::positioning::LinearCycle;
+use crate::kinds::positioning::program::LinearCycle;
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real};
 use crate::program::{Program, Step};
@@ -351,7 +351,7 @@ pub(crate) fn linear_motion_test(
             ),
         ));
     }
-    let test = crate::kinds::positioning::LinearMotionTest {
+    let test = crate::kinds::positioning::program::LinearMotionTest {
         axis,
         targets: [p1, p2],
         feed: m.feed_mm_per_min * M_PER_MM / 60.0,
