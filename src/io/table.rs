@@ -65,3 +65,35 @@ pub(crate) fn read_header(
     }
     Ok(header)
 }
+
+/// A data row of a table, or the error that names its line.
+pub(crate) fn row(
+    record: Result<csv::StringRecord, csv::Error>,
+    file: &str,
+) -> Result<csv::StringRecord, TableError> {
+    record.map_err(|e| {
+        TableError::new(
+            file,
+            e.position().map(|p| p.line()),
+            format!("not a valid CSV row: {e}"),
+        )
+    })
+}
+
+/// The finite number in column `index` (named `name` in messages) of `record`.
+pub(crate) fn finite_number(
+    record: &csv::StringRecord,
+    index: usize,
+    name: &str,
+    file: &str,
+) -> Result<f64, TableError> {
+    let text = &record[index];
+    match text.parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        _ => Err(TableError::new(
+            file,
+            record.position().map(|p| p.line()),
+            format!("column `{name}`: expected a finite number, found \"{text}\""),
+        )),
+    }
+}

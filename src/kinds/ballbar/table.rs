@@ -23,7 +23,7 @@
 //! A table without them reads as well: its conditions are then given on the command line
 //! (`--plane`, `--radius-mm`, `--feed-mm-per-min`).
 
-use crate::io::{Conditions, TableError, csv_reader, read_file, read_header};
+use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
 use crate::machine::Plane;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed, trimmed};
 use std::path::Path;
@@ -210,23 +210,9 @@ impl BallbarTable {
         let time_column = column("time_s");
         let mut readings = Vec::new();
         for record in reader.records() {
-            let record = record.map_err(|e| {
-                fail(
-                    e.position().map(|p| p.line()),
-                    format!("not a valid CSV row: {e}"),
-                )
-            })?;
+            let record = row(record, file)?;
             let line = record.position().map(|p| p.line());
-            let number = |index: usize, name: &str| -> Result<Real, TableError> {
-                let text = &record[index];
-                match text.parse::<Real>() {
-                    Ok(value) if value.is_finite() => Ok(value),
-                    _ => Err(fail(
-                        line,
-                        format!("column `{name}`: expected a finite number, found \"{text}\""),
-                    )),
-                }
-            };
+            let number = |index: usize, name: &str| finite_number(&record, index, name, file);
             let sense = match record[direction_column].to_ascii_lowercase().as_str() {
                 "ccw" => Sense::Ccw,
                 "cw" => Sense::Cw,

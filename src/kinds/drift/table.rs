@@ -8,7 +8,7 @@
 //! | `<channel>_urad` | | an angular displacement (µrad) |
 //! | `temp_<sensor>_degc` | no | temperatures (°C); the first is taken as the ambient |
 
-use crate::io::{TableError, csv_reader, read_file, read_header};
+use crate::io::{TableError, csv_reader, finite_number, read_file, read_header, row};
 use crate::math::{M_PER_UM, RAD_PER_URAD, Real};
 use std::path::Path;
 
@@ -96,26 +96,9 @@ impl DriftTable {
                 .collect(),
         };
         for record in reader.records() {
-            let record = record.map_err(|e| {
-                fail(
-                    e.position().map(|p| p.line()),
-                    format!("not a valid CSV row: {e}"),
-                )
-            })?;
+            let record = row(record, file)?;
             let line = record.position().map(|p| p.line());
-            let number = |index: usize| -> Result<Real, TableError> {
-                let text = &record[index];
-                match text.parse::<Real>() {
-                    Ok(v) if v.is_finite() => Ok(v),
-                    _ => Err(fail(
-                        line,
-                        format!(
-                            "column `{}`: expected a finite number, found \"{text}\"",
-                            &header[index]
-                        ),
-                    )),
-                }
-            };
+            let number = |index: usize| finite_number(&record, index, &header[index], file);
             let time = number(time_column)? * 60.0;
             if table.times.last().is_some_and(|last| time <= *last) {
                 return Err(fail(line, "column `time_min`: times must increase".into()));

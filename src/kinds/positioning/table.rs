@@ -15,7 +15,7 @@
 //! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
 //! reading at a target in a direction belongs to run k.
 
-use crate::io::{TableError, csv_reader, read_file, read_header};
+use crate::io::{TableError, csv_reader, finite_number, read_file, read_header, row};
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 pub use crate::program::Approach;
@@ -122,23 +122,9 @@ impl PositioningTable {
         // Without a run column: the k-th reading at a (target, direction) is run k.
         let mut visits: Vec<(Real, Approach, usize)> = Vec::new();
         for record in reader.records() {
-            let record = record.map_err(|e| {
-                fail(
-                    e.position().map(|p| p.line()),
-                    format!("not a valid CSV row: {e}"),
-                )
-            })?;
+            let record = row(record, file)?;
             let line = record.position().map(|p| p.line());
-            let number = |index: usize, name: &str| -> Result<Real, TableError> {
-                let text = &record[index];
-                match text.parse::<Real>() {
-                    Ok(value) if value.is_finite() => Ok(value),
-                    _ => Err(fail(
-                        line,
-                        format!("column `{name}`: expected a finite number, found \"{text}\""),
-                    )),
-                }
-            };
+            let number = |index: usize, name: &str| finite_number(&record, index, name, file);
             let target = number(target_column, "target_mm")? * M_PER_MM;
             let deviation = number(deviation_column, "deviation_um")? * M_PER_UM;
             if let Some(index) = axis_column {
