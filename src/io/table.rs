@@ -45,39 +45,71 @@ pub(crate) fn csv_reader(bytes: &[u8]) -> csv::Reader<&[u8]> {
         .from_reader(bytes)
 }
 
-/// The header row of a table, refused if it cannot be read or names a column twice.
+/// The header row of a table and its 1-based line (after any preamble), refused if it cannot
+/// be read or names a column twice.
 pub(crate) fn read_header(
     reader: &mut csv::Reader<&[u8]>,
     file: &str,
-) -> Result<csv::StringRecord, TableError> {
+) -> Result<(csv::StringRecord, u64), TableError> {
+    let line = record_line(reader.get_ref(), 0);
     let header = reader
         .headers()
-        .map_err(|e| TableError::new(file, Some(1), format!("cannot read the header: {e}")))?
+        .map_err(|e| TableError::new(file, Some(line), format!("cannot read the header: {e}")))?
         .clone();
     for (index, name) in header.iter().enumerate() {
         if header.iter().skip(index + 1).any(|h| h == name) {
             return Err(TableError::new(
                 file,
-                Some(1),
+                Some(line),
                 format!("column `{name}` appears twice"),
             ));
         }
     }
-    Ok(header)
+    Ok((header, line))
 }
 
-/// A data row of a table, or the error that names its line.
+/// The 1-based line of the record that starts reading at `byte` of `bytes`: the reader's
+/// positions point at the first byte after the record before, so the comment and blank lines
+/// it then skips are stepped over here.
+fn record_line(bytes: &[u8], byte: u64) -> u64 {
+    let start = (byte as usize).min(bytes.len());
+    let mut line = bytes[..start].iter().filter(|b| **b == b'\n').count() as u64 + 1;
+    for text in bytes[start..].split(|b| *b == b'\n') {
+        let text = text.strip_prefix("\u{feff}".as_bytes()).unwrap_or(text);
+        let text = text.trim_ascii();
+        if !text.is_empty() && !text.starts_with(b"#") {
+            break;
+        }
+        line += 1;
+    }
+    line
+}
+
+/// A data row of a table, or the error that names its line. `bytes` is the whole table: the
+/// reader's position of a row is where it started reading it, before the comment lines it
+/// skipped, so the row's own line is found from there and set on the record for the messages
+/// that follow.
 pub(crate) fn row(
     record: Result<csv::StringRecord, csv::Error>,
+    bytes: &[u8],
     file: &str,
 ) -> Result<csv::StringRecord, TableError> {
-    record.map_err(|e| {
-        TableError::new(
+    let line_at = |byte: u64| record_line(bytes, byte);
+    match record {
+        Ok(mut record) => {
+            if let Some(position) = record.position() {
+                let mut position = position.clone();
+                position.set_line(line_at(position.byte()));
+                record.set_position(Some(position));
+            }
+            Ok(record)
+        }
+        Err(e) => Err(TableError::new(
             file,
-            e.position().map(|p| p.line()),
+            e.position().map(|p| line_at(p.byte())),
             format!("not a valid CSV row: {e}"),
-        )
-    })
+        )),
+    }
 }
 
 /// The finite number in column `index` (named `name` in messages) of `record`.
@@ -95,5 +127,30 @@ pub(crate) fn finite_number(
             record.position().map(|p| p.line()),
             format!("column `{name}`: expected a finite number, found \"{text}\""),
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_header_line_counts_the_preamble() {
+        let text = b"# mtwin table\n# plane = XY\n\na,b,a\n1,2,3\n";
+        let error = read_header(&mut csv_reader(text), "t.csv").unwrap_err();
+        assert_eq!(error.line(), Some(4), "{error}");
+        let (header, line) = read_header(&mut csv_reader(b"a,b\n1,2\n"), "t.csv").unwrap();
+        assert_eq!((header.len(), line), (2, 1));
+        // Data rows: the reader counts the comment lines it skipped.
+        let mut reader = csv_reader(b"# a = 1\nx,y\n# note\n1,z\n");
+        read_header(&mut reader, "t.csv").unwrap();
+        let record = row(
+            reader.records().next().unwrap(),
+            b"# a = 1\nx,y\n# note\n1,z\n",
+            "t.csv",
+        )
+        .unwrap();
+        let error = finite_number(&record, 1, "y", "t.csv").unwrap_err();
+        assert_eq!(error.line(), Some(4), "{error}");
     }
 }

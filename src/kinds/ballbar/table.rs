@@ -180,11 +180,11 @@ impl BallbarTable {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
         let conditions = TestConditions::from_preamble(&Conditions::parse(bytes, file)?, file)?;
         let mut reader = csv_reader(bytes);
-        let header = read_header(&mut reader, file)?;
+        let (header, header_line) = read_header(&mut reader, file)?;
         for name in &header {
             if !KNOWN.contains(&name) {
                 return Err(fail(
-                    Some(1),
+                    Some(header_line),
                     format!(
                         "unknown column `{name}`: expected direction, angle_deg, deviation_um or time_s"
                     ),
@@ -195,7 +195,7 @@ impl BallbarTable {
         let required = |name: &str| {
             column(name).ok_or_else(|| {
                 fail(
-                    Some(1),
+                    Some(header_line),
                     format!(
                         "missing column `{name}` (required: direction, angle_deg, deviation_um)"
                     ),
@@ -210,7 +210,7 @@ impl BallbarTable {
         let time_column = column("time_s");
         let mut readings = Vec::new();
         for record in reader.records() {
-            let record = row(record, file)?;
+            let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
             let number = |index: usize, name: &str| finite_number(&record, index, name, file);
             let sense = match record[direction_column].to_ascii_lowercase().as_str() {

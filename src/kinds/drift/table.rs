@@ -45,7 +45,7 @@ impl DriftTable {
     pub fn parse(bytes: &[u8], file: &str) -> Result<DriftTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
         let mut reader = csv_reader(bytes);
-        let header = read_header(&mut reader, file)?;
+        let (header, header_line) = read_header(&mut reader, file)?;
         let mut time_column = None;
         let mut channels = Vec::new(); // (column, name, angular)
         let mut sensors = Vec::new(); // (column, name)
@@ -64,18 +64,18 @@ impl DriftTable {
                 channels.push((index, channel.to_string(), false));
             } else {
                 return Err(fail(
-                    Some(1),
+                    Some(header_line),
                     format!(
                         "unknown column `{name}`: expected time_min, <channel>_um, <channel>_urad or temp_<sensor>_degc"
                     ),
                 ));
             }
         }
-        let time_column =
-            time_column.ok_or_else(|| fail(Some(1), "missing column `time_min`".into()))?;
+        let time_column = time_column
+            .ok_or_else(|| fail(Some(header_line), "missing column `time_min`".into()))?;
         if channels.is_empty() {
             return Err(fail(
-                Some(1),
+                Some(header_line),
                 "no displacement column: expected at least one <channel>_um or <channel>_urad"
                     .into(),
             ));
@@ -96,7 +96,7 @@ impl DriftTable {
                 .collect(),
         };
         for record in reader.records() {
-            let record = row(record, file)?;
+            let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
             let number = |index: usize| finite_number(&record, index, &header[index], file);
             let time = number(time_column)? * 60.0;

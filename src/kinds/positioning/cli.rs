@@ -2,6 +2,7 @@
 //! kind (flags, help, the report on standard output). Like `main.rs`, this is the binary's
 //! layer: errors are `anyhow`'s, with the file named once.
 
+use super::conditions::PositioningTest;
 use super::discovery::{PositioningOptions, discover_positioning};
 use super::iso230_2;
 use super::table::PositioningTable;
@@ -93,26 +94,37 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
         verbose,
     } = AnalyzeArgs::from_arg_matches(matches)?;
     let table = PositioningTable::read(&file)?;
-    Ok(match iso230_2::evaluate(&table) {
+    let axis = table
+        .axis
+        .map_or_else(|| "not named".to_string(), |a| a.to_string());
+    // A drift test (ISO 230-3 §7) is a thermal series but not an ISO 230-2 test: by the
+    // preamble's word, or because the ISO 230-2 evaluation finds it is not one.
+    let stated_drift = table.conditions.test == Some(PositioningTest::Iso230_3Linear);
+    let evaluation = if stated_drift {
+        Err("the file's preamble names the ISO 230-3 §7 linear-motion test".to_string())
+    } else {
+        iso230_2::evaluate(&table).map_err(|e| e.to_string())
+    };
+    Ok(match evaluation {
         Ok(result) if json => format!(
             "{}\n",
             serde_json::to_string_pretty(&result.to_json(&table))?
         ),
         Ok(result) => result.to_text_with(&table, verbose),
-        // A drift test (e.g. ISO 230-3 §7) is a thermal series but not an ISO 230-2 test.
-        Err(e) => match thermal_series(&table) {
+        Err(why) => match thermal_series(&table) {
             Some(series) if json => format!(
                 "{}\n",
-                serde_json::to_string_pretty(&series.report_json(&table, &e.to_string()))?
+                serde_json::to_string_pretty(&series.report_json(&table, &why))?
             ),
-            Some(series) => format!(
-                "ISO 230-3 drift record, axis {}: no ISO 230-2 figures ({e}).\n{}",
-                table
-                    .axis
-                    .map_or_else(|| "not named".to_string(), |a| a.to_string()),
+            Some(series) if stated_drift => format!(
+                "ISO 230-3 §7 linear-motion drift record, axis {axis} (test = iso230_3_linear in the file).\n{}",
                 series.to_text_with(verbose)
             ),
-            None => bail!("{}: {e}", file.display()),
+            Some(series) => format!(
+                "ISO 230-3 drift record, axis {axis}: no ISO 230-2 figures ({why}).\n{}",
+                series.to_text_with(verbose)
+            ),
+            None => bail!("{}: {why}", file.display()),
         },
     })
 }

@@ -27,6 +27,7 @@
 //! no periodic nonlinearity of the interferometer optics.
 
 use super::air::{Air, HENE_WAVELENGTH_UM};
+use crate::kinds::positioning::conditions::PositioningConditions;
 use crate::kinds::positioning::table::{PositioningReading, PositioningTable};
 use crate::machine::Axis;
 use crate::math::{Pose, Real, Vector, standard_normal};
@@ -119,6 +120,17 @@ impl Laser {
             .filter(|a| *a != along)
             .collect();
         (along + across[0] * self.misalignment[0] + across[1] * self.misalignment[1]).normalize()
+    }
+
+    /// What the instrument corrects, as a table's preamble says it: `none`, `air`
+    /// (refractive index from its sensors), `nde` (material to 20 °C) or `air+nde`.
+    pub fn compensation_name(&self) -> &'static str {
+        match (self.compensation, self.material.is_some()) {
+            (AirCompensation::Off, false) => "none",
+            (AirCompensation::Off, true) => "nde",
+            (AirCompensation::Sensors { .. }, false) => "air",
+            (AirCompensation::Sensors { .. }, true) => "air+nde",
+        }
     }
 
     /// The refractive index the instrument divides by.
@@ -250,6 +262,7 @@ impl Laser {
             sensors: Vec::new(),
             has_direction: true,
             readings,
+            conditions: PositioningConditions::default(),
         }
     }
 }

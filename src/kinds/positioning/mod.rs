@@ -18,6 +18,7 @@
 
 pub mod air;
 pub mod cli;
+pub mod conditions;
 pub mod discovery;
 pub mod iso230_2;
 pub mod laser;

@@ -79,6 +79,7 @@ pub fn simulate(
             for (reading, record) in table.readings.iter_mut().zip(&records) {
                 reading.temperatures = record.readings.clone();
             }
+            table.conditions = test.conditions();
             LaserRun {
                 table,
                 visits,
@@ -89,7 +90,8 @@ pub fn simulate(
         None => {
             let visits = crate::program::visits(&test.program.timeline(Real::INFINITY));
             let poses = twin.poses(&visits);
-            let table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
+            let mut table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
+            table.conditions = test.conditions();
             LaserRun {
                 table,
                 visits,

@@ -13,9 +13,12 @@
 //! | `temp_<sensor>_degc` | no, any number | temperatures (°C) |
 //!
 //! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
-//! reading at a target in a direction belongs to run k.
+//! reading at a target in a direction belongs to run k. The test's conditions (test, axis,
+//! runs, targets, compensation) travel in the file's preamble, as `mtwin run` writes them and a
+//! real export can carry them ([`super::conditions`]); a table without one reads as well.
 
-use crate::io::{TableError, csv_reader, finite_number, read_file, read_header, row};
+use super::conditions::{PositioningConditions, parse_axis};
+use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 pub use crate::program::Approach;
@@ -51,6 +54,8 @@ pub struct PositioningTable {
     pub has_direction: bool,
     /// The readings, in file order.
     pub readings: Vec<PositioningReading>,
+    /// The test conditions from the file's preamble (none for a file without one).
+    pub conditions: PositioningConditions,
 }
 
 const KNOWN: [&str; 6] = [
@@ -72,8 +77,10 @@ impl PositioningTable {
     /// Reads a positioning table from bytes; `file` names it in messages.
     pub fn parse(bytes: &[u8], file: &str) -> Result<PositioningTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
+        let stated = Conditions::parse(bytes, file)?;
+        let conditions = PositioningConditions::from_preamble(&stated, file)?;
         let mut reader = csv_reader(bytes);
-        let header = read_header(&mut reader, file)?;
+        let (header, header_line) = read_header(&mut reader, file)?;
         let column = |name: &str| header.iter().position(|h| h == name);
         let mut sensors = Vec::new();
         let mut sensor_columns = Vec::new();
@@ -91,7 +98,7 @@ impl PositioningTable {
                 }
                 _ => {
                     return Err(fail(
-                        Some(1),
+                        Some(header_line),
                         format!(
                             "unknown column `{name}`: expected target_mm, deviation_um, axis, run, direction, \
                              time_min or temp_<sensor>_degc"
@@ -103,7 +110,7 @@ impl PositioningTable {
         let required = |name: &str| {
             column(name).ok_or_else(|| {
                 fail(
-                    Some(1),
+                    Some(header_line),
                     format!("missing column `{name}` (required: target_mm, deviation_um)"),
                 )
             })
@@ -119,27 +126,23 @@ impl PositioningTable {
         let mut axis: Option<Axis> = None;
         let mut runs: Vec<String> = Vec::new();
         let mut readings = Vec::new();
+        let mut lines = Vec::new();
         // Without a run column: the k-th reading at a (target, direction) is run k.
         let mut visits: Vec<(Real, Approach, usize)> = Vec::new();
         for record in reader.records() {
-            let record = row(record, file)?;
+            let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
             let number = |index: usize, name: &str| finite_number(&record, index, name, file);
             let target = number(target_column, "target_mm")? * M_PER_MM;
             let deviation = number(deviation_column, "deviation_um")? * M_PER_UM;
             if let Some(index) = axis_column {
                 let text = &record[index];
-                let this = match text {
-                    "X" | "x" => Axis::X,
-                    "Y" | "y" => Axis::Y,
-                    "Z" | "z" => Axis::Z,
-                    _ => {
-                        return Err(fail(
-                            line,
-                            format!("column `axis`: expected X, Y or Z, found \"{text}\""),
-                        ));
-                    }
-                };
+                let this = parse_axis(text).ok_or_else(|| {
+                    fail(
+                        line,
+                        format!("column `axis`: expected X, Y or Z, found \"{text}\""),
+                    )
+                })?;
                 match axis {
                     Some(first) if first != this => {
                         return Err(fail(
@@ -205,6 +208,7 @@ impl PositioningTable {
                 .zip(&sensors)
                 .map(|(&index, sensor)| number(index, &format!("temp_{sensor}_degc")))
                 .collect::<Result<Vec<_>, _>>()?;
+            lines.push(line);
             readings.push(PositioningReading {
                 target,
                 deviation,
@@ -220,21 +224,34 @@ impl PositioningTable {
                 "no readings: expected one row per reading after the header".into(),
             ));
         }
-        Ok(PositioningTable {
-            axis,
+        let table = PositioningTable {
+            axis: axis.or(conditions.axis),
             runs,
             sensors,
             has_direction: direction_column.is_some(),
             readings,
-        })
+            conditions,
+        };
+        table
+            .conditions
+            .check(&stated, axis, &table, &lines, file)?;
+        Ok(table)
     }
 }
 
 impl PositioningTable {
-    /// Writes the table: `axis, run, direction, target_mm, deviation_um, time_min` (the columns
+    /// Writes the table: its conditions as a preamble (when it has any), then `axis, run, direction, target_mm, deviation_um, time_min` (the columns
     /// it has) then `temp_<sensor>_degc`; positions to 1 nm, deviations to 1 pm, times to
     /// 1 µmin, temperatures to 1 µK, so the same table gives the same bytes.
-    pub fn write_csv(&self, out: impl std::io::Write) -> csv::Result<()> {
+    pub fn write_csv(&self, mut out: impl std::io::Write) -> csv::Result<()> {
+        let preamble = self.conditions.to_preamble();
+        if !preamble.is_empty() {
+            let title = self
+                .conditions
+                .test
+                .map_or("mtwin positioning table", |t| t.title());
+            out.write_all(preamble.to_preamble(title).as_bytes())?;
+        }
         let mut writer = csv::Writer::from_writer(out);
         let timed = self.readings.iter().any(|r| r.time.is_some());
         let mut header: Vec<String> = Vec::new();

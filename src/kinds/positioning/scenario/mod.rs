@@ -17,6 +17,7 @@ pub mod thermal_tests;
 
 pub(crate) use laser::{RawLaser, air_temperature_given, laser_for, zero_given};
 
+use crate::kinds::positioning::conditions::{PositioningConditions, PositioningTest};
 use crate::kinds::positioning::laser::{Laser, Zeroing};
 use crate::kinds::positioning::program::{LinearCycle, irregular_targets};
 use crate::machine::{Axis, AxisValues, Machine};
@@ -72,6 +73,8 @@ struct RawTargets {
 /// A linear positioning test and the laser that measures it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LaserTest {
+    /// Which test it is.
+    pub test: PositioningTest,
     /// Target positions along the laser's axis (m), indexed by the programme's measure points.
     pub targets: Vec<Real>,
     /// Number of runs.
@@ -87,6 +90,17 @@ pub struct LaserTest {
 }
 
 impl LaserTest {
+    /// The conditions its table carries in its preamble.
+    pub fn conditions(&self) -> PositioningConditions {
+        PositioningConditions {
+            test: Some(self.test),
+            axis: Some(self.laser.axis),
+            runs: Some(self.runs),
+            targets: Some(self.targets.clone()),
+            compensation: Some(self.laser.compensation_name().to_string()),
+        }
+    }
+
     /// `laser: X, 9 targets × 5 runs, 7.9 min of programme`, as `mtwin check` lists it.
     pub fn describe(&self) -> String {
         let duration = self.program.duration();
@@ -265,6 +279,7 @@ pub(crate) fn laser_test(
         laser.zero = Zeroing::Once; // ISO 230-2 practice: one datum for the whole test
     }
     Ok(LaserTest {
+        test: PositioningTest::Iso230_2,
         program: cycle.program(),
         runs: cycle.runs,
         targets: cycle.targets,

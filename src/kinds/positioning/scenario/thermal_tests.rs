@@ -15,6 +15,7 @@
 //! ```
 
 use super::{LaserTest, RawLaser, laser_for};
+use crate::kinds::positioning::conditions::PositioningTest;
 use crate::kinds::positioning::program::LinearCycle;
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real};
@@ -213,6 +214,7 @@ pub(crate) fn warmup_test(
     start[axis] = ends[0];
     let (laser, material_sensor) = laser_for(context, axis, laser)?;
     Ok(LaserTest {
+        test: PositioningTest::Warmup,
         program: Program { start, steps },
         targets: cycle.targets,
         runs: w.runs,
@@ -370,6 +372,7 @@ pub(crate) fn linear_motion_test(
     let (mut laser, _) = laser_for(context, axis, laser)?;
     laser.zero = crate::kinds::positioning::laser::Zeroing::Once;
     Ok(LaserTest {
+        test: PositioningTest::Iso230_3Linear,
         program,
         targets: vec![p1, p2],
         runs,

@@ -1,0 +1,354 @@
+//! The conditions of a positioning test, as a table's preamble carries them (`# key = value`
+//! lines before the header, see [`crate::io::Conditions`]):
+//!
+//! | key | meaning |
+//! |---|---|
+//! | `test` | `iso230_2` (ISO 230-2 positioning), `warmup` (runs between warm-up intervals) or `iso230_3_linear` (ISO 230-3 §7 drift) |
+//! | `axis` | `X`, `Y` or `Z` |
+//! | `runs` | the number of runs |
+//! | `targets_mm` | the target positions, comma-separated |
+//! | `compensation` | what the laser corrected: `none`, `air` (the refractive index, from its sensors), `nde` (the material's expansion, to 20 °C) or `air+nde` |
+//!
+//! A table without them reads as before. Those the data can check are checked when the table is
+//! read: the axis against an `axis` column, the runs against the runs the rows hold, every
+//! reading's target against the targets (within [`TARGET_TOLERANCE`]) and every target against
+//! the readings.
+
+use super::table::{PositioningReading, PositioningTable};
+use crate::io::{Conditions, TableError};
+use crate::machine::Axis;
+use crate::math::{M_PER_MM, Real, trimmed};
+
+/// How far a reading's target may lie from a stated target and still be it (m): half the last
+/// digit of an export that writes targets to 1 µm.
+pub const TARGET_TOLERANCE: Real = 0.5e-6;
+
+/// The test a positioning table comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PositioningTest {
+    /// ISO 230-2 linear positioning (bidirectional runs over targets).
+    Iso230_2,
+    /// Runs over the axis between idle-running warm-up intervals (Lu 2012 Ch. 5).
+    Warmup,
+    /// The ISO 230-3 §7 linear-motion drift test (two targets, 4 h of cycling, cool-down).
+    Iso230_3Linear,
+}
+
+impl PositioningTest {
+    /// The name in preambles and scenario files.
+    pub fn name(self) -> &'static str {
+        match self {
+            PositioningTest::Iso230_2 => "iso230_2",
+            PositioningTest::Warmup => "warmup",
+            PositioningTest::Iso230_3Linear => "iso230_3_linear",
+        }
+    }
+
+    /// The title line of a table from this test.
+    pub fn title(self) -> &'static str {
+        match self {
+            PositioningTest::Iso230_2 => "mtwin positioning table (ISO 230-2 linear positioning)",
+            PositioningTest::Warmup => "mtwin positioning table (runs between warm-up intervals)",
+            PositioningTest::Iso230_3Linear => {
+                "mtwin positioning table (ISO 230-3 §7 linear-motion drift)"
+            }
+        }
+    }
+}
+
+/// The conditions of a positioning test, each absent when the file does not say (SI).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PositioningConditions {
+    /// The test.
+    pub test: Option<PositioningTest>,
+    /// The axis.
+    pub axis: Option<Axis>,
+    /// The number of runs.
+    pub runs: Option<usize>,
+    /// The target positions (m).
+    pub targets: Option<Vec<Real>>,
+    /// What the laser corrected (`none`, `air`, `air+nde`), as stated.
+    pub compensation: Option<String>,
+}
+
+impl PositioningConditions {
+    /// The typed conditions of a preamble; a value of the wrong form is an error naming the
+    /// file, line and key. Keys it does not know are left to other readers.
+    pub fn from_preamble(c: &Conditions, file: &str) -> Result<Self, TableError> {
+        let wrong = |key: &str, text: &str, line: u64, expected: &str| {
+            TableError::new(
+                file,
+                Some(line),
+                format!("{key} = {text}: expected {expected}"),
+            )
+        };
+        let test = match c.get("test") {
+            None => None,
+            Some((text, line)) => Some(
+                [
+                    PositioningTest::Iso230_2,
+                    PositioningTest::Warmup,
+                    PositioningTest::Iso230_3Linear,
+                ]
+                .into_iter()
+                .find(|t| t.name() == text)
+                .ok_or_else(|| wrong("test", text, line, "iso230_2, warmup or iso230_3_linear"))?,
+            ),
+        };
+        let axis = match c.get("axis") {
+            None => None,
+            Some((text, line)) => {
+                Some(parse_axis(text).ok_or_else(|| wrong("axis", text, line, "X, Y or Z"))?)
+            }
+        };
+        let runs = match c.get("runs") {
+            None => None,
+            Some((text, line)) => Some(
+                text.parse::<usize>()
+                    .ok()
+                    .filter(|n| *n > 0)
+                    .ok_or_else(|| {
+                        wrong("runs", text, line, "a whole number of runs, 1 or more")
+                    })?,
+            ),
+        };
+        let targets = match c.get("targets_mm") {
+            None => None,
+            Some((text, line)) => {
+                let values: Option<Vec<Real>> = text
+                    .split(',')
+                    .map(|v| v.trim().parse::<Real>().ok().filter(|v| v.is_finite()))
+                    .map(|v| v.map(|mm| mm * M_PER_MM))
+                    .collect();
+                Some(values.filter(|v| !v.is_empty()).ok_or_else(|| {
+                    wrong(
+                        "targets_mm",
+                        text,
+                        line,
+                        "finite numbers separated by commas",
+                    )
+                })?)
+            }
+        };
+        let compensation = c.get("compensation").map(|(text, _)| text.to_string());
+        Ok(PositioningConditions {
+            test,
+            axis,
+            runs,
+            targets,
+            compensation,
+        })
+    }
+
+    /// The preamble that says these conditions (file units).
+    pub fn to_preamble(&self) -> Conditions {
+        let mut pairs: Vec<(&str, String)> = Vec::new();
+        if let Some(test) = self.test {
+            pairs.push(("test", test.name().to_string()));
+        }
+        if let Some(axis) = self.axis {
+            pairs.push(("axis", axis.to_string()));
+        }
+        if let Some(runs) = self.runs {
+            pairs.push(("runs", runs.to_string()));
+        }
+        if let Some(targets) = &self.targets {
+            let list: Vec<String> = targets.iter().map(|t| trimmed(t / M_PER_MM, 6)).collect();
+            pairs.push(("targets_mm", list.join(", ")));
+        }
+        if let Some(compensation) = &self.compensation {
+            pairs.push(("compensation", compensation.clone()));
+        }
+        Conditions::from_pairs(pairs)
+    }
+
+    /// Checks the conditions against the rows of `table` (read from `file`, whose preamble
+    /// `stated` gave them, with the axis its `axis` column names, if any, and the lines of its
+    /// rows in `lines`).
+    pub(crate) fn check(
+        &self,
+        stated: &Conditions,
+        column_axis: Option<Axis>,
+        table: &PositioningTable,
+        lines: &[Option<u64>],
+        file: &str,
+    ) -> Result<(), TableError> {
+        let line_of = |key: &str| stated.get(key).map(|(_, line)| line);
+        if let (Some(said), Some(column)) = (self.axis, column_axis)
+            && said != column
+        {
+            return Err(TableError::new(
+                file,
+                line_of("axis"),
+                format!("axis = {said}, but the rows' axis column says {column}"),
+            ));
+        }
+        if let Some(runs) = self.runs
+            && runs != table.runs.len()
+        {
+            return Err(TableError::new(
+                file,
+                line_of("runs"),
+                format!(
+                    "runs = {runs}, but the rows hold {} run{} ({})",
+                    table.runs.len(),
+                    if table.runs.len() == 1 { "" } else { "s" },
+                    table.runs.join(", ")
+                ),
+            ));
+        }
+        if let Some(targets) = &self.targets {
+            let near = |a: Real, b: Real| (a - b).abs() <= TARGET_TOLERANCE;
+            let stray = table
+                .readings
+                .iter()
+                .zip(lines)
+                .find(|(r, _)| !targets.iter().any(|t| near(*t, r.target)));
+            if let Some((reading, line)) = stray {
+                return Err(TableError::new(
+                    file,
+                    *line,
+                    format!(
+                        "target_mm {} is not one of the preamble's targets_mm (line {})",
+                        trimmed(reading.target / M_PER_MM, 6),
+                        line_of("targets_mm").unwrap_or_default()
+                    ),
+                ));
+            }
+            let unvisited = targets.iter().find(|t| {
+                !table
+                    .readings
+                    .iter()
+                    .any(|r: &PositioningReading| near(**t, r.target))
+            });
+            if let Some(target) = unvisited {
+                return Err(TableError::new(
+                    file,
+                    line_of("targets_mm"),
+                    format!(
+                        "targets_mm: no reading at {} mm",
+                        trimmed(target / M_PER_MM, 6)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `X`, `Y` or `Z` (either case).
+pub(crate) fn parse_axis(text: &str) -> Option<Axis> {
+    match text {
+        "X" | "x" => Some(Axis::X),
+        "Y" | "y" => Some(Axis::Y),
+        "Z" | "z" => Some(Axis::Z),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ROWS: &str = "run,direction,target_mm,deviation_um\n\
+                        1,+,0,0.5\n1,+,100,1.5\n1,-,100,2.5\n1,-,0,1.0\n\
+                        2,+,0,0.6\n2,+,100,1.4\n2,-,100,2.4\n2,-,0,1.1\n";
+
+    fn read(preamble: &str) -> Result<PositioningTable, TableError> {
+        PositioningTable::parse(format!("{preamble}{ROWS}").as_bytes(), "p.csv")
+    }
+
+    #[test]
+    fn a_preamble_names_the_axis_runs_and_targets_the_rows_hold() {
+        let table = read(
+            "# a laser export\n# test = iso230_2\n# axis = Y\n# runs = 2\n# targets_mm = 0, 100\n# compensation = air\n",
+        )
+        .unwrap();
+        // No axis column: the axis is the preamble's.
+        assert_eq!(table.axis, Some(Axis::Y));
+        assert_eq!(table.conditions.test, Some(PositioningTest::Iso230_2));
+        assert_eq!(table.conditions.runs, Some(2));
+        assert_eq!(table.conditions.targets, Some(vec![0.0, 0.1]));
+        // Without one, the table reads as before.
+        let bare = read("").unwrap();
+        assert_eq!((bare.axis, bare.conditions), (None, Default::default()));
+        // An export that rounds its targets to 1 µm still matches them.
+        let rounded = read("# targets_mm = 0.0000004, 99.9999996\n").unwrap();
+        assert_eq!(rounded.readings.len(), 8);
+    }
+
+    #[test]
+    fn conditions_the_rows_contradict_are_refused_naming_both() {
+        let axis = PositioningTable::parse(
+            b"# axis = Y\naxis,target_mm,deviation_um\nX,0,1\nX,100,2\n",
+            "p.csv",
+        )
+        .unwrap_err();
+        assert_eq!(
+            axis.to_string(),
+            "p.csv:1: axis = Y, but the rows' axis column says X"
+        );
+        let runs = read("# runs = 3\n").unwrap_err();
+        assert_eq!(
+            runs.to_string(),
+            "p.csv:1: runs = 3, but the rows hold 2 runs (1, 2)"
+        );
+        // The row at 100 mm (line 4: the preamble, the header, then the first row) is stray.
+        let stray = read("# targets_mm = 0, 50\n").unwrap_err();
+        assert_eq!(
+            stray.to_string(),
+            "p.csv:4: target_mm 100 is not one of the preamble's targets_mm (line 1)"
+        );
+        let unvisited = read("# targets_mm = 0, 100, 200\n").unwrap_err();
+        assert_eq!(
+            unvisited.to_string(),
+            "p.csv:1: targets_mm: no reading at 200 mm"
+        );
+    }
+
+    #[test]
+    fn values_of_the_wrong_form_are_refused() {
+        for (line, expected) in [
+            (
+                "# test = iso230_4",
+                "test = iso230_4: expected iso230_2, warmup or iso230_3_linear",
+            ),
+            ("# axis = W", "axis = W: expected X, Y or Z"),
+            (
+                "# runs = 0",
+                "runs = 0: expected a whole number of runs, 1 or more",
+            ),
+            (
+                "# targets_mm = 0, ten",
+                "targets_mm = 0, ten: expected finite numbers separated by commas",
+            ),
+        ] {
+            let error = read(&format!("{line}\n")).unwrap_err();
+            assert_eq!(error.to_string(), format!("p.csv:1: {expected}"));
+        }
+    }
+
+    #[test]
+    fn what_is_written_reads_back() {
+        let mut table = read("").unwrap();
+        table.axis = Some(Axis::Z);
+        table.conditions = PositioningConditions {
+            test: Some(PositioningTest::Warmup),
+            axis: Some(Axis::Z),
+            runs: Some(2),
+            targets: Some(vec![0.0, 0.1]),
+            compensation: Some("air+nde".into()),
+        };
+        let mut bytes = Vec::new();
+        table.write_csv(&mut bytes).unwrap();
+        let text = String::from_utf8(bytes).unwrap();
+        assert!(
+            text.starts_with(
+                "# mtwin positioning table (runs between warm-up intervals)\n# test = warmup\n"
+            ),
+            "{text}"
+        );
+        let back = PositioningTable::parse(text.as_bytes(), "p.csv").unwrap();
+        assert_eq!(back, table);
+    }
+}
