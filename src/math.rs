@@ -96,6 +96,16 @@ pub fn fixed(value: Real, decimals: usize) -> String {
     }
 }
 
+/// `value` rounded to a multiple of `resolution`, as an instrument with that resolution reads
+/// it (unchanged for a resolution of zero).
+pub fn quantise(value: Real, resolution: Real) -> Real {
+    if resolution > 0.0 {
+        (value / resolution).round() * resolution
+    } else {
+        value
+    }
+}
+
 /// `value` as a person writes it: at most `decimals` decimals, no trailing zeros (`150`,
 /// `0.5`, `-2.25`).
 pub fn trimmed(value: Real, decimals: usize) -> String {

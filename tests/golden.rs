@@ -141,6 +141,16 @@ fn outputs(work: &Path) -> BTreeMap<String, String> {
                     }
                 }
             }
+            if file == "drift.csv" {
+                for json in [false, true] {
+                    let mut args = vec!["analyze", "drift", &table];
+                    args.extend(json.then_some("--json"));
+                    hashes.insert(
+                        format!("{table} analyze{}", if json { " --json" } else { "" }),
+                        sha256_hex(&mtwin(work, &args)),
+                    );
+                }
+            }
         }
     }
     hashes

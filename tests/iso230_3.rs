@@ -88,7 +88,7 @@ fn analyze_drift_reproduces_the_iso_230_3_etve_example() {
         );
     }
     let table = DriftTable::parse(text.as_bytes(), "etve.csv").unwrap();
-    let report = drift_report(&table, 3600.0);
+    let report = drift_report(&table, 3600.0, None);
     let x = &report["channels"][0];
     assert_eq!(
         (x["name"].as_str(), x["unit"].as_str()),

@@ -70,10 +70,29 @@ fn a_drift_record_leads_with_its_figures_and_keeps_the_runs_short() {
     let table = simulate("vmc3_iso230_3_linear.toml", dir.path());
     let text = mtwin(&["analyze", "positioning", &table]);
     let lines: Vec<&str> = text.lines().collect();
+    // The preamble names the test: straight to the drift report.
     assert!(
-        lines[0].starts_with("ISO 230-3 drift record, axis X"),
+        lines[0].starts_with("ISO 230-3 §7 linear-motion drift record, axis X"),
         "{text}"
     );
+    // Without the preamble (a real export need not have one) the ISO 230-2 evaluation finds
+    // it is not a positioning test and says why.
+    let bare = dir.path().join("bare.csv");
+    let rows: String = std::fs::read_to_string(&table)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&bare, rows).unwrap();
+    let bare_text = mtwin(&["analyze", "positioning", bare.to_str().unwrap()]);
+    assert!(
+        bare_text.starts_with("ISO 230-3 drift record, axis X: no ISO 230-2 figures (target 20 mm has readings in one direction only"),
+        "{bare_text}"
+    );
+    // The figures are the same either way.
+    let figures = |t: &str| t.lines().skip(1).collect::<Vec<_>>().join("\n");
+    assert_eq!(figures(&bare_text), figures(&text));
     let first_target = lines
         .iter()
         .position(|l| l.contains("drift range"))

@@ -4,6 +4,7 @@
 use super::scenario::Scenario;
 use crate::errors::{Lu2012Error, ParameterName};
 use crate::kinds::ballbar::{self, BallbarTable};
+use crate::kinds::drift::{self, EtveRun};
 use crate::kinds::positioning::{self, LaserRun};
 use crate::kinds::volumetric::{VolumetricMap, VolumetricRow, volumetric_map};
 use crate::machine::Side;
@@ -47,6 +48,8 @@ pub struct Simulation {
     pub laser: Option<LaserRun>,
     /// One ball-bar table per circle, in the scenario's order.
     pub ballbar: Vec<BallbarTable>,
+    /// The ETVE test, if asked for.
+    pub etve: Option<EtveRun>,
 }
 
 /// Simulates everything `scenario` asks for. Nothing here depends on the clock, the thread
@@ -81,10 +84,18 @@ pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
         .map_or_else(Vec::new, |test| {
             ballbar::run::simulate(&scenario.twin, test, scenario.seed)
         });
+    let etve = scenario.etve_test.as_ref().map(|test| {
+        let setup = scenario
+            .thermal
+            .as_ref()
+            .expect("an ETVE test has a thermal model (checked when the scenario was loaded)");
+        drift::run::simulate(&scenario.twin, test, setup, scenario.seed)
+    });
     Ok(Simulation {
         volumetric,
         laser,
         ballbar,
+        etve,
     })
 }
 
@@ -101,11 +112,12 @@ impl Simulation {
         parts.extend(self.volumetric.as_ref().map(VolumetricMap::summary));
         parts.extend(self.laser.as_ref().map(LaserRun::summary));
         parts.extend(self.ballbar.iter().map(ballbar::run::summary));
+        parts.extend(self.etve.as_ref().map(EtveRun::summary));
         parts
     }
 
-    /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv` (as
-    /// the scenario asks), `truth.json` and `manifest.json`.
+    /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv`,
+    /// `drift.csv` (as the scenario asks), `truth.json` and `manifest.json`.
     pub fn output(&self, scenario: &Scenario) -> RunOutput {
         let mut files: Vec<(String, Vec<u8>)> = Vec::new();
         if let Some(map) = &self.volumetric {
@@ -129,11 +141,21 @@ impl Simulation {
                 .expect("writing to memory cannot fail");
             files.push((format!("ballbar_{}.csv", circle.plane.lower()), bytes));
         }
-        let thermal_truth = self
-            .laser
-            .as_ref()
-            .and_then(|run| Some(scenario.thermal.as_ref()?.states(run.thermal.as_ref()?)));
+        if let Some(run) = &self.etve {
+            let mut bytes = Vec::new();
+            run.table
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("drift.csv".into(), bytes));
+        }
+        let records = (self.laser.as_ref())
+            .and_then(|run| run.thermal.as_ref())
+            .or(self.etve.as_ref().map(|run| &run.records));
+        let thermal_truth = records.and_then(|r| Some(scenario.thermal.as_ref()?.states(r)));
         let mut truth = truth(scenario);
+        if let (Some(test), Some(run)) = (&scenario.etve_test, &self.etve) {
+            truth["etve_test"] = drift::run::truth(test, run);
+        }
         if let Some(states) = thermal_truth {
             truth["thermal_states"] = states;
         }

@@ -2,13 +2,14 @@
 //! together (see [`crate::scenario`] for the file format and the shared sections).
 
 use crate::kinds::ballbar::{self, BallbarTest};
+use crate::kinds::drift::{self, EtveTest};
 use crate::kinds::positioning::{self, LaserTest};
 use crate::kinds::volumetric::{self, VolumetricSpec};
 use crate::machine::Machine;
 use crate::math::sha256_hex;
 use crate::scenario::errors::error_model;
 use crate::scenario::lesson::RawLesson;
-use crate::scenario::thermal::RawThermal;
+use crate::scenario::thermal::{RawThermal, thermal_setup};
 use crate::scenario::{
     Context, ErrorSpec, Lesson, SCHEMA_VERSION, ScenarioError, ScenarioErrorKind, ThermalSetup,
 };
@@ -63,6 +64,7 @@ struct RawScenario {
     iso230_3_linear: Option<Spanned<positioning::scenario::thermal_tests::RawLinearMotion>>,
     laser: Option<Spanned<positioning::scenario::RawLaser>>,
     thermal: Option<Spanned<RawThermal>>,
+    iso230_3_etve: Option<Spanned<drift::scenario::RawEtve>>,
     ballbar: Option<Spanned<ballbar::scenario::RawBallbar>>,
     servo: Option<Spanned<ballbar::scenario::RawServo>>,
     lesson: Option<Spanned<RawLesson>>,
@@ -91,9 +93,11 @@ pub struct Scenario {
     pub volumetric: Option<VolumetricSpec>,
     /// The laser positioning test to simulate, if asked for.
     pub laser_test: Option<LaserTest>,
-    /// The machine's thermal model, if the scenario has one: the laser test then runs through
-    /// it (temperatures change the errors, sensors are read at each measurement).
+    /// The machine's thermal model, if the scenario has one: the laser and ETVE tests then run
+    /// through it (temperatures change the errors, sensors are read at each measurement).
     pub thermal: Option<ThermalSetup>,
+    /// The ISO 230-3 ETVE test to simulate, if asked for.
+    pub etve_test: Option<EtveTest>,
     /// The ball-bar circular tests to simulate, if asked for.
     pub ballbar_test: Option<BallbarTest>,
     /// The explanation a teaching recording carries, if the scenario is a lesson.
@@ -214,7 +218,13 @@ impl Scenario {
             .as_ref()
             .map(|v| volumetric::scenario::volumetric_spec(&context, &machine, v))
             .transpose()?;
-        let (thermal, laser_test) = positioning::scenario::sections(
+        let thermal = raw
+            .thermal
+            .as_ref()
+            .map(|t| thermal_setup(&context, &machine, t))
+            .transpose()?;
+        let thermal_with_span = || thermal.as_ref().zip(raw.thermal.as_ref().map(|t| t.span()));
+        let laser_test = positioning::scenario::sections(
             &context,
             &machine,
             raw.seed,
@@ -223,9 +233,29 @@ impl Scenario {
                 warmup: raw.warmup.as_ref(),
                 iso230_3_linear: raw.iso230_3_linear.as_ref(),
                 laser: raw.laser.as_ref(),
-                thermal: raw.thermal.as_ref(),
+                thermal: thermal_with_span(),
             },
         )?;
+        let etve_test = drift::scenario::sections(
+            &context,
+            &machine,
+            raw.iso230_3_etve.as_ref(),
+            thermal_with_span(),
+        )?;
+        if let (Some(_), Some(section)) = (&laser_test, &raw.iso230_3_etve) {
+            return Err(context.error(
+                Some(section.span()),
+                ScenarioErrorKind::Value,
+                "iso230_3_etve: one thermal experiment per scenario: the ETVE test holds the machine still while a laser test moves it; give them a scenario each",
+            ));
+        }
+        if let (Some(section), None, None) = (&raw.thermal, &laser_test, &etve_test) {
+            return Err(context.error(
+                Some(section.span()),
+                ScenarioErrorKind::Nothing,
+                "thermal: nothing in this scenario uses the thermal model; add a laser test ([iso230_2], [warmup] or [iso230_3_linear]) or an [iso230_3_etve] test",
+            ));
+        }
         let ballbar_test = ballbar::scenario::sections(
             &context,
             &machine,
@@ -237,11 +267,15 @@ impl Scenario {
             .as_ref()
             .map(|section| crate::scenario::lesson::lesson(&context, section))
             .transpose()?;
-        if volumetric.is_none() && laser_test.is_none() && ballbar_test.is_none() {
+        if volumetric.is_none()
+            && laser_test.is_none()
+            && ballbar_test.is_none()
+            && etve_test.is_none()
+        {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear] or [ballbar] section",
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve] or [ballbar] section",
             ));
         }
 
@@ -257,6 +291,7 @@ impl Scenario {
             volumetric,
             laser_test,
             thermal,
+            etve_test,
             ballbar_test,
             lesson,
         })
@@ -311,6 +346,7 @@ impl Scenario {
         let mut lines = Vec::new();
         lines.extend(self.volumetric.as_ref().map(VolumetricSpec::describe));
         lines.extend(self.laser_test.as_ref().map(LaserTest::describe));
+        lines.extend(self.etve_test.as_ref().map(EtveTest::describe));
         lines.extend(self.thermal.as_ref().map(ThermalSetup::describe));
         lines.extend(self.ballbar_test.iter().flat_map(BallbarTest::describe));
         lines

@@ -1,5 +1,6 @@
 //! The `[thermal]` section: the machine's thermal model, its air and its temperature sensors.
-//! A laser test (`crate::kinds::positioning`) runs through it.
+//! A laser test (`crate::kinds::positioning`) and the ISO 230-3 ETVE test
+//! (`crate::kinds::drift`) run through it.
 //!
 //! ```toml
 //! [thermal]
@@ -118,6 +119,28 @@ impl ThermalSetup {
                 format!(" ({})", names.join(", "))
             }
         )
+    }
+
+    /// Refuses a programme of `duration` s that would take more than five million intervals
+    /// of [`ThermalSetup::max_interval`] (the `[thermal]` section is at `span`).
+    pub(crate) fn check_steps(
+        &self,
+        context: &Context<'_>,
+        span: std::ops::Range<usize>,
+        duration: Real,
+    ) -> Result<(), ScenarioError> {
+        if duration / self.max_interval > 5e6 {
+            return Err(context.error(
+                Some(span),
+                ScenarioErrorKind::Value,
+                format!(
+                    "thermal.max_interval_s: {:.1} h in steps of {} s is more than five million steps",
+                    duration / 3600.0,
+                    self.max_interval
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Fresh sensors for a run, each with its own seeded noise stream.

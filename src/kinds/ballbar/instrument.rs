@@ -25,7 +25,7 @@
 use crate::kinds::ballbar::program::{CircularInterpolation, run_circle};
 use crate::kinds::ballbar::table::{BallbarReading, BallbarTable, Sense, TestConditions};
 use crate::machine::{MachineState, Workspace};
-use crate::math::{Real, Vector, standard_normal};
+use crate::math::{Real, Vector, quantise, standard_normal};
 use crate::program::Servo;
 use crate::twin::Twin;
 use rand_chacha::ChaCha8Rng;
@@ -98,13 +98,5 @@ impl Ballbar {
                 first: Some(Sense::Ccw),
             },
         }
-    }
-}
-
-fn quantise(value: Real, resolution: Real) -> Real {
-    if resolution > 0.0 {
-        (value / resolution).round() * resolution
-    } else {
-        value
     }
 }

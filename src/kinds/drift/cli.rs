@@ -4,6 +4,7 @@
 use super::iso230_3::drift_report;
 use super::table::DriftTable;
 use crate::kinds::{Kind, Verb};
+use crate::math::trimmed;
 use anyhow::{Result, bail};
 use clap::{ArgMatches, Args, FromArgMatches};
 use std::path::PathBuf;
@@ -12,8 +13,8 @@ use std::path::PathBuf;
 pub const KIND: Kind = Kind {
     name: "drift",
     tables_are: "drift tables",
-    sections: &[],
-    tables: &[],
+    sections: &["iso230_3_etve"],
+    tables: &["drift.csv"],
     analyze: Some(Verb {
         command: || {
             AnalyzeArgs::augment_args(clap::Command::new("drift")).about(
@@ -34,8 +35,21 @@ struct AnalyzeArgs {
     #[arg(long)]
     json: bool,
     /// The duration of the performance test the ETVE is for (min).
-    #[arg(long, value_name = "MIN", default_value_t = 60.0)]
+    #[arg(
+        long,
+        value_name = "MIN",
+        default_value_t = 60.0,
+        allow_negative_numbers = true
+    )]
     etve_min: f64,
+    /// The distance l between the two sensors of a pair (x1/x2, y1/y2), for the tilts A and B,
+    /// when the table's preamble does not say (`# spacing_mm = 100`); it must agree when it does.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    spacing_mm: Option<f64>,
+    /// The temperature column of the ambient air (`<sensor>` of temp_<sensor>_degc), when the
+    /// preamble does not say (`# ambient_sensor = air`); default the first.
+    #[arg(long, value_name = "NAME")]
+    ambient_sensor: Option<String>,
 }
 
 fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
@@ -43,12 +57,47 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
         file,
         json,
         etve_min,
+        spacing_mm,
+        ambient_sensor,
     } = AnalyzeArgs::from_arg_matches(matches)?;
     if !(etve_min.is_finite() && etve_min > 0.0) {
         bail!("--etve-min must be a positive number of minutes, got {etve_min}");
     }
-    let table = DriftTable::read(&file)?;
-    let report = drift_report(&table, etve_min * 60.0);
+    if let Some(mm) = spacing_mm
+        && !(mm.is_finite() && mm > 0.0)
+    {
+        bail!("--spacing-mm must be a positive number of millimetres, got {mm}");
+    }
+    let mut table = DriftTable::read(&file)?;
+    let shown = file.display();
+    let spacing = match (table.conditions.spacing, spacing_mm) {
+        (Some(stated), Some(flag)) if (stated * 1e3 - flag).abs() > 1e-9 * flag.max(1.0) => bail!(
+            "--spacing-mm {flag} disagrees with {shown}, whose preamble says spacing_mm = {}",
+            trimmed(stated * 1e3, 6)
+        ),
+        (stated, flag) => stated.or(flag.map(|mm| mm * 1e-3)),
+    };
+    match (&table.conditions.ambient_sensor, ambient_sensor) {
+        (Some(stated), Some(flag)) if *stated != flag => bail!(
+            "--ambient-sensor {flag} disagrees with {shown}, whose preamble says ambient_sensor = {stated}"
+        ),
+        (None, Some(flag)) => {
+            if !table.temperatures.iter().any(|(name, _)| *name == flag) {
+                let names: Vec<&str> = table.temperatures.iter().map(|(n, _)| n.as_str()).collect();
+                bail!(
+                    "--ambient-sensor {flag}: {shown} has no column temp_{flag}_degc (its sensors: {})",
+                    if names.is_empty() {
+                        "none".to_string()
+                    } else {
+                        names.join(", ")
+                    }
+                );
+            }
+            table.conditions.ambient_sensor = Some(flag);
+        }
+        _ => {}
+    }
+    let report = drift_report(&table, etve_min * 60.0, spacing);
     Ok(if json {
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
@@ -58,16 +107,36 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
 
 /// The drift report for people.
 fn drift_text(report: &serde_json::Value) -> String {
+    let etve_test = report["test"].as_str() == Some("iso230_3_etve");
     let mut out = format!(
-        "ISO 230-3:2007 drift, ETVE for a {} min test{}\n\n{:>12} {:>14} {:>14} {:>10} {:>12} {:>16} {:>10}\n",
+        "ISO 230-3:2007 {}, ETVE for a {} min test{}\n",
+        if etve_test {
+            "§5 ETVE test (test = iso230_3_etve in the file)"
+        } else {
+            "drift record"
+        },
         report["etve_duration_min"],
         report["ambient_sensor"]
             .as_str()
             .map_or_else(String::new, |s| format!(" (ambient: {s})")),
+    );
+    if let Some(l) = report["spacing_mm"].as_f64() {
+        out += &format!(
+            "Tilts from the sensor pairs {} mm apart: A = (Y1 − Y2)/l about X, B = (X2 − X1)/l about Y.\n",
+            trimmed(l, 3)
+        );
+    }
+    // ISO 230-3 §5 has no stop criterion: the ETVE test runs as long as possible.
+    out += &format!(
+        "\n{:>8} {:>14} {:>14} {}{:>14} {:>12} {:>8}\n",
         "channel",
         "first 60 min",
         "whole record",
-        "stop min",
+        if etve_test {
+            String::new()
+        } else {
+            format!("{:>9} ", "stop min")
+        },
         "ETVE",
         "window min",
         "ΔT °C"
@@ -86,16 +155,28 @@ fn drift_text(report: &serde_json::Value) -> String {
         };
         let window = c["etve_window_min"].as_array().map_or_else(
             || "-".into(),
-            |w| format!("{}-{}", cell(&w[0]), cell(&w[1])),
+            |w| {
+                let minute = |v: &serde_json::Value| {
+                    v.as_f64().map_or_else(|| "-".into(), |m| trimmed(m, 1))
+                };
+                format!("{}–{}", minute(&w[0]), minute(&w[1]))
+            },
         );
+        let stop = if etve_test {
+            String::new()
+        } else {
+            format!(
+                "{:>9} ",
+                c["stop_min"]
+                    .as_f64()
+                    .map_or_else(|| "-".into(), |m| format!("{m:.0}"))
+            )
+        };
         out += &format!(
-            "{:>12} {:>10} {shown:<4}{:>10} {shown:<4}{:>10} {:>8} {shown:<4}{:>16} {:>10}\n",
-            c["name"].as_str().unwrap_or(""),
+            "{:>8} {:>9} {shown:<4} {:>9} {shown:<4} {stop}{:>9} {shown:<4} {:>12} {:>8}\n",
+            c["name"].as_str().unwrap_or("").to_uppercase(),
             cell(&c[format!("range_60_{unit}")]),
             cell(&c[format!("range_{unit}")]),
-            c["stop_min"]
-                .as_f64()
-                .map_or_else(|| "-".into(), |m| format!("{m:.0}")),
             cell(&c[format!("etve_{unit}")]),
             window,
             cell(&c["etve_ambient_range_degc"]),

@@ -6,6 +6,7 @@
 //! max − min; it is reported with the sign of the larger excursion from the start value, as the
 //! standard's examples do (e.g. Z = −0,061).
 
+use super::table::{DriftChannel, DriftTable};
 use crate::math::Real;
 
 /// One hour (s).
@@ -137,21 +138,63 @@ fn interpolate(record: &[(Real, Real)], t: Real) -> Option<Real> {
     Some(d0 + (d1 - d0) * (t - t0) / (t1 - t0))
 }
 
-/// The ISO 230-3 report of a drift table: per channel the range over the first 60 min and the
-/// whole record, when the 15 % stop criterion was met, and the ETVE for a test of
-/// `etve_duration` s with its window and the ambient range inside it (the first temperature
-/// column). JSON keys: `kind` ("drift"), `etve_duration_min`, `channels` (each `name`, `unit`
-/// ("um" or "urad"), `range_60_<unit>`, `range_<unit>`, `stop_min`, `etve_<unit>`,
-/// `etve_window_min` [start, end], `etve_ambient_range_degc`, `note`).
+/// The tilts of the mandrel from two pairs of parallel sensors `spacing` m apart (ISO 230-3
+/// §5.3, used again by §6.3): `a` about X from `y1`, `y2` and `b` about Y from `x1`, `x2`, the
+/// pair `1` being the one further from the spindle nose (at L1, nearer the mandrel's end), each
+/// pair only when the table has both of its channels (linear). Rotations are right-handed
+/// (ISO 841) with Z the spindle axis pointing from the workpiece to the tool:
+///
+/// `A = (Y1 − Y2) / l`, `B = (X2 − X1) / l`.
+///
+/// The standard's text gives `B = (X1 − X2) / l`; with X1 the sensor further from the nose that
+/// is the rotation about −Y, so B here has the other sign, the same convention as A (a test
+/// checks both against a known rotation).
+pub fn tilts(table: &DriftTable, spacing: Real) -> Vec<DriftChannel> {
+    let linear = |name: &str| {
+        table
+            .channels
+            .iter()
+            .find(|c| c.name == name && !c.angular)
+            .map(|c| &c.values)
+    };
+    let mut out = Vec::new();
+    if let (Some(y1), Some(y2)) = (linear("y1"), linear("y2")) {
+        out.push(DriftChannel {
+            name: "a".into(),
+            angular: true,
+            values: y1.iter().zip(y2).map(|(p, q)| (p - q) / spacing).collect(),
+        });
+    }
+    if let (Some(x1), Some(x2)) = (linear("x1"), linear("x2")) {
+        out.push(DriftChannel {
+            name: "b".into(),
+            angular: true,
+            values: x1.iter().zip(x2).map(|(p, q)| (q - p) / spacing).collect(),
+        });
+    }
+    out
+}
+
+/// The ISO 230-3 report of a drift table: per channel (and per tilt from sensor pairs
+/// `spacing` m apart, when given: [`tilts`]) the range over the first 60 min and the whole
+/// record, when the 15 % stop criterion was met, and the ETVE for a test of `etve_duration` s
+/// with its window and the ambient range inside it ([`DriftTable::ambient`]). JSON keys:
+/// `kind` ("drift"), `test`, `etve_duration_min`, `ambient_sensor`, `spacing_mm`, `channels`
+/// (each `name`, `unit` ("um" or "urad"), `derived` (a tilt), `range_60_<unit>`,
+/// `range_<unit>`, `stop_min`, `etve_<unit>`, `etve_window_min` [start, end],
+/// `etve_ambient_range_degc`, `note`).
 pub fn drift_report(
-    table: &crate::kinds::drift::table::DriftTable,
+    table: &DriftTable,
     etve_duration: Real,
+    spacing: Option<Real>,
 ) -> serde_json::Value {
     use serde_json::json;
-    let ambient = table.temperatures.first();
+    let ambient = table.ambient();
+    let derived = spacing.map_or_else(Vec::new, |l| tilts(table, l));
     let channels: Vec<serde_json::Value> = table
         .channels
         .iter()
+        .chain(&derived)
         .map(|channel| {
             let record: Vec<(Real, Real)> = table.times.iter().copied().zip(channel.values.iter().copied()).collect();
             let scale = 1e6; // m → µm, rad → µrad
@@ -168,6 +211,7 @@ pub fn drift_report(
             let mut entry = json!({
                 "name": channel.name,
                 "unit": unit,
+                "derived": derived.iter().any(|d| std::ptr::eq(d, channel)),
                 "stop_min": stop_time(&record).map(|t| t / 60.0),
                 "etve_window_min": worst.map(|(_, start)| [start / 60.0, (start + etve_duration) / 60.0]),
                 "etve_ambient_range_degc": ambient_range,
@@ -182,6 +226,8 @@ pub fn drift_report(
     json!({
         "kind": "drift",
         "standard": "ISO 230-3:2007",
+        "test": table.conditions.test,
+        "spacing_mm": spacing.map(|l| l * 1e3),
         "etve_duration_min": etve_duration / 60.0,
         "ambient_sensor": ambient.map(|(name, _)| name.clone()),
         "channels": channels,

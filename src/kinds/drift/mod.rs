@@ -4,14 +4,18 @@
 //!
 //! | file | owns |
 //! |---|---|
-//! | [`table`] | the `drift` table ([`DriftTable`]: time_min, `<channel>_um`/`_urad`, `temp_<sensor>_degc`) |
-//! | [`iso230_3`] | drift ranges, stop criterion, ETVE, the report |
+//! | [`scenario`] | `[iso230_3_etve]`, the ETVE test (with `[thermal]`) → [`EtveTest`] |
+//! | [`run`] | the ETVE test through the thermal twin: the nest and the thermometers ([`EtveRun`]) |
+//! | [`table`] | the `drift` table ([`DriftTable`]: time_min, `<channel>_um`/`_urad`, `temp_<sensor>_degc`, its conditions) |
+//! | [`iso230_3`] | drift ranges, stop criterion, ETVE, tilts from sensor pairs, the report |
 //! | [`cli`] | `mtwin analyze drift` |
-//!
-//! No bundled scenario writes a drift table yet: real or foreign records are read as they are.
 
 pub mod cli;
 pub mod iso230_3;
+pub mod run;
+pub mod scenario;
 pub mod table;
 
-pub use table::{DriftChannel, DriftTable};
+pub use run::EtveRun;
+pub use scenario::EtveTest;
+pub use table::{DriftChannel, DriftConditions, DriftTable};

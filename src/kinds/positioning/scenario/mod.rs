@@ -23,7 +23,6 @@ use crate::kinds::positioning::program::{LinearCycle, irregular_targets};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, RAD_PER_DEG, Real, seeded_rng};
 use crate::program::Program;
-use crate::scenario::thermal::{RawThermal, thermal_setup};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind, ThermalSetup};
 use serde::Deserialize;
 use toml::Spanned;
@@ -298,19 +297,19 @@ pub(crate) struct RawSections<'a> {
     pub iso230_3_linear: Option<&'a Spanned<thermal_tests::RawLinearMotion>>,
     /// `[laser]`.
     pub laser: Option<&'a Spanned<RawLaser>>,
-    /// `[thermal]`, which a laser test runs through and nothing else uses.
-    pub thermal: Option<&'a Spanned<RawThermal>>,
+    /// The scenario's `[thermal]` model, if it has one, and where its section is.
+    pub thermal: Option<(&'a ThermalSetup, std::ops::Range<usize>)>,
 }
 
-/// The laser test of a scenario, if it has one, with the thermal model it runs through: at
-/// most one of `[iso230_2]`, `[warmup]`, `[iso230_3_linear]`, the `[laser]` that measures
-/// it, and `[thermal]` (needed by the thermal tests, used by nothing else).
+/// The laser test of a scenario, if it has one: at most one of `[iso230_2]`, `[warmup]`,
+/// `[iso230_3_linear]`, and the `[laser]` that measures it. The thermal tests need the
+/// scenario's `[thermal]` model; any test runs through it when there is one.
 pub(crate) fn sections(
     context: &Context<'_>,
     machine: &Machine,
     seed: u64,
     raw: RawSections<'_>,
-) -> Result<(Option<ThermalSetup>, Option<LaserTest>), ScenarioError> {
+) -> Result<Option<LaserTest>, ScenarioError> {
     let tests = [
         raw.iso230_2.map(|t| t.span()),
         raw.warmup.map(|t| t.span()),
@@ -331,12 +330,8 @@ pub(crate) fn sections(
             "one laser test per scenario: [iso230_2], [warmup] or [iso230_3_linear]",
         ));
     }
-    let thermal = raw
-        .thermal
-        .as_ref()
-        .map(|t| thermal_setup(context, machine, t))
-        .transpose()?;
-    if let (Some(span), None) = (tests[1].clone().or(tests[2].clone()), &thermal) {
+    let thermal = raw.thermal.as_ref().map(|(setup, _)| *setup);
+    if let (Some(span), None) = (tests[1].clone().or(tests[2].clone()), thermal) {
         return Err(context.error(
             Some(span),
             ScenarioErrorKind::Value,
@@ -355,38 +350,18 @@ pub(crate) fn sections(
     } else {
         None
     };
-    if let (Some(setup), Some(test)) = (&thermal, &laser_test) {
-        let duration = test.program.duration();
-        if duration / setup.max_interval > 5e6 {
-            return Err(context.error(
-                raw.thermal.map(|t| t.span()),
-                ScenarioErrorKind::Value,
-                format!(
-                    "thermal.max_interval_s: {:.1} h in steps of {} s is more than five million steps",
-                    duration / 3600.0,
-                    setup.max_interval
-                ),
-            ));
-        }
+    if let (Some((setup, span)), Some(test)) = (&raw.thermal, &laser_test) {
+        setup.check_steps(context, span.clone(), test.program.duration())?;
     }
-    if let (Some(_), Some(span)) = (&thermal, raw.laser.and_then(air_temperature_given)) {
+    if let (Some(_), Some(span)) = (thermal, raw.laser.and_then(air_temperature_given)) {
         return Err(context.error(
             Some(span),
             ScenarioErrorKind::Value,
             "laser.air.temperature_degc: with [thermal] the laser's air is the machine's air (its ambient); set it there",
         ));
     }
-    if let (Some(section), None) = (raw.thermal, &laser_test) {
-        return Err(context.error(
-            Some(section.span()),
-            ScenarioErrorKind::Nothing,
-            "thermal: nothing in this scenario uses the thermal model; add a laser test ([iso230_2], [warmup] or [iso230_3_linear])",
-        ));
-    }
     if let Some((node, _)) = laser_test.as_ref().and_then(|t| t.material_sensor.as_ref()) {
-        let known = thermal
-            .as_ref()
-            .is_some_and(|t| t.thermal.network.node(node).is_some());
+        let known = thermal.is_some_and(|t| t.thermal.network.node(node).is_some());
         if !known {
             let span = raw.laser.map(|l| l.span());
             return Err(context.error(
@@ -396,5 +371,5 @@ pub(crate) fn sections(
             ));
         }
     }
-    Ok((thermal, laser_test))
+    Ok(laser_test)
 }
