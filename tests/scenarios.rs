@@ -25,9 +25,9 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // sample falls): a full circle of 150 mm at 1000 mm/min 56.5 s, 14 137 readings; a 180° arc
     // 7 069; a 100 mm circle 9 425. The lessons: Abbe 6 targets × 2 × 2 runs; squareness a
     // 100 mm circle at 2000 mm/min, 18.85 s at 100 Hz, 1 885 per sense; warm-up 7 targets
-    // (5..755 step 125) × 2 × 4 runs.
+    // (5..755 step 125) × 2 × 4 runs. The ETVE test reads every minute for 480 min: 481 rows.
     let full_150 = 2 * 14_137;
-    let expected: [(&str, &[(&str, usize)]); 12] = [
+    let expected: [(&str, &[(&str, usize)]); 13] = [
         ("teach_abbe.toml", &[("positioning.csv", 6 * 2 * 2)]),
         (
             "teach_squareness_ballbar.toml",
@@ -46,6 +46,7 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
         ("vmc3_iso230_2.toml", &[("positioning.csv", 9 * 2 * 5)]),
         ("vmc3_warmup_laser.toml", &[("positioning.csv", 16 * 2 * 7)]),
         ("vmc3_iso230_3_linear.toml", &[("positioning.csv", 2 * 240)]),
+        ("vmc3_iso230_3_etve.toml", &[("drift.csv", 480 + 1)]),
         ("vmc3_ballbar_xy.toml", &[("ballbar_xy.csv", full_150)]),
         (
             "vmc3_ballbar_3planes.toml",
