@@ -5,6 +5,7 @@
 #![cfg(feature = "viz")]
 
 use mtwin::app::{Scenario, Simulation, simulate};
+use mtwin::viz::rr as rerun;
 use mtwin::viz::{self, TIMELINE};
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};

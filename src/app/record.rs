@@ -6,6 +6,7 @@ use super::{Scenario, Simulation};
 use crate::kinds::{ballbar, positioning, volumetric};
 use crate::math::Real;
 use crate::viz::machine::MachineScene;
+use crate::viz::rr;
 use crate::viz::{LESSON, RecordingStream, TIMELINE, TOOL_TIP_ERROR_UM, VizError, WORLD, factor};
 use std::path::Path;
 
@@ -52,10 +53,10 @@ pub fn record(
         volumetric::scene::record(rec, &mut scene, map, start, &mut legend)?;
     }
     let text = lesson_text(scenario, magnification, &legend);
-    rec.log_static(LESSON, &rerun::TextDocument::from_markdown(text))?;
+    rec.log_static(LESSON, &rr::TextDocument::from_markdown(text))?;
     layout(scenario, simulation).send(
         rec,
-        rerun::blueprint::BlueprintActivation {
+        rr::blueprint::BlueprintActivation {
             make_active: true,
             make_default: true,
         },
@@ -65,8 +66,8 @@ pub fn record(
 
 /// The viewer's layout: the machine and the time series on the left, the lesson and the 2D
 /// plots (one tab each) on the right.
-fn layout(scenario: &Scenario, simulation: &Simulation) -> rerun::blueprint::Blueprint {
-    use rerun::blueprint::{
+fn layout(scenario: &Scenario, simulation: &Simulation) -> rr::blueprint::Blueprint {
+    use rr::blueprint::{
         Blueprint, ContainerLike, Horizontal, Spatial2DView, Spatial3DView, Tabs, TextDocumentView,
         TimeSeriesView, Vertical,
     };
@@ -135,11 +136,11 @@ fn layout(scenario: &Scenario, simulation: &Simulation) -> rerun::blueprint::Blu
     if !plots.is_empty() {
         right.push(Tabs::new(plots).into());
     }
-    let collapsed = rerun::blueprint::components::PanelState::Collapsed;
+    let collapsed = rr::blueprint::components::PanelState::Collapsed;
     Blueprint::new(Horizontal::new([left.into(), Vertical::new(right).into()]))
-        .with_blueprint_panel(rerun::blueprint::BlueprintPanel::from_state(collapsed))
-        .with_selection_panel(rerun::blueprint::SelectionPanel::from_state(collapsed))
-        .with_time_panel(rerun::blueprint::TimePanel::new().with_timeline(TIMELINE))
+        .with_blueprint_panel(rr::blueprint::BlueprintPanel::from_state(collapsed))
+        .with_selection_panel(rr::blueprint::SelectionPanel::from_state(collapsed))
+        .with_time_panel(rr::blueprint::TimePanel::new().with_timeline(TIMELINE))
 }
 
 /// Records `scenario` into the file `path` (`.rrd`), replacing it.
@@ -149,7 +150,7 @@ pub fn save(
     simulation: &Simulation,
     progress: &mut dyn FnMut(&str),
 ) -> Result<(), VizError> {
-    let rec = rerun::RecordingStreamBuilder::new("mtwin")
+    let rec = rr::RecordingStreamBuilder::new("mtwin")
         .enabled(true)
         .save(path)
         .map_err(|e| VizError::Recording(format!("{}: {e}", path.display())))?;

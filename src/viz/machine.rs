@@ -6,8 +6,9 @@ use super::{MACHINE, TOOL_NOMINAL, TOOL_TIP_ERROR_UM, VizError, WORKPIECE_NOMINA
 use crate::machine::{MachineState, Shape, Side, Workspace};
 use crate::math::{Pose, Real, Vector, rigid_inverse};
 use crate::twin::Twin;
+use crate::viz::rr;
 use glam::{DMat3, DQuat};
-use rerun::RecordingStream;
+use rr::RecordingStream;
 
 /// Length of the drawn frame axes (m).
 const FRAME_AXIS_LENGTH: f32 = 0.08;
@@ -70,7 +71,7 @@ impl<'a> MachineScene<'a> {
         rec: &RecordingStream,
         legend: &mut Vec<String>,
     ) -> Result<(), VizError> {
-        rec.log_static(WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
+        rec.log_static(WORLD, &rr::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let machine = &self.twin.machine;
         // Fixed bodies: their frames at any axis values.
         machine.world_from_bodies(
@@ -82,9 +83,9 @@ impl<'a> MachineScene<'a> {
         let mut meshes = Vec::new();
         for ((body, path), frame) in machine.bodies().iter().zip(&self.paths).zip(&self.frames) {
             let colour = match body.moved_by.and_then(side_of) {
-                None => rerun::Color::from_rgb(110, 110, 120),
-                Some(Side::Workpiece) => rerun::Color::from_rgb(90, 140, 200),
-                Some(Side::Tool) => rerun::Color::from_rgb(230, 150, 60),
+                None => rr::Color::from_rgb(110, 110, 120),
+                Some(Side::Workpiece) => rr::Color::from_rgb(90, 140, 200),
+                Some(Side::Tool) => rr::Color::from_rgb(230, 150, 60),
             };
             for (i, visual) in body.visuals.iter().enumerate() {
                 let entity = format!("{path}/visual_{i}");
@@ -93,44 +94,41 @@ impl<'a> MachineScene<'a> {
                 match &visual.shape {
                     Shape::Box { size } => rec.log_static(
                         entity,
-                        &rerun::Boxes3D::from_centers_and_sizes(centre, [vec3(*size)])
+                        &rr::Boxes3D::from_centers_and_sizes(centre, [vec3(*size)])
                             .with_quaternions(rotation)
                             .with_colors([colour])
-                            .with_fill_mode(rerun::FillMode::Solid),
+                            .with_fill_mode(rr::FillMode::Solid),
                     )?,
                     Shape::Cylinder { radius, length } => rec.log_static(
                         entity,
-                        &rerun::Cylinders3D::from_lengths_and_radii(
+                        &rr::Cylinders3D::from_lengths_and_radii(
                             [*length as f32],
                             [*radius as f32],
                         )
                         .with_centers(centre)
                         .with_quaternions(rotation)
                         .with_colors([colour])
-                        .with_fill_mode(rerun::FillMode::Solid),
+                        .with_fill_mode(rr::FillMode::Solid),
                     )?,
                     Shape::Capsule { radius, length } => rec.log_static(
                         entity,
-                        &rerun::Capsules3D::from_lengths_and_radii(
-                            [*length as f32],
-                            [*radius as f32],
-                        )
-                        // Capsules start at their origin; URDF centres them.
-                        .with_translations([vec3(
-                            visual.link_from_shape.transform_point3(Vector::new(
-                                0.0,
-                                0.0,
-                                -length / 2.0,
-                            )),
-                        )])
-                        .with_quaternions(rotation)
-                        .with_colors([colour]),
+                        &rr::Capsules3D::from_lengths_and_radii([*length as f32], [*radius as f32])
+                            // Capsules start at their origin; URDF centres them.
+                            .with_translations([vec3(
+                                visual.link_from_shape.transform_point3(Vector::new(
+                                    0.0,
+                                    0.0,
+                                    -length / 2.0,
+                                )),
+                            )])
+                            .with_quaternions(rotation)
+                            .with_colors([colour]),
                     )?,
                     Shape::Sphere { radius } => rec.log_static(
                         entity,
-                        &rerun::Ellipsoids3D::from_centers_and_radii(centre, [*radius as f32])
+                        &rr::Ellipsoids3D::from_centers_and_radii(centre, [*radius as f32])
                             .with_colors([colour])
-                            .with_fill_mode(rerun::FillMode::Solid),
+                            .with_fill_mode(rr::FillMode::Solid),
                     )?,
                     Shape::Mesh { file, .. } => meshes.push(format!("{} ({file})", body.link)),
                 }
@@ -145,7 +143,7 @@ impl<'a> MachineScene<'a> {
             super::tool_actual(self.magnification),
             super::workpiece_actual(self.magnification),
         ] {
-            rec.log_static(frame, &rerun::TransformAxes3D::new(FRAME_AXIS_LENGTH))?;
+            rec.log_static(frame, &rr::TransformAxes3D::new(FRAME_AXIS_LENGTH))?;
         }
         legend.push(format!(
             "`{MACHINE}/<link>`: the machine from its URDF, drawn nominal (grey: bed; blue: workpiece side; orange: tool side){}.",
@@ -212,14 +210,14 @@ impl<'a> MachineScene<'a> {
         let deviation = ends.deviation();
         rec.log(
             super::tool_tip_error(m),
-            &rerun::Arrows3D::from_vectors([vec3(deviation * m)])
+            &rr::Arrows3D::from_vectors([vec3(deviation * m)])
                 .with_origins([vec3(ends.nominal_tip())])
-                .with_colors([rerun::Color::from_rgb(230, 40, 40)]),
+                .with_colors([rr::Color::from_rgb(230, 40, 40)]),
         )?;
         for (name, value) in ["dx", "dy", "dz"].iter().zip(deviation.to_array()) {
             rec.log(
                 format!("{TOOL_TIP_ERROR_UM}/{name}"),
-                &rerun::Scalars::single(value * 1e6),
+                &rr::Scalars::single(value * 1e6),
             )?;
         }
         Ok(())

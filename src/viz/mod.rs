@@ -25,7 +25,9 @@ pub(crate) mod plot;
 
 use crate::math::Real;
 
-pub use rerun::RecordingStream;
+pub mod rr;
+
+pub use rr::RecordingStream;
 
 /// The timeline every scene is logged on: programme time (s).
 pub const TIMELINE: &str = "program_time";
@@ -76,8 +78,8 @@ pub enum VizError {
     Recording(String),
 }
 
-impl From<rerun::RecordingStreamError> for VizError {
-    fn from(e: rerun::RecordingStreamError) -> VizError {
+impl From<rr::RecordingStreamError> for VizError {
+    fn from(e: rr::RecordingStreamError) -> VizError {
         VizError::Recording(e.to_string())
     }
 }

@@ -5,6 +5,7 @@
 use super::discovery::discover_ballbar;
 use super::iso230_4::{self, BasisPoint, CircleData, CircularTest, Term};
 use crate::kinds::ballbar::table::BallbarTable;
+use crate::viz::rr;
 
 use crate::kinds::ballbar::program::{CircularInterpolation, run_circle};
 use crate::kinds::ballbar::scenario::BallbarTest;
@@ -13,7 +14,7 @@ use crate::viz::convert::{plot_point, vec3};
 use crate::viz::machine::MachineScene;
 use crate::viz::plot::{circle as nominal_circle, label, largest_um, polar, scale_per_um};
 use crate::viz::{TIMELINE, VizError, WORKPIECE_NOMINAL};
-use rerun::RecordingStream;
+use rr::RecordingStream;
 
 /// Radius of the nominal circle of the polar plots (plot units).
 pub const PLOT_RADIUS: Real = 100.0;
@@ -63,9 +64,9 @@ pub(crate) fn record(
     let bar = format!("{WORKPIECE_NOMINAL}/ballbar_{}", circle.plane.lower());
     rec.log_static(
         format!("{bar}/centre_ball"),
-        &rerun::Points3D::new([vec3(centre)])
+        &rr::Points3D::new([vec3(centre)])
             .with_radii([0.00635f32])
-            .with_colors([rerun::Color::from_rgb(220, 220, 220)]),
+            .with_colors([rr::Color::from_rgb(220, 220, 220)]),
     )?;
     let period = FRAME_PERIOD_S.max(circle.duration() / MAX_FRAMES);
     let samples = run_circle(circle, &test.servo, period);
@@ -75,7 +76,7 @@ pub(crate) fn record(
             rec.set_duration_secs(TIMELINE, start + reading.time.unwrap_or(0.0));
             rec.log(
                 series(circle),
-                &rerun::Scalars::single(reading.deviation * 1e6),
+                &rr::Scalars::single(reading.deviation * 1e6),
             )?;
         }
         rec.set_duration_secs(TIMELINE, start + sample.time);
@@ -85,22 +86,22 @@ pub(crate) fn record(
         let tip = ends.nominal_tip();
         rec.log(
             format!("{bar}/bar"),
-            &rerun::LineStrips3D::new([[vec3(centre), vec3(tip)]])
+            &rr::LineStrips3D::new([[vec3(centre), vec3(tip)]])
                 .with_radii([0.003f32])
-                .with_colors([rerun::Color::from_rgb(200, 200, 210)]),
+                .with_colors([rr::Color::from_rgb(200, 200, 210)]),
         )?;
         rec.log(
             format!("{bar}/tool_ball"),
-            &rerun::Points3D::new([vec3(tip)])
+            &rr::Points3D::new([vec3(tip)])
                 .with_radii([0.00635f32])
-                .with_colors([rerun::Color::from_rgb(220, 220, 220)]),
+                .with_colors([rr::Color::from_rgb(220, 220, 220)]),
         )?;
     }
     for reading in readings {
         rec.set_duration_secs(TIMELINE, start + reading.time.unwrap_or(0.0));
         rec.log(
             series(circle),
-            &rerun::Scalars::single(reading.deviation * 1e6),
+            &rr::Scalars::single(reading.deviation * 1e6),
         )?;
     }
     polar_plots(rec, circle, table, legend)?;
@@ -151,8 +152,8 @@ fn polar_plots(
     let origin = [0.0, 0.0];
     rec.log_static(
         format!("{root}/nominal"),
-        &rerun::LineStrips2D::new([nominal_circle(origin, PLOT_RADIUS)])
-            .with_colors([rerun::Color::from_rgb(150, 150, 150)]),
+        &rr::LineStrips2D::new([nominal_circle(origin, PLOT_RADIUS)])
+            .with_colors([rr::Color::from_rgb(150, 150, 150)]),
     )?;
     log_senses(
         rec,
@@ -212,13 +213,13 @@ fn polar_plots(
         let base = format!("{root}/diagnostics/{name}");
         rec.log_static(
             format!("{base}/nominal"),
-            &rerun::LineStrips2D::new([nominal_circle(centre, radius)])
-                .with_colors([rerun::Color::from_rgb(150, 150, 150)]),
+            &rr::LineStrips2D::new([nominal_circle(centre, radius)])
+                .with_colors([rr::Color::from_rgb(150, 150, 150)]),
         )?;
         log_senses(rec, &base, "", &data.points, values, centre, radius, scale)?;
         rec.log_static(
             format!("{base}/label"),
-            &rerun::Points2D::new([plot_point(centre[0], centre[1] + radius * 1.3)])
+            &rr::Points2D::new([plot_point(centre[0], centre[1] + radius * 1.3)])
                 .with_radii([0.5f32])
                 .with_labels([label.clone()]),
         )?;
@@ -258,8 +259,8 @@ pub(crate) fn discovery(
         let base = format!("{root}/step_{k}");
         rec.log_static(
             format!("{base}/nominal"),
-            &rerun::LineStrips2D::new([nominal_circle(centre, PLOT_RADIUS)])
-                .with_colors([rerun::Color::from_rgb(150, 150, 150)])
+            &rr::LineStrips2D::new([nominal_circle(centre, PLOT_RADIUS)])
+                .with_colors([rr::Color::from_rgb(150, 150, 150)])
                 .with_labels([label(step)]),
         )?;
         log_senses(
@@ -293,8 +294,8 @@ fn log_senses(
     scale: Real,
 ) -> Result<(), VizError> {
     for (sense, tag, colour) in [
-        (1.0, "ccw", rerun::Color::from_rgb(60, 120, 230)),
-        (-1.0, "cw", rerun::Color::from_rgb(230, 80, 60)),
+        (1.0, "ccw", rr::Color::from_rgb(60, 120, 230)),
+        (-1.0, "cw", rr::Color::from_rgb(230, 80, 60)),
     ] {
         let (angles, values): (Vec<Real>, Vec<Real>) = points
             .iter()
@@ -308,7 +309,7 @@ fn log_senses(
         let (angles, values) = sorted_by_angle(&angles, &values);
         rec.log_static(
             format!("{base}/{prefix}{tag}"),
-            &rerun::LineStrips2D::new([polar(centre, radius, scale, &angles, &values)])
+            &rr::LineStrips2D::new([polar(centre, radius, scale, &angles, &values)])
                 .with_colors([colour]),
         )?;
     }

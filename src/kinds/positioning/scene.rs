@@ -6,6 +6,7 @@ use super::discovery::{PositioningOptions, discover_positioning};
 use super::table::PositioningTable;
 use crate::kinds::positioning::laser::{Mounting, Zeroing};
 use crate::kinds::positioning::run::LaserRun;
+use crate::viz::rr;
 
 use crate::kinds::positioning::scenario::LaserTest;
 use crate::machine::{Direction, MachineState};
@@ -16,7 +17,7 @@ use crate::viz::convert::{cold_to_warm, plot_point, vec3};
 use crate::viz::machine::MachineScene;
 use crate::viz::plot::{label, largest_um, scale_per_um};
 use crate::viz::{TIMELINE, VizError, WORKPIECE_NOMINAL};
-use rerun::RecordingStream;
+use rr::RecordingStream;
 
 /// The laser's 2D plot: deviation against position per run.
 pub const LASER_PLOT: &str = "laser_plot";
@@ -58,9 +59,9 @@ pub(crate) fn record(
     if let Some(fixed) = fixed_end {
         rec.log_static(
             format!("{WORKPIECE_NOMINAL}/laser/{fixed_name}"),
-            &rerun::Points3D::new([vec3(fixed)])
+            &rr::Points3D::new([vec3(fixed)])
                 .with_radii([0.015f32])
-                .with_colors([rerun::Color::from_rgb(200, 30, 30)]),
+                .with_colors([rr::Color::from_rgb(200, 30, 30)]),
         )?;
     }
 
@@ -89,16 +90,16 @@ pub(crate) fn record(
         let moving = (rigid_inverse(&ends.1) * ends.0).transform_point3(laser.beam_offset);
         rec.log(
             format!("{WORKPIECE_NOMINAL}/laser/{moving_name}"),
-            &rerun::Points3D::new([vec3(moving)])
+            &rr::Points3D::new([vec3(moving)])
                 .with_radii([0.012f32])
-                .with_colors([rerun::Color::from_rgb(240, 200, 40)]),
+                .with_colors([rr::Color::from_rgb(240, 200, 40)]),
         )?;
         if let Some(fixed) = fixed_end {
             rec.log(
                 format!("{WORKPIECE_NOMINAL}/laser/beam"),
-                &rerun::LineStrips3D::new([[vec3(fixed), vec3(moving)]])
+                &rr::LineStrips3D::new([[vec3(fixed), vec3(moving)]])
                     .with_radii([0.002f32])
-                    .with_colors([rerun::Color::from_rgb(255, 40, 40)]),
+                    .with_colors([rr::Color::from_rgb(255, 40, 40)]),
             )?;
         }
         Ok::<(), VizError>(())
@@ -128,21 +129,21 @@ pub(crate) fn record(
         let zero = run_zero.map_or(0.0, |(_, z)| z);
         rec.log(
             format!("{LASER_UM}/reading"),
-            &rerun::Scalars::single(reading.deviation * 1e6),
+            &rr::Scalars::single(reading.deviation * 1e6),
         )?;
         rec.log(
             format!("{LASER_UM}/tool_tip_truth"),
-            &rerun::Scalars::single((truth_along(i) - zero) * 1e6),
+            &rr::Scalars::single((truth_along(i) - zero) * 1e6),
         )?;
         rec.log(
             format!("{LASER_UM}/target_{}", visit.point.target),
-            &rerun::Scalars::single(reading.deviation * 1e6),
+            &rr::Scalars::single(reading.deviation * 1e6),
         )?;
         if let Some((setup, record)) = thermal {
             for ((_, spec), value) in setup.sensors.iter().zip(&record.readings) {
                 rec.log(
                     format!("{TEMPERATURES_DEGC}/{}", spec.name),
-                    &rerun::Scalars::single(*value),
+                    &rr::Scalars::single(*value),
                 )?;
             }
             for (node, value) in setup
@@ -154,12 +155,12 @@ pub(crate) fn record(
             {
                 rec.log(
                     format!("{TEMPERATURES_DEGC}/true/{}", node.name),
-                    &rerun::Scalars::single(*value),
+                    &rr::Scalars::single(*value),
                 )?;
             }
             rec.log(
                 format!("{TEMPERATURES_DEGC}/air"),
-                &rerun::Scalars::single(setup.thermal.ambient.at(visit.time)),
+                &rr::Scalars::single(setup.thermal.ambient.at(visit.time)),
             )?;
         }
         Ok::<(), VizError>(())
@@ -265,7 +266,7 @@ fn curves(rec: &RecordingStream, run: &LaserRun, legend: &mut Vec<String>) -> Re
                 .collect();
             rec.log_static(
                 format!("{LASER_PLOT}/run_{name}_{tag}"),
-                &rerun::LineStrips2D::new([strip])
+                &rr::LineStrips2D::new([strip])
                     .with_colors([colour])
                     .with_labels([label]),
             )?;
@@ -273,8 +274,8 @@ fn curves(rec: &RecordingStream, run: &LaserRun, legend: &mut Vec<String>) -> Re
     }
     rec.log_static(
         format!("{LASER_PLOT}/zero"),
-        &rerun::LineStrips2D::new([[plot_point(low * 1e3, 0.0), plot_point(high * 1e3, 0.0)]])
-            .with_colors([rerun::Color::from_rgb(150, 150, 150)]),
+        &rr::LineStrips2D::new([[plot_point(low * 1e3, 0.0), plot_point(high * 1e3, 0.0)]])
+            .with_colors([rr::Color::from_rgb(150, 150, 150)]),
     )?;
     legend.push(format!(
         "`{LASER_PLOT}`: deviation against target per run and direction; x: target (mm), y: deviation, 1 µm drawn as {scale} mm, upward; colour: the run's mean temperature (first sensor), blue coldest to red warmest (without sensors: blue up, red down)."
@@ -327,21 +328,21 @@ pub(crate) fn discovery(
                     .collect();
                 rec.log_static(
                     format!("{base}/run_{}_{tag}", table.runs[r]),
-                    &rerun::LineStrips2D::new([strip]).with_colors([if approach == Approach::Up {
-                        rerun::Color::from_rgb(60, 120, 230)
+                    &rr::LineStrips2D::new([strip]).with_colors([if approach == Approach::Up {
+                        rr::Color::from_rgb(60, 120, 230)
                     } else {
-                        rerun::Color::from_rgb(230, 80, 60)
+                        rr::Color::from_rgb(230, 80, 60)
                     }]),
                 )?;
             }
         }
         rec.log_static(
             format!("{base}/zero"),
-            &rerun::LineStrips2D::new([[
+            &rr::LineStrips2D::new([[
                 plot_point(low * 1e3, offset),
                 plot_point(high * 1e3, offset),
             ]])
-            .with_colors([rerun::Color::from_rgb(150, 150, 150)])
+            .with_colors([rr::Color::from_rgb(150, 150, 150)])
             .with_labels([label(step)]),
         )?;
     }

@@ -6,8 +6,9 @@ use crate::machine::MachineState;
 use crate::math::Real;
 use crate::viz::convert::{cold_to_warm, vec3};
 use crate::viz::machine::MachineScene;
+use crate::viz::rr;
 use crate::viz::{TIMELINE, VizError, WORKPIECE_NOMINAL};
-use rerun::RecordingStream;
+use rr::RecordingStream;
 
 /// How long the tour stands at each grid point (s), and the most points it visits.
 const TOUR_STEP_S: Real = 0.5;
@@ -41,7 +42,7 @@ pub(crate) fn record(
         .iter()
         .map(|r| r.deviation.translation.length())
         .fold(0.0, Real::max);
-    let colours: Vec<rerun::Color> = map
+    let colours: Vec<rr::Color> = map
         .rows
         .iter()
         .map(|r| {
@@ -54,7 +55,7 @@ pub(crate) fn record(
         .collect();
     rec.log_static(
         map_path(m),
-        &rerun::Arrows3D::from_vectors(map.rows.iter().map(|r| vec3(r.deviation.translation * m)))
+        &rr::Arrows3D::from_vectors(map.rows.iter().map(|r| vec3(r.deviation.translation * m)))
             .with_origins(tips.iter().map(|t| vec3(*t)))
             .with_colors(colours),
     )?;
