@@ -74,14 +74,18 @@ fn trace(twin: &Twin, circle: &CircularInterpolation, servo: &Servo) -> BallbarT
     exact_bar().measure(twin, circle, servo, &mut seeded_rng(1, "ballbar test"))
 }
 
-/// Reading by reading `a − b` of two traces with the same sampling.
+/// Reading by reading `a − b` of two traces with the same sampling (angles within 0.1 µrad).
 fn difference(a: &BallbarTable, b: &BallbarTable) -> Vec<(BallbarReading, Real)> {
     assert_eq!(a.readings.len(), b.readings.len());
     a.readings
         .iter()
         .zip(&b.readings)
         .map(|(x, y)| {
-            assert!(x.angle == y.angle && x.sense == y.sense);
+            // The bar times each trace from where the axes arrive on the data arc's entry, by
+            // linear interpolation between samples: a fault that moves the tool radially
+            // there (a spike at 0°, by 2·10⁻⁵ of R) moves the interpolated crossing by that
+            // fraction of a sample's 4.4·10⁻⁴ rad, ~10⁻⁸ rad (≤ 0.2 nm of any trace here).
+            assert!((x.angle - y.angle).abs() < 1e-7 && x.sense == y.sense);
             (*x, x.deviation - y.deviation)
         })
         .collect()
@@ -98,12 +102,13 @@ fn distance_to(angle: Real, points: &[Real]) -> Real {
         .fold(Real::INFINITY, Real::min)
 }
 
-/// Where the axes actually are when the programmed angle is the reading's: the default loops
-/// (Kv = 33.3/s) lag by φ = atan(ω/Kv) = 0.19° along the direction of travel. An error that
-/// depends on position is read at this angle.
+/// Where the axes actually are at a reading: the angle the bar assigns it. The default loops
+/// (Kv = 33.3/s) run φ = atan(ω/Kv) = 0.19° behind the command along the direction of travel,
+/// and the bar times its trace from where the axes actually arrive on the data arc, φ/ω after
+/// the command (`detected_delay`): its angles are the axes' own. An error that depends on
+/// position is read at this angle.
 fn actual_angle(reading: &BallbarReading) -> Real {
-    let phase = (FEED / RADIUS * 0.03).atan();
-    reading.angle - reading.sense.sign() * phase
+    reading.angle
 }
 
 fn sign(x: Real) -> Real {
@@ -357,7 +362,10 @@ fn lateral_play_of_x_bulges_the_trace_by_sigma_abs_sin_theta() {
 #[test]
 fn servo_mismatch_turns_the_circle_into_an_ellipse_at_45_degrees_that_flips_with_the_sense() {
     // Lag times τx = 1/30 s, τy = 1/33.3 s: Δτ = +3.3 ms. Exactly (first-order loops): the
-    // tool at R·(|Hx| cos(θ − σφx), |Hy| sin(θ − σφy)); to first order the bar reads
+    // tool at R·(|Hx| cos(θc − σφx), |Hy| sin(θc − σφy)) at the programmed angle θc. The bar
+    // times its trace from where the axes arrive on the data arc's entry, 0°, which is where
+    // Y crosses 0: φy/ω after the command, so its angle θ = θc − σφy, and the tool is at
+    // R·(|Hx| cos(θ − σ(φx − φy)), |Hy| sin θ). To first order the bar reads
     // σ·(v·Δτ/2)·sin 2θ plus a common term.
     let circle = circle(Plane::XY, 360.0);
     let mut servo = Servo::default();
@@ -371,8 +379,7 @@ fn servo_mismatch_turns_the_circle_into_an_ellipse_at_45_degrees_that_flips_with
     for r in &table.readings {
         let (t, sigma) = (r.angle, r.sense.sign());
         let exact = RADIUS
-            * ((gx * (t - sigma * px).cos()).powi(2) + (gy * (t - sigma * py).sin()).powi(2))
-                .sqrt()
+            * ((gx * (t - sigma * (px - py)).cos()).powi(2) + (gy * t.sin()).powi(2)).sqrt()
             - RADIUS;
         assert!(
             (r.deviation - exact).abs() < NM,
@@ -397,9 +404,10 @@ fn servo_mismatch_turns_the_circle_into_an_ellipse_at_45_degrees_that_flips_with
 #[test]
 fn a_reversal_spike_points_outward_and_decays_with_its_time_constant() {
     // X sticks at reversal: it lags in its new direction by h·e^(−Δt/τ) from the moment its
-    // loop velocity changes sign (the programmed reversal plus the loop's phase lag φ/ω).
-    // Radially that is +h·|cos θ|·e^(−Δt/τ) (to first order): outward at both X reversals, in
-    // both senses.
+    // loop velocity changes sign (the programmed reversal plus the loop's phase lag φ/ω, where
+    // the bar, timing its trace from the axes' arrival φ/ω after the command, places 0° and
+    // 180°). Radially that is +h·|cos θ|·e^(−Δt/τ) (to first order): outward at both X
+    // reversals, in both senses.
     let (h, tau) = (3e-6, 0.015);
     let circle = circle(Plane::XY, 360.0);
     let plain = Servo::default();
@@ -411,23 +419,18 @@ fn a_reversal_spike_points_outward_and_decays_with_its_time_constant() {
         &trace(&perfect, &circle, &sticky),
         &trace(&perfect, &circle, &plain),
     );
-    let omega = FEED / RADIUS;
-    let lag = (omega * 0.03).atan() / omega; // φ/ω for Kv = 33.3/s: 30 ms
     let mut peaks = 0;
     for (reading, d) in spikes {
         let (t, sigma) = (reading.angle, reading.sense.sign());
-        // Time since the programmed X reversal (0° or 180°) in the direction of travel.
+        // Time since the actual X reversal (0° or 180° of the bar's angles) in the direction
+        // of travel.
         let since = [0.0, PI]
             .iter()
             .map(|p| (sigma * (t - p)).rem_euclid(TAU))
             .fold(Real::INFINITY, Real::min)
             * RADIUS
             / FEED;
-        let expected = if since >= lag {
-            h * t.cos().abs() * (-(since - lag) / tau).exp()
-        } else {
-            0.0
-        };
+        let expected = h * t.cos().abs() * (-since / tau).exp();
         assert!(
             (d - expected).abs() < 2.0 * NM,
             "{d} vs {expected} at {since} s"

@@ -265,6 +265,7 @@ fn the_warm_up_scenario_files_follow_the_injected_thermal_model() {
     let csv = String::from_utf8(file("positioning.csv")).unwrap();
     let rows: Vec<Vec<String>> = csv
         .lines()
+        .filter(|l| !l.starts_with('#'))
         .skip(1)
         .map(|l| l.split(',').map(String::from).collect())
         .collect();
@@ -376,6 +377,7 @@ fn the_linear_motion_scenario_drift_follows_the_screw_temperature() {
     let csv = String::from_utf8(file("positioning.csv")).unwrap();
     let rows: Vec<Vec<String>> = csv
         .lines()
+        .filter(|l| !l.starts_with('#'))
         .skip(1)
         .map(|l| l.split(',').map(String::from).collect())
         .collect();
@@ -444,6 +446,7 @@ fn material_compensation_on_the_screw_hides_its_expansion() {
     .unwrap();
     let rows: Vec<Vec<String>> = csv
         .lines()
+        .filter(|l| !l.starts_with('#'))
         .skip(1)
         .map(|l| l.split(',').map(String::from).collect())
         .collect();

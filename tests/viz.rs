@@ -297,6 +297,47 @@ fn squareness_lesson_logs_every_reading_and_the_diagnostic_plots() {
 }
 
 #[test]
+fn squareness_lesson_draws_the_significant_diagnostics_and_they_are_the_injected_ones() {
+    // The lesson injects a squareness (EC0Y) and X lost motion (EXX reversal) and nothing else
+    // that a ball-bar diagnostic names (both axes have the same servo); radius and centre are
+    // the set-up, drawn in the trace only. The plots must be the diagnostics that pass the
+    // report's significance rule, and those must be the injected two.
+    use mtwin::kinds::ballbar::iso230_4::{self, CircleData, CircularTest, Term};
+    let (scenario, simulation, recording) = record("teach_squareness_ballbar.toml");
+    let circle = &scenario.ballbar_test.as_ref().unwrap().circles[0];
+    let test = CircularTest {
+        plane: circle.plane,
+        radius: circle.radius,
+        feed: circle.feed,
+    };
+    let table = &simulation.ballbar[0];
+    let data = CircleData::new(table, &test).unwrap();
+    let diagnostics = iso230_4::evaluate(table, &test)
+        .unwrap()
+        .diagnostics
+        .unwrap();
+    let mut significant: Vec<String> = diagnostics
+        .estimates
+        .iter()
+        .filter(|(t, _)| !matches!(t, Term::Radius | Term::CentreP | Term::CentreQ))
+        .filter(|(t, e)| e.value.abs() > data.significance(*t) * e.u)
+        .map(|(t, _)| t.name(circle.plane))
+        .collect();
+    significant.sort();
+    let mut drawn: Vec<String> = recording
+        .entities()
+        .iter()
+        .filter_map(|e| e.strip_prefix("/ballbar_xy/diagnostics/"))
+        .filter_map(|e| e.strip_suffix("/nominal"))
+        .filter(|e| *e != "residual")
+        .map(String::from)
+        .collect();
+    drawn.sort();
+    assert_eq!(drawn, significant);
+    assert_eq!(drawn, ["backlash_x", "squareness"]);
+}
+
+#[test]
 fn squareness_arrow_is_an_x_shift_growing_with_y() {
     // EC0Y = −40 µrad: moving +Y also moves the tool by −EC0Y·Y = +40 µrad × Y along X (the
     // angle between +X and +Y under 90°), so at any frame the arrow's x is 40e-6 × Y × 2000

@@ -67,6 +67,17 @@ impl CircularInterpolation {
         2.0 * self.run_duration() + self.dwell
     }
 
+    /// When the command enters `sense`'s data arc (s from the start of the test): after its
+    /// overshoot arc, run at the feed once the ramp is done (the ramp fits in the overshoot).
+    pub fn entry_time(&self, sense: Sense) -> Real {
+        let ramp_time = self.feed / self.acceleration;
+        let into_run = ramp_time + (self.radius * self.overshoot - self.ramp_length()) / self.feed;
+        match sense {
+            Sense::Ccw => into_run,
+            Sense::Cw => self.run_duration() + self.dwell + into_run,
+        }
+    }
+
     /// Why this path cannot be run as a test, if it cannot: every value must be finite and
     /// positive (overshoot and dwell may be zero), the data arc at most a full turn, and the
     /// ramps must fit inside the overshoot arcs so that the data arc is run at the feed.

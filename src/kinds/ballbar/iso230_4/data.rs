@@ -23,7 +23,8 @@ const LOBES_MAX: u32 = 60;
 /// The searched parameters' ranges for a table.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SearchRanges {
-    /// Reversal lag (s): shortest (0) and longest.
+    /// Reversal lag (s): most negative (an axis that reverses before the trace's angles say
+    /// it should: it lags less than the start the software detected) and longest.
     pub lag: (Real, Real),
     /// Spike decay (s): shortest and longest.
     pub decay: (Real, Real),
@@ -164,7 +165,9 @@ impl CircleData {
                         - sense[i] * arc_since_reversal(axis, &point, test, &unlagged))
                     .rem_euclid(TAU);
                     let k = (reversal / FRAC_PI_2).round() as usize % 4;
+                    // The next reversal of the axis in the sense of travel is half a turn on.
                     point.crossed[axis] = crossed[sense_index(sense[i])][k];
+                    point.crossed_next[axis] = crossed[sense_index(sense[i])][(k + 2) % 4];
                 }
                 point
             })
@@ -180,8 +183,8 @@ impl CircleData {
         })
     }
 
-    /// The searched parameters' ranges: reversal lags from 0 and decays from max(1 ms, two
-    /// sampling intervals), both to min(200 ms, time for 30° of arc); periods from max(1 mm,
+    /// The searched parameters' ranges: reversal lags within ± min(200 ms, time for 30° of
+    /// arc), decays from max(1 ms, two sampling intervals) to that; periods from max(1 mm,
     /// 4 sample spacings) to R/2; lobes from 3 to min(60, a quarter of the readings per turn).
     fn ranges(points: &[BasisPoint], test: &CircularTest, n: usize) -> SearchRanges {
         let mut steps: Vec<Real> = points
@@ -196,7 +199,7 @@ impl CircleData {
         let per_turn = (n as Real / 2.0).max(1.0);
         let longest = DECAY_MAX.min(DECAY_ARC * test.radius / test.feed);
         SearchRanges {
-            lag: (0.0, longest),
+            lag: (-longest, longest),
             decay: (DECAY_MIN.max(2.0 * interval), longest),
             period: (PERIOD_MIN.max(4.0 * spacing), test.radius / 2.0),
             lobes: (3, LOBES_MAX.min((per_turn / 4.0) as u32)),

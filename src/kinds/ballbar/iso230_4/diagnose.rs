@@ -18,8 +18,8 @@ pub struct TermEstimate {
     /// Its standard uncertainty.
     pub u: Real,
     /// A spike's decay (s) or a cyclic term's period (m) and its uncertainty, when the
-    /// amplitude is significant (above 2 u; for a cyclic term √(2·ln(M/0.05)) u, about 4.5 u,
-    /// for the M periods searched).
+    /// amplitude is significant: above √(2·ln(M/0.05)) u for the M shapes searched, about
+    /// 4.5 u ([`CircleData::significance`]).
     pub shape: Option<(Real, Real)>,
     /// A cyclic term's phase φ (rad) and its uncertainty, when significant.
     pub phase: Option<(Real, Real)>,
@@ -151,16 +151,12 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
                     .collect(),
             );
         } else {
-            let what = if matches!(term, Term::CyclicP | Term::CyclicQ) {
-                "period"
-            } else {
-                "decay"
-            };
             notes.push(format!(
-                "{}: amplitude {:.3} µm within {threshold:.1} × its uncertainty ({:.3} µm): not significant, {what} not reported",
+                "{}: amplitude {:.3} µm within {threshold:.1} × its uncertainty ({:.3} µm): not significant, {} not reported",
                 term.key(plane),
                 value / M_PER_UM,
-                u / M_PER_UM
+                u / M_PER_UM,
+                shape_name(term),
             ));
         }
     }
@@ -191,7 +187,7 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
         }
     }
     let full_covariance = covariance(&derivatives);
-    let estimates = terms
+    let mut estimates: Vec<(Term, TermEstimate)> = terms
         .iter()
         .enumerate()
         .map(|(t, &term)| {
@@ -230,6 +226,39 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
             (term, estimate)
         })
         .collect();
+    // The rule is applied once more to the final uncertainties (the searched shapes and the
+    // lags free), the ones reported and drawn: a searched term that no longer passes loses its
+    // shape, and a lag that no significant reversal term locates any more is not reported.
+    for (term, estimate) in &mut estimates {
+        let threshold = data.significance(*term);
+        if estimate.shape.is_some() && estimate.value.abs() < threshold * estimate.u {
+            estimate.shape = None;
+            estimate.phase = None;
+            notes.push(format!(
+                "{}: amplitude {:.3} µm within {threshold:.1} × its uncertainty ({:.3} µm) once its {} and lag are free: not significant, {} not reported",
+                term.key(plane),
+                estimate.value / M_PER_UM,
+                estimate.u / M_PER_UM,
+                shape_name(*term),
+                shape_name(*term),
+            ));
+        }
+    }
+    for (axis, lag) in reversal_lag.iter_mut().enumerate() {
+        let located = estimates.iter().any(|(t, e)| {
+            t.reversal_axis() == Some(axis)
+                && e.u > 0.0
+                && e.value.abs() >= data.significance(*t) * e.u
+        });
+        if lag.is_some() && !located {
+            *lag = None;
+            notes.push(format!(
+                "{}: no significant backlash, lateral play or spike of {} to time the reversal by: not reported",
+                lag_key(plane, axis),
+                if axis == 0 { plane.first() } else { plane.second() }
+            ));
+        }
+    }
     Ok(Diagnostics {
         estimates,
         reversal_lag,
@@ -239,6 +268,15 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
         dof,
         fit,
     })
+}
+
+/// What a searched term's shape parameter is called in a note.
+fn shape_name(term: Term) -> &'static str {
+    if matches!(term, Term::CyclicP | Term::CyclicQ) {
+        "period"
+    } else {
+        "decay"
+    }
 }
 
 /// The derivative of a searched term's contribution (coefficients `c`) in its decay (m/s)

@@ -28,13 +28,17 @@
 //! below ([`Term`], [`diagnostic_column`]); reversal lags, decay times and periods are
 //! searched on the joint residual sum of squares.
 //!
-//! The angle of a reading is the programmed one (ball-bar software assigns it from the
-//! programmed path), but an axis reverses when it actually does: a servo lag δ (1/K_v for a
-//! position loop without feed-forward) after its programmed reversal. Backlash, lateral play
-//! and the spike of p act at θ_p = θ − σ·v·δ_p/R crossing 0° or 180°, those of q at
-//! θ_q = θ − σ·v·δ_q/R crossing 90° or 270°; δ_p, δ_q are searched from 0 to min(200 ms, the
-//! time for 30° of arc) whenever the model has a reversal term of the axis. With δ = 0 the
-//! terms read as in the table (sgn(sin θ_p)·sin θ = |sin θ|, …).
+//! The angle of a reading is the one ball-bar software assigns: from the time since the
+//! start it detected, at the programmed feed. An axis reverses when it actually does: δ after
+//! the angle of its programmed reversal, δ its servo lag (1/K_v for a position loop without
+//! feed-forward) less the lag already in the detected start. Software that detects the start
+//! from the machine's motion (as real ball-bars and mtwin's do) leaves δ near 0, ± half a
+//! servo mismatch; angles assigned from the command at the sampling time leave δ ≈ 1/K_v.
+//! Backlash, lateral play and the spike of p act at θ_p = θ − σ·v·δ_p/R crossing 0° or 180°,
+//! those of q at θ_q = θ − σ·v·δ_q/R crossing 90° or 270°; δ_p, δ_q are searched within
+//! ± min(200 ms, the time for 30° of arc) whenever the model has a reversal term of the axis
+//! (negative: the axis reverses before its programmed angle, lagging less than the detected
+//! start). With δ = 0 the terms read as in the table (sgn(sin θ_p)·sin θ = |sin θ|, …).
 //!
 //! | key | parameter | radial term |
 //! |---|---|---|

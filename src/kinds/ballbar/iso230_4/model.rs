@@ -242,9 +242,12 @@ pub struct BasisPoint {
     /// Time since the first reading (s): the table's, else spread over the readings in file
     /// order at the feed.
     pub time: Real,
-    /// Whether the trace crossed the last reversal of p (index 0) and of q (index 1) before
-    /// this reading; spike columns are zero where it did not.
+    /// Whether the trace crossed the last programmed reversal of p (index 0) and of q
+    /// (index 1) before this reading; spike columns are zero where it did not.
     pub crossed: [bool; 2],
+    /// The same for the next programmed reversal after this reading: an axis with a negative
+    /// lag has actually reversed there already.
+    pub crossed_next: [bool; 2],
     /// sin θ and cos θ, computed once (every column needs them).
     pub(super) sin_cos: (Real, Real),
 }
@@ -257,6 +260,7 @@ impl BasisPoint {
             sense,
             time,
             crossed,
+            crossed_next: crossed,
             sin_cos: angle.sin_cos(),
         }
     }
@@ -343,11 +347,28 @@ pub(super) fn spike(
     test: &CircularTest,
     shape: &Shape,
 ) -> Option<(Real, Real)> {
-    if !at.crossed[axis] {
+    let arc = arc_since_reversal(axis, at, test, shape);
+    // The actual reversal is the next programmed one when a negative lag wrapped the arc.
+    let next = shape.lag[axis] < 0.0
+        && arc
+            < arc_since_reversal(
+                axis,
+                at,
+                test,
+                &Shape {
+                    lag: [0.0; 2],
+                    ..*shape
+                },
+            );
+    if !(if next {
+        at.crossed_next[axis]
+    } else {
+        at.crossed[axis]
+    }) {
         return None;
     }
     let tau = shape.decay[axis];
-    let dt = test.radius * arc_since_reversal(axis, at, test, shape) / test.feed;
+    let dt = test.radius * arc / test.feed;
     (dt < SPIKE_DECAYS * tau).then(|| {
         let (sin, cos) = at.sin_cos;
         let weight = if axis == 0 { cos.abs() } else { sin.abs() };

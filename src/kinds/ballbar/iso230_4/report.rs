@@ -19,7 +19,7 @@ pub(super) fn lag_key(plane: Plane, axis: usize) -> String {
 }
 
 /// What a reversal lag is, for the legend.
-const LAG_CONVENTION: &str = "reversal lag δ of the axis: time from its programmed reversal (p: 0°/180°, q: 90°/270°) to its actual one, where its backlash, lateral play and spike act (≈ 1/Kv for a position loop without feed-forward)";
+const LAG_CONVENTION: &str = "reversal lag δ of the axis: time from its programmed reversal (p: 0°/180°, q: 90°/270°, as the trace's angles place it) to its actual one, where its backlash, lateral play and spike act (its servo lag less the lag in the start the software detected: near 0 when the start is detected from the machine's motion, ≈ 1/Kv when the angles are the command's; negative when it reverses early)";
 
 /// Rounds for reports: 4 decimals, no −0.
 fn round(value: Real) -> Value {

@@ -8,18 +8,19 @@ use super::model::{SPIKE_DECAYS, spike};
 use super::{CircleData, ModelFit, Shape, Term, arc_since_reversal};
 use crate::math::{Real, golden_minimum};
 use nalgebra::DMatrix;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
-/// Grid points of the reversal-lag search (every 5 ms over 0–200 ms).
-const LAG_GRID: usize = 41;
+/// Grid points of the reversal-lag search (every 5 ms over ±200 ms).
+const LAG_GRID: usize = 81;
 /// Grid points of the decay search (log-spaced) and golden-section iterations.
 const DECAY_GRID: usize = 16;
 const GOLDEN_ITERATIONS: usize = 20;
 
-/// A spike amplitude counts as significant at this many standard uncertainties.
+/// The least significance level: a linear amplitude counts as significant at this many
+/// standard uncertainties.
 const SIGNIFICANCE: Real = 2.0;
-/// The false-alarm probability a cyclic amplitude's threshold allows over its period search.
-const CYCLIC_FALSE_ALARM: Real = 0.05;
+/// The false-alarm probability a searched amplitude's threshold allows over its search.
+const FALSE_ALARM: Real = 0.05;
 
 impl CircleData {
     /// The fit of every term of `terms` but `axis`'s reversal terms (over `rows`), and those
@@ -44,8 +45,8 @@ impl CircleData {
 
     /// The joint residual sum of squares of `axis`'s reversal terms `moving` against `fixed`
     /// as a function of the axis's lag. A lag moves these columns only on the rows within
-    /// the longest lag (and the spike's window) after a programmed reversal: the sums over
-    /// the other rows are taken once.
+    /// the longest lag (and the spike's window) after a programmed reversal or the most
+    /// negative lag before one: the sums over the other rows are taken once.
     pub(super) fn lag_profile<'a>(
         &'a self,
         axis: usize,
@@ -58,15 +59,17 @@ impl CircleData {
             lag: [0.0; 2],
             ..*shape
         };
-        let reach = self.test.feed / self.test.radius
-            * (self.ranges.lag.1
-                + if moving.iter().any(|t| t.searched()) {
-                    SPIKE_DECAYS * shape.decay[axis]
-                } else {
-                    0.0
-                });
+        let rate = self.test.feed / self.test.radius;
+        let spike = if moving.iter().any(|t| t.searched()) {
+            SPIKE_DECAYS * shape.decay[axis]
+        } else {
+            0.0
+        };
+        let after = rate * (self.ranges.lag.1.max(0.0) + spike);
+        let before = rate * (-self.ranges.lag.0).max(0.0);
         let (near, far): (Vec<usize>, Vec<usize>) = (0..rows.len()).partition(|&j| {
-            arc_since_reversal(axis, &self.points[rows[j]], &self.test, &unlagged) <= reach
+            let arc = arc_since_reversal(axis, &self.points[rows[j]], &self.test, &unlagged);
+            arc <= after || arc >= PI - before
         });
         let far_rows: Vec<usize> = far.iter().map(|&j| rows[j]).collect();
         let columns = self.columns_on(moving, shape, &far_rows);
@@ -246,21 +249,22 @@ impl CircleData {
         }
     }
 
-    /// How many standard uncertainties a searched amplitude must reach to be significant: 2
-    /// for a spike; for a cyclic term, whose period is the best of the M periods the search
-    /// tests, the level √(2·ln(M/0.05)) that a noise-only amplitude (A/u Rayleigh-distributed,
-    /// P(A/u > x) = e^(−x²/2)) exceeds at any of them with probability at most 5 %
-    /// (Bonferroni), and at least 2.
+    /// How many standard uncertainties a searched amplitude must reach to be significant: the
+    /// level √(2·ln(M/0.05)) that noise alone exceeds at any of the M shapes the search tests
+    /// with probability at most 5 % (Bonferroni; for a cyclic term A/u is Rayleigh-distributed,
+    /// P(A/u > x) = e^(−x²/2), and for a spike's one coefficient P(|z| > x) is below that),
+    /// and at least 2. A cyclic term tests M periods; a spike M = 81 lags × 16 decays, its
+    /// onset free to sit wherever the noise is largest (4.51 u): at 2 u, noise alone made a
+    /// spike of an axis without backlash significant in most traces.
     pub fn significance(&self, term: Term) -> Real {
-        match term {
-            Term::CyclicP | Term::CyclicQ => {
-                let tested = self.frequency_grid().3 as Real;
-                (2.0 * (tested / CYCLIC_FALSE_ALARM).ln())
-                    .sqrt()
-                    .max(SIGNIFICANCE)
-            }
-            _ => SIGNIFICANCE,
-        }
+        let tested = match term {
+            Term::CyclicP | Term::CyclicQ => self.frequency_grid().3,
+            Term::ReversalSpikeP | Term::ReversalSpikeQ => LAG_GRID * DECAY_GRID,
+            _ => return SIGNIFICANCE,
+        };
+        (2.0 * (tested as Real / FALSE_ALARM).ln())
+            .sqrt()
+            .max(SIGNIFICANCE)
     }
 
     /// The cyclic search's frequencies (1/m): lowest, highest, step (4 per 1/(2R), the
@@ -452,7 +456,7 @@ mod tests {
 
     #[test]
     fn the_windowed_lag_profile_equals_a_full_refit() {
-        // A circle with backlash and a spike of p at a 25 ms lag, plus a wobble the model
+        // A circle with backlash and a spike of p at a ±25 ms lag, plus a wobble the model
         // lacks: the windowed residual sum of squares at every trial lag equals the one of
         // the full columns.
         let test = CircularTest {
@@ -460,59 +464,66 @@ mod tests {
             radius: 0.1,
             feed: 0.01,
         };
-        let truth = Shape {
-            lag: [0.025, 0.0],
-            ..Shape::default()
-        };
-        let n = 4000;
-        let mut readings = Vec::new();
-        for (sense, sign) in [
-            (crate::kinds::ballbar::table::Sense::Ccw, 1.0),
-            (crate::kinds::ballbar::table::Sense::Cw, -1.0),
-        ] {
-            for k in 0..n {
-                let angle = (sign * TAU * (k as Real + 0.5) / n as Real).rem_euclid(TAU);
-                let at = BasisPoint::new(angle, sign, 0.0, [true; 2]);
-                let deviation = 2e-6 * diagnostic_column(Term::BacklashP, 0, &at, &test, &truth)
-                    + 3e-6 * diagnostic_column(Term::ReversalSpikeP, 0, &at, &test, &truth)
-                    + 1e-7 * (7.0 * angle).sin();
-                readings.push(crate::kinds::ballbar::table::BallbarReading {
-                    sense,
-                    angle,
-                    deviation,
-                    time: None,
-                });
-            }
-        }
-        let data = CircleData::new(
-            &BallbarTable {
-                readings,
-                ..Default::default()
-            },
-            &test,
-        )
-        .unwrap();
-        let terms = [Term::Radius, Term::BacklashP, Term::ReversalSpikeP];
-        let rows: Vec<usize> = (0..data.len()).collect();
-        let shape = Shape::default();
-        let (fixed, moving) = data.split_reversal(0, &terms, &shape, &rows, &data.deviation);
-        let profile = data.lag_profile(0, &moving, &fixed, &rows, &shape);
-        for lag in [0.0, 0.004, 0.025, 0.0371, 0.2] {
-            let trial = Shape {
-                lag: [lag, 0.0],
-                ..shape
+        // Lagging (25 ms after the programmed reversal) and leading (25 ms before it).
+        for truth_lag in [0.025, -0.025] {
+            let truth = Shape {
+                lag: [truth_lag, 0.0],
+                ..Shape::default()
             };
-            let columns = data.columns_on(&moving, &trial, &rows);
-            let views: Vec<&[Real]> = columns.iter().map(Vec::as_slice).collect();
-            let full = fixed.rss_with(&views);
+            let n = 4000;
+            let mut readings = Vec::new();
+            for (sense, sign) in [
+                (crate::kinds::ballbar::table::Sense::Ccw, 1.0),
+                (crate::kinds::ballbar::table::Sense::Cw, -1.0),
+            ] {
+                for k in 0..n {
+                    let angle = (sign * TAU * (k as Real + 0.5) / n as Real).rem_euclid(TAU);
+                    let at = BasisPoint::new(angle, sign, 0.0, [true; 2]);
+                    let deviation = 2e-6
+                        * diagnostic_column(Term::BacklashP, 0, &at, &test, &truth)
+                        + 3e-6 * diagnostic_column(Term::ReversalSpikeP, 0, &at, &test, &truth)
+                        + 1e-7 * (7.0 * angle).sin();
+                    readings.push(crate::kinds::ballbar::table::BallbarReading {
+                        sense,
+                        angle,
+                        deviation,
+                        time: None,
+                    });
+                }
+            }
+            let data = CircleData::new(
+                &BallbarTable {
+                    readings,
+                    ..Default::default()
+                },
+                &test,
+            )
+            .unwrap();
+            let terms = [Term::Radius, Term::BacklashP, Term::ReversalSpikeP];
+            let rows: Vec<usize> = (0..data.len()).collect();
+            let shape = Shape::default();
+            let (fixed, moving) = data.split_reversal(0, &terms, &shape, &rows, &data.deviation);
+            let profile = data.lag_profile(0, &moving, &fixed, &rows, &shape);
+            for lag in [-0.2, -0.0371, -0.004, 0.0, 0.004, 0.025, 0.0371, 0.2] {
+                let trial = Shape {
+                    lag: [lag, 0.0],
+                    ..shape
+                };
+                let columns = data.columns_on(&moving, &trial, &rows);
+                let views: Vec<&[Real]> = columns.iter().map(Vec::as_slice).collect();
+                let full = fixed.rss_with(&views);
+                assert!(
+                    (profile.rss(lag) - full).abs() <= 1e-9 * full,
+                    "{lag}: {} vs {full}",
+                    profile.rss(lag)
+                );
+            }
+            // And the search finds the lag the data were made with (to the 1/4000-turn sampling).
+            let found = data.search_lag(&profile);
             assert!(
-                (profile.rss(lag) - full).abs() <= 1e-9 * full,
-                "{lag}: {} vs {full}",
-                profile.rss(lag)
+                (found - truth_lag).abs() < 0.1 * TAU / 4000.0 / 0.01,
+                "{found}"
             );
         }
-        // And the search finds the lag the data were made with (to the 1/4000-turn sampling).
-        let found = data.search_lag(&profile);
-        assert!((found - 0.025).abs() < 0.1 * TAU / 4000.0 / 0.01, "{found}");
     }
 }
