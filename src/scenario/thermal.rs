@@ -18,8 +18,9 @@
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::machine::{Axis, Machine};
 use crate::math::{M_PER_MM, Real, seeded_rng};
+use crate::program::Program;
 use crate::thermal::{Ambient, MachineThermal, ScrewSpec, SensorSpec, TemperatureSensor};
-use crate::twin::ThermalRecord;
+use crate::twin::{ThermalRecord, Twin};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
@@ -155,6 +156,19 @@ impl ThermalSetup {
                 )
             })
             .collect()
+    }
+
+    /// Runs `program` on `twin` through this thermal model, fresh sensors seeded from `seed`
+    /// read at every visit ([`crate::twin::run_thermal`]).
+    pub fn run(&self, twin: &Twin, program: &Program, seed: u64) -> Vec<ThermalRecord> {
+        let mut sensors = self.sensors(seed);
+        crate::twin::run_thermal(
+            twin,
+            &self.thermal,
+            program,
+            self.max_interval,
+            &mut sensors,
+        )
     }
 }
 

@@ -4,7 +4,8 @@
 //! The scenes depend on these two crates, not on the `rerun` umbrella crate: even with only
 //! its `sdk` feature, `rerun` builds the client of rerun's data platform, its entity database
 //! and query engine, analytics and a TLS stack, none of which writing an `.rrd` file needs
-//! (about 55 crates and a tenth of a clean build of the tests; README, "Building").
+//! (63 packages; a clean build of the tests on 2 cores took 18.4 min with it, 16.0 without:
+//! README, first section).
 
 pub use re_sdk::{
     EntityPath, RecordingStream, RecordingStreamBuilder, RecordingStreamError, TimelineName,

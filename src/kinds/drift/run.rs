@@ -50,14 +50,7 @@ fn channel_values(test: &EtveTest, start: &Pose, pose: &Pose) -> [Real; 5] {
 
 /// Simulates `test` on `twin` through `setup`, the random streams seeded from `seed`.
 pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -> EtveRun {
-    let mut sensors = setup.sensors(seed);
-    let records = crate::twin::run_thermal(
-        twin,
-        &setup.thermal,
-        &test.program,
-        setup.max_interval,
-        &mut sensors,
-    );
+    let records = setup.run(twin, &test.program, seed);
     let start = records.first().map_or(Pose::IDENTITY, |r| r.pose);
     let truth: Vec<[Real; 5]> = records
         .iter()

@@ -35,14 +35,7 @@ pub fn simulate(
     let mut rng = crate::math::seeded_rng(seed, "laser");
     match thermal {
         Some(setup) => {
-            let mut sensors = setup.sensors(seed);
-            let records = crate::twin::run_thermal(
-                twin,
-                &setup.thermal,
-                &test.program,
-                setup.max_interval,
-                &mut sensors,
-            );
+            let records = setup.run(twin, &test.program, seed);
             let visits: Vec<_> = records.iter().map(|r| r.visit).collect();
             let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
             // The laser's air is the machine's air, at each reading.
