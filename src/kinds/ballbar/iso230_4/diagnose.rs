@@ -6,6 +6,7 @@ use super::linalg::{gram, gram_pinv};
 use super::model::spike;
 use super::report::lag_key;
 use super::{BasisPoint, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term};
+use crate::machine::Plane;
 use crate::math::{M_PER_UM, Real};
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
@@ -179,11 +180,7 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
                 data.lag_uncertainty(axis, &fit, variance),
             ));
         } else {
-            notes.push(format!(
-                "{}: no significant backlash, lateral play or spike of {} to time the reversal by: not reported",
-                lag_key(plane, axis),
-                if axis == 0 { plane.first() } else { plane.second() }
-            ));
+            notes.push(unlocated_lag(plane, axis));
         }
     }
     let full_covariance = covariance(&derivatives);
@@ -252,11 +249,7 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
         });
         if lag.is_some() && !located {
             *lag = None;
-            notes.push(format!(
-                "{}: no significant backlash, lateral play or spike of {} to time the reversal by: not reported",
-                lag_key(plane, axis),
-                if axis == 0 { plane.first() } else { plane.second() }
-            ));
+            notes.push(unlocated_lag(plane, axis));
         }
     }
     Ok(Diagnostics {
@@ -268,6 +261,19 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
         dof,
         fit,
     })
+}
+
+/// The note for an axis whose reversal lag is not reported.
+fn unlocated_lag(plane: Plane, axis: usize) -> String {
+    format!(
+        "{}: no significant backlash, lateral play or spike of {} to time the reversal by: not reported",
+        lag_key(plane, axis),
+        if axis == 0 {
+            plane.first()
+        } else {
+            plane.second()
+        }
+    )
 }
 
 /// What a searched term's shape parameter is called in a note.

@@ -349,22 +349,17 @@ pub(super) fn spike(
 ) -> Option<(Real, Real)> {
     let arc = arc_since_reversal(axis, at, test, shape);
     // The actual reversal is the next programmed one when a negative lag wrapped the arc.
-    let next = shape.lag[axis] < 0.0
-        && arc
-            < arc_since_reversal(
-                axis,
-                at,
-                test,
-                &Shape {
-                    lag: [0.0; 2],
-                    ..*shape
-                },
-            );
-    if !(if next {
+    let unlagged = Shape {
+        lag: [0.0; 2],
+        ..*shape
+    };
+    let next = shape.lag[axis] < 0.0 && arc < arc_since_reversal(axis, at, test, &unlagged);
+    let crossed = if next {
         at.crossed_next[axis]
     } else {
         at.crossed[axis]
-    }) {
+    };
+    if !crossed {
         return None;
     }
     let tau = shape.decay[axis];
