@@ -62,6 +62,7 @@
 //! ```
 
 pub mod app;
+pub mod contact;
 pub mod discovery;
 pub mod errors;
 pub mod io;

@@ -52,6 +52,8 @@
 pub mod ballbar;
 pub mod drift;
 pub mod positioning;
+pub mod probe;
+pub mod rtest;
 pub mod volumetric;
 
 /// A test kind as the command line sees it.

@@ -1,0 +1,1 @@
+//! Contact geometry: where a stylus ball touches an artefact, and collision checks.

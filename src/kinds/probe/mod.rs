@@ -1,0 +1,1 @@
+//! The touch probe on artefacts.
