@@ -6,6 +6,7 @@ use crate::errors::{Lu2012Error, ParameterName};
 use crate::kinds::ballbar::{self, BallbarTable};
 use crate::kinds::drift::{self, EtveRun};
 use crate::kinds::positioning::{self, LaserRun};
+use crate::kinds::rtest::{self, RtestRunError, RtestTable};
 use crate::kinds::volumetric::{VolumetricMap, VolumetricRow, volumetric_map};
 use crate::machine::Side;
 use crate::math::sha256_hex;
@@ -26,6 +27,9 @@ pub enum RunError {
         /// The 0-based row of the volumetric map.
         row: usize,
     },
+    /// The R-test could not be simulated.
+    #[error(transparent)]
+    Rtest(#[from] RtestRunError),
     /// An output could not be written.
     #[error(transparent)]
     Write(#[from] crate::io::WriteError),
@@ -50,6 +54,8 @@ pub struct Simulation {
     pub ballbar: Vec<BallbarTable>,
     /// The ETVE test, if asked for.
     pub etve: Option<EtveRun>,
+    /// The R-test table, if asked for.
+    pub rtest: Option<RtestTable>,
 }
 
 /// Simulates everything `scenario` asks for. Nothing here depends on the clock, the thread
@@ -91,11 +97,17 @@ pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
             .expect("an ETVE test has a thermal model (checked when the scenario was loaded)");
         drift::run::simulate(&scenario.twin, test, setup, scenario.seed)
     });
+    let rtest = scenario
+        .rtest
+        .as_ref()
+        .map(|test| rtest::run::simulate(&scenario.twin, test, scenario.seed))
+        .transpose()?;
     Ok(Simulation {
         volumetric,
         laser,
         ballbar,
         etve,
+        rtest,
     })
 }
 
@@ -113,6 +125,7 @@ impl Simulation {
         parts.extend(self.laser.as_ref().map(LaserRun::summary));
         parts.extend(self.ballbar.iter().map(ballbar::run::summary));
         parts.extend(self.etve.as_ref().map(EtveRun::summary));
+        parts.extend(self.rtest.as_ref().map(rtest::run::summary));
         parts
     }
 
@@ -147,6 +160,15 @@ impl Simulation {
                 .write_csv(&mut bytes)
                 .expect("writing to memory cannot fail");
             files.push(("drift.csv".into(), bytes));
+        }
+        if let Some(table) = &self.rtest {
+            let rotary: Vec<_> = scenario
+                .twin
+                .machine
+                .rotary_axes()
+                .map(|i| i.axis)
+                .collect();
+            files.push(("rtest.csv".into(), table.to_csv(&rotary)));
         }
         let records = (self.laser.as_ref())
             .and_then(|run| run.thermal.as_ref())
@@ -248,6 +270,7 @@ fn truth(scenario: &Scenario) -> Value {
         "seed": scenario.seed,
         "laser_test": laser_test,
         "ballbar_test": scenario.ballbar_test.as_ref().map(ballbar::run::truth),
+        "rtest": scenario.rtest.as_ref().map(rtest::run::truth),
         "thermal_model": thermal_model,
         "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
                        motions of the tool relative to the workpiece in the frame of their axis; location errors \

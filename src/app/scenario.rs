@@ -4,6 +4,7 @@
 use crate::kinds::ballbar::{self, BallbarTest};
 use crate::kinds::drift::{self, EtveTest};
 use crate::kinds::positioning::{self, LaserTest};
+use crate::kinds::rtest::{self, RTest};
 use crate::kinds::volumetric::{self, VolumetricSpec};
 use crate::machine::Machine;
 use crate::math::sha256_hex;
@@ -67,6 +68,7 @@ struct RawScenario {
     iso230_3_etve: Option<Spanned<drift::scenario::RawEtve>>,
     ballbar: Option<Spanned<ballbar::scenario::RawBallbar>>,
     servo: Option<Spanned<ballbar::scenario::RawServo>>,
+    rtest: Option<Spanned<rtest::scenario::RawRtest>>,
     lesson: Option<Spanned<RawLesson>>,
 }
 
@@ -100,6 +102,8 @@ pub struct Scenario {
     pub etve_test: Option<EtveTest>,
     /// The ball-bar circular tests to simulate, if asked for.
     pub ballbar_test: Option<BallbarTest>,
+    /// The R-test to simulate, if asked for.
+    pub rtest: Option<RTest>,
     /// The explanation a teaching recording carries, if the scenario is a lesson.
     pub lesson: Option<Lesson>,
 }
@@ -262,6 +266,11 @@ impl Scenario {
             raw.ballbar.as_ref(),
             raw.servo.as_ref(),
         )?;
+        let rtest = raw
+            .rtest
+            .as_ref()
+            .map(|section| rtest::scenario::rtest(&context, &machine, section))
+            .transpose()?;
         let lesson = raw
             .lesson
             .as_ref()
@@ -271,11 +280,12 @@ impl Scenario {
             && laser_test.is_none()
             && ballbar_test.is_none()
             && etve_test.is_none()
+            && rtest.is_none()
         {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve] or [ballbar] section",
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve], [ballbar] or [rtest] section",
             ));
         }
 
@@ -293,6 +303,7 @@ impl Scenario {
             thermal,
             etve_test,
             ballbar_test,
+            rtest,
             lesson,
         })
     }
@@ -349,6 +360,7 @@ impl Scenario {
         lines.extend(self.etve_test.as_ref().map(EtveTest::describe));
         lines.extend(self.thermal.as_ref().map(ThermalSetup::describe));
         lines.extend(self.ballbar_test.iter().flat_map(BallbarTest::describe));
+        lines.extend(self.rtest.iter().flat_map(RTest::describe));
         lines
     }
 }

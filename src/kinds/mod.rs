@@ -6,6 +6,7 @@
 //! | ball-bar (ISO 230-4) | [`ballbar`] | `[ballbar]`, `[servo]` | `ballbar_<plane>.csv` | `analyze`, `discover` |
 //! | drift records (ISO 230-3) | [`drift`] | — | `drift` tables from other instruments | `analyze` |
 //! | volumetric map | [`volumetric`] | `[volumetric]` | `volumetric.csv` | — |
+//! | R-test (ISO 10791-6) | [`rtest`] | `[rtest]` | `rtest.csv` | `analyze` |
 //!
 //! A kind's folder holds, each in its own file: its scenario sections (`scenario.rs`: the
 //! raw TOML structs and their checks, errors located by [`crate::scenario::Context`]), its
@@ -92,4 +93,5 @@ pub const KINDS: &[Kind] = &[
     drift::cli::KIND,
     ballbar::cli::KIND,
     volumetric::KIND,
+    rtest::cli::KIND,
 ];

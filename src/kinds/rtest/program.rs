@@ -1,0 +1,308 @@
+//! What the machine does in an R-test: the rotary axes move from one set of angles to another
+//! while the linear axes follow so that the nominal tool tip (the nest's reference point)
+//! stays on the sphere centre (tool-centre-point control). A K-test of ISO 10791-6 is one such
+//! move: C turning at a fixed A (a "CK1"-style circle), A swinging at a fixed C, or both at
+//! once (a simultaneous 5-axis path).
+//!
+//! - **Static**: the machine stops at `points` equally spaced poses and the nest reads there.
+//! - **Dynamic**: the rotary axes move at a constant rate, the controller interpolates every
+//!   axis each interpolation period and each axis follows through its position loop
+//!   ([`crate::program::AxisLoop`]); the nest samples on the move at its rate.
+
+use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
+use crate::math::{Real, Vector};
+use crate::program::{AxisLoop, AxisServo};
+
+/// One test: the rotary axes from `from` to `to` (rad), the linear axes following.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KTest {
+    /// Its name (`CK1 A0`, …), unique in the scenario.
+    pub name: String,
+    /// The rotary angles at the start (rad; linear axes ignored).
+    pub from: AxisValues,
+    /// The rotary angles at the end (rad).
+    pub to: AxisValues,
+    /// Poses read in static mode (≥ 2, ends included).
+    pub points: usize,
+}
+
+impl KTest {
+    /// The rotary angles a fraction `lambda` ∈ [0, 1] along the test.
+    pub fn angles_at(&self, machine: &Machine, lambda: Real) -> AxisValues {
+        let mut out = AxisValues::ZERO;
+        for info in machine.rotary_axes() {
+            let (a, b) = (self.from[info.axis], self.to[info.axis]);
+            out[info.axis] = a + (b - a) * lambda;
+        }
+        out
+    }
+
+    /// The rotary axis that turns furthest: the angle the analysis fits against.
+    pub fn swept_axis(&self, machine: &Machine) -> Option<Axis> {
+        machine
+            .rotary_axes()
+            .map(|info| (info.axis, (self.to[info.axis] - self.from[info.axis]).abs()))
+            .filter(|(_, range)| *range > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(axis, _)| axis)
+    }
+
+    /// The largest rotary travel of the test (rad).
+    pub fn rotary_travel(&self, machine: &Machine) -> Real {
+        machine
+            .rotary_axes()
+            .map(|info| (self.to[info.axis] - self.from[info.axis]).abs())
+            .fold(0.0, Real::max)
+    }
+}
+
+/// Why the linear axes cannot follow the sphere.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FollowError {
+    /// The linear axes' directions are degenerate.
+    #[error("the linear axes cannot reach the sphere (degenerate directions)")]
+    Degenerate,
+    /// The sphere is out of reach at these angles.
+    #[error(
+        "at {angles} the tool tip cannot reach the sphere: {axis} would be at {value}, outside its travel {lower} … {upper}"
+    )]
+    OutOfTravel {
+        /// The rotary angles, for people.
+        angles: String,
+        /// The axis.
+        axis: Axis,
+        /// Where it would be (mm or deg).
+        value: String,
+        /// Lower limit (mm or deg).
+        lower: String,
+        /// Upper limit.
+        upper: String,
+    },
+}
+
+/// The axis values that put the nominal tool tip on `target` (workpiece frame) at the rotary
+/// angles of `angles`: the tool tip is affine in X, Y, Z at fixed angles, so one 3×3 solve.
+pub fn follow(
+    machine: &Machine,
+    workspace: &mut Workspace,
+    angles: &AxisValues,
+    target: Vector,
+) -> Result<AxisValues, FollowError> {
+    let linear = [Axis::X, Axis::Y, Axis::Z];
+    let mut position = *angles;
+    for axis in linear {
+        position[axis] = 0.0;
+    }
+    let t0 = workspace
+        .workpiece_from_tool(machine, &position, None)
+        .translation;
+    let mut columns = [Vector::ZERO; 3];
+    for (column, axis) in columns.iter_mut().zip(linear) {
+        let mut step = position;
+        step[axis] = 1.0;
+        *column = workspace
+            .workpiece_from_tool(machine, &step, None)
+            .translation
+            - t0;
+    }
+    let jacobian = crate::math::Rotation::from_cols(columns[0], columns[1], columns[2]);
+    if jacobian.determinant().abs() < 1e-9 {
+        return Err(FollowError::Degenerate);
+    }
+    let solution = jacobian.inverse() * (target - t0);
+    for (i, axis) in linear.into_iter().enumerate() {
+        position[axis] = solution[i];
+    }
+    if let Err((axis, value, (lower, upper))) = machine.check_limits(&position) {
+        let unit = crate::machine::axis_unit_to_si(axis);
+        let show = |v: Real| crate::math::trimmed(v / unit, 3);
+        return Err(FollowError::OutOfTravel {
+            angles: describe_angles(machine, angles),
+            axis,
+            value: show(value),
+            lower: show(lower),
+            upper: show(upper),
+        });
+    }
+    Ok(position)
+}
+
+/// `A = -90°, C = 30°`: the rotary angles of a pose, for people.
+pub fn describe_angles(machine: &Machine, angles: &AxisValues) -> String {
+    machine
+        .rotary_axes()
+        .map(|info| {
+            format!(
+                "{} = {}°",
+                info.axis,
+                crate::math::trimmed(angles[info.axis].to_degrees(), 4)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// One pose the nest reads: when, the controller's rotary angles, and the machine's state
+/// (the axes where they actually are).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Time since the start of the test (s).
+    pub time: Real,
+    /// The controller's axis values (commanded; m, rad).
+    pub command: AxisValues,
+    /// The actual axis positions and directions of travel.
+    pub state: MachineState,
+}
+
+/// The static poses of `test`: stop at each of `points`, `dwell` seconds apart.
+pub fn static_poses(
+    machine: &Machine,
+    workspace: &mut Workspace,
+    test: &KTest,
+    sphere: Vector,
+    dwell: Real,
+) -> Result<Vec<Pose>, FollowError> {
+    let mut poses = Vec::with_capacity(test.points);
+    let mut previous: Option<AxisValues> = None;
+    let mut state = MachineState::at(AxisValues::ZERO);
+    for k in 0..test.points {
+        let lambda = k as Real / (test.points - 1) as Real;
+        let command = follow(machine, workspace, &test.angles_at(machine, lambda), sphere)?;
+        // Each axis arrives in the direction it last moved (kept while it stands still).
+        if let Some(previous) = previous {
+            for info in machine.axes() {
+                let step = command[info.axis] - previous[info.axis];
+                if step != 0.0 {
+                    state.direction[info.axis.index()] = if step > 0.0 {
+                        crate::machine::Direction::Positive
+                    } else {
+                        crate::machine::Direction::Negative
+                    };
+                }
+            }
+        }
+        state.position = command;
+        previous = Some(command);
+        poses.push(Pose {
+            time: k as Real * dwell,
+            command,
+            state,
+        });
+    }
+    Ok(poses)
+}
+
+/// Dynamic mode: the loops rest this long (s) at each end of a test, so they start and end
+/// at rest.
+pub const SETTLE: Real = 0.2;
+
+/// How a dynamic test runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dynamic {
+    /// Speed of the swept rotary axis (rad/s).
+    pub rate: Real,
+    /// The nest's sampling rate (Hz).
+    pub sample_rate: Real,
+    /// The interpolation period (s).
+    pub ipo_period: Real,
+    /// Position-loop gain per axis (1/s), indexed like [`AxisValues`].
+    pub kv: [Real; 7],
+}
+
+impl Dynamic {
+    /// The position loop of `axis`: its gain, no feed-forward, spike or vibration.
+    pub fn servo(&self, axis: Axis) -> AxisServo {
+        AxisServo {
+            kv: self.kv[axis.index()],
+            ..AxisServo::DEFAULT
+        }
+    }
+}
+
+/// The dynamic run of `test`: the rotary axes at `dynamic.rate` on the swept axis, every axis
+/// through its loop, the nest sampling at its rate. Settles [`SETTLE`] seconds at each end so
+/// the loops start and end at rest.
+pub fn dynamic_poses(
+    machine: &Machine,
+    workspace: &mut Workspace,
+    test: &KTest,
+    sphere: Vector,
+    dynamic: &Dynamic,
+) -> Result<Vec<Pose>, FollowError> {
+    let Dynamic {
+        rate,
+        sample_rate,
+        ipo_period,
+        ..
+    } = *dynamic;
+    let travel = test.rotary_travel(machine);
+    let move_time = if travel > 0.0 { travel / rate } else { 0.0 };
+    let settle = SETTLE;
+    let duration = move_time + 2.0 * settle;
+    let command_at = |workspace: &mut Workspace, t: Real| {
+        let lambda = if move_time > 0.0 {
+            ((t - settle) / move_time).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        follow(machine, workspace, &test.angles_at(machine, lambda), sphere)
+    };
+    let start = command_at(workspace, 0.0)?;
+    let mut loops: Vec<AxisLoop> = machine
+        .axes()
+        .iter()
+        .filter(|info| info.axis != Axis::S)
+        .map(|info| {
+            AxisLoop::new(
+                dynamic.servo(info.axis),
+                info.axis,
+                start[info.axis],
+                crate::machine::Direction::Positive,
+            )
+        })
+        .collect();
+    let periods = (duration / ipo_period).ceil() as usize;
+    let sample_period = 1.0 / sample_rate;
+    let mut next_sample = 0usize;
+    let mut poses = Vec::new();
+    let mut c0 = start;
+    let mut spans = Vec::with_capacity(loops.len());
+    for p in 0..periods {
+        let (t0, t1) = (p as Real * ipo_period, (p + 1) as Real * ipo_period);
+        let c1 = command_at(workspace, t1)?;
+        spans.clear();
+        spans.extend(
+            loops
+                .iter()
+                .map(|l| l.start_period(t0, c0[l.axis], c1[l.axis], ipo_period)),
+        );
+        loop {
+            let t = next_sample as Real * sample_period;
+            if t >= t1 || t > duration {
+                break;
+            }
+            let mut state = MachineState::at(AxisValues::ZERO);
+            for (l, span) in loops.iter().zip(&spans) {
+                let (x, direction) = l.actual(span, t);
+                state.position[l.axis] = x;
+                state.direction[l.axis.index()] = direction;
+            }
+            let fraction = (t - t0) / ipo_period;
+            let mut command = c0;
+            for info in machine.axes() {
+                command[info.axis] = c0[info.axis] + (c1[info.axis] - c0[info.axis]) * fraction;
+            }
+            poses.push(Pose {
+                time: t,
+                command,
+                state,
+            });
+            next_sample += 1;
+        }
+        for (l, span) in loops.iter_mut().zip(&spans) {
+            l.finish_period(span, t1);
+        }
+        c0 = c1;
+    }
+    Ok(poses)
+}

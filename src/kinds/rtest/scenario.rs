@@ -1,0 +1,433 @@
+//! The `[rtest]` section: the sphere on the table, the nest in the spindle and the K-tests.
+//!
+//! ```toml
+//! [rtest]
+//! sphere_mm = [100.0, 0.0, 150.0]   # sphere centre in the workpiece frame (on the C table)
+//! sphere_diameter_mm = 25.4
+//! probes = 3                        # 3, or 4 with one along the tool axis
+//! tip = "flat"                      # "flat" (linear) or "point" (cross-talk u²/2R)
+//! tip_radius_mm = 0.0               # point tips: the tip ball's radius (0: non-contact)
+//! range_mm = 2.0                    # each probe's measuring range (±)
+//! noise_um = 0.2
+//! resolution_um = 0.01
+//! gain_error = [0.0, 0.0, 0.0]      # per probe, relative (0.001 = 0.1 %)
+//! direction_error_mrad = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]   # per probe: elevation, azimuth
+//! calibration = "six_point"         # or "nominal" (the software trusts the nominal axes)
+//! calibration_step_mm = 0.5
+//! mode = "static"                   # or "dynamic" (continuous, through the position loops)
+//! dwell_s = 1.0                     # static: time between poses
+//! rotary_feed_deg_per_min = 1800.0  # dynamic: speed of the swept axis
+//! sample_rate_hz = 100.0            # dynamic: the nest's sampling
+//! ipo_period_ms = 1.0               # dynamic: the interpolator
+//! kv_per_s = { X = 33.3, C = 25.0 } # dynamic: position-loop gains (default 33.3 each)
+//!
+//! [[rtest.test]]
+//! name = "CK1 A0"                   # unique; names the rows of the table
+//! from_deg = { A = 0.0, C = 0.0 }   # rotary angles at the start (absent axes: 0)
+//! to_deg = { C = 360.0 }            # at the end (absent axes: as at the start)
+//! points = 25                       # static poses, ends included
+//! ```
+
+use super::instrument::{Calibration, Nest, Probe, Tip, probe_axis};
+use super::program::{Dynamic, FollowError, KTest, follow};
+use crate::machine::{Axis, AxisValues, Machine, Workspace};
+use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Vector};
+use crate::scenario::{Context, ScenarioError, ScenarioErrorKind};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRtest {
+    sphere_mm: Spanned<[Real; 3]>,
+    sphere_diameter_mm: Option<Spanned<Real>>,
+    probes: Option<Spanned<i64>>,
+    tip: Option<Spanned<String>>,
+    tip_radius_mm: Option<Spanned<Real>>,
+    range_mm: Option<Spanned<Real>>,
+    noise_um: Option<Spanned<Real>>,
+    resolution_um: Option<Spanned<Real>>,
+    gain_error: Option<Spanned<Vec<Real>>>,
+    direction_error_mrad: Option<Spanned<Vec<[Real; 2]>>>,
+    calibration: Option<Spanned<String>>,
+    calibration_step_mm: Option<Spanned<Real>>,
+    mode: Option<Spanned<String>>,
+    dwell_s: Option<Spanned<Real>>,
+    rotary_feed_deg_per_min: Option<Spanned<Real>>,
+    sample_rate_hz: Option<Spanned<Real>>,
+    ipo_period_ms: Option<Spanned<Real>>,
+    kv_per_s: Option<Spanned<BTreeMap<String, Real>>>,
+    test: Spanned<Vec<Spanned<RawKTest>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawKTest {
+    name: Spanned<String>,
+    from_deg: Option<Spanned<BTreeMap<String, Real>>>,
+    to_deg: Option<Spanned<BTreeMap<String, Real>>>,
+    points: Option<Spanned<i64>>,
+}
+
+/// How the tests run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Mode {
+    /// Stop at each pose, `dwell` seconds apart.
+    Static {
+        /// Time between poses (s).
+        dwell: Real,
+    },
+    /// Continuous motion through the position loops.
+    Dynamic(Dynamic),
+}
+
+/// An R-test: the sphere, the nest and the tests.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RTest {
+    /// Sphere centre in the workpiece frame (m).
+    pub sphere: Vector,
+    /// The instrument.
+    pub nest: Nest,
+    /// The tests, in the order given.
+    pub tests: Vec<KTest>,
+    /// How they run.
+    pub mode: Mode,
+}
+
+impl RTest {
+    /// One line per test, for `mtwin check`.
+    pub fn describe(&self) -> Vec<String> {
+        self.tests
+            .iter()
+            .map(|t| format!("R-test \"{}\": {} poses", t.name, t.points))
+            .collect()
+    }
+}
+
+pub(crate) fn rtest(
+    context: &Context<'_>,
+    machine: &Machine,
+    raw: &Spanned<RawRtest>,
+) -> Result<RTest, ScenarioError> {
+    let r = raw.get_ref();
+    let fail = |span: std::ops::Range<usize>, key: &str, message: String| {
+        let span = if span.is_empty() { raw.span() } else { span };
+        context.error(
+            Some(span),
+            ScenarioErrorKind::Value,
+            format!("rtest.{key}: {message}"),
+        )
+    };
+    let number = |v: &Option<Spanned<Real>>, key: &str, default: Real, zero_ok: bool| {
+        let Some(v) = v else { return Ok(default) };
+        let x = *v.get_ref();
+        if x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0)) {
+            Ok(x)
+        } else {
+            let expected = if zero_ok { "≥ 0" } else { "positive" };
+            Err(fail(
+                v.span(),
+                key,
+                format!("expected a finite {expected} number, got {x}"),
+            ))
+        }
+    };
+    if machine.rotary_axes().count() == 0 {
+        return Err(fail(
+            raw.span(),
+            "sphere_mm",
+            format!(
+                "machine \"{}\" has no rotary axis: the R-test checks rotary axes",
+                machine.name()
+            ),
+        ));
+    }
+    let sphere_values = *r.sphere_mm.get_ref();
+    if !sphere_values.iter().all(|v| v.is_finite()) {
+        return Err(fail(
+            r.sphere_mm.span(),
+            "sphere_mm",
+            "expected three finite numbers".into(),
+        ));
+    }
+    let sphere = Vector::from_array(sphere_values) * M_PER_MM;
+    let sphere_radius =
+        number(&r.sphere_diameter_mm, "sphere_diameter_mm", 25.4, false)? / 2.0 * M_PER_MM;
+    let count = match &r.probes {
+        None => 3,
+        Some(p) if matches!(*p.get_ref(), 3 | 4) => *p.get_ref() as usize,
+        Some(p) => {
+            return Err(fail(
+                p.span(),
+                "probes",
+                format!("expected 3 or 4, got {}", p.get_ref()),
+            ));
+        }
+    };
+    let tip_radius = number(&r.tip_radius_mm, "tip_radius_mm", 0.0, true)? * M_PER_MM;
+    let tip = match r.tip.as_ref().map(|t| (t.get_ref().as_str(), t.span())) {
+        None | Some(("flat", _)) => {
+            if let Some(t) = &r.tip_radius_mm {
+                return Err(fail(
+                    t.span(),
+                    "tip_radius_mm",
+                    "flat tips have no radius: set tip = \"point\" or drop the key".into(),
+                ));
+            }
+            Tip::Flat
+        }
+        Some(("point", _)) => Tip::Point { radius: tip_radius },
+        Some((other, span)) => {
+            return Err(fail(
+                span,
+                "tip",
+                format!("expected \"flat\" or \"point\", got \"{other}\""),
+            ));
+        }
+    };
+    let range = number(&r.range_mm, "range_mm", 2.0, false)? * M_PER_MM;
+    let noise = number(&r.noise_um, "noise_um", 0.2, true)? * M_PER_UM;
+    let resolution = number(&r.resolution_um, "resolution_um", 0.01, true)? * M_PER_UM;
+    let per_probe_len = |len: usize, span: std::ops::Range<usize>, key: &str| {
+        if len == count {
+            Ok(())
+        } else {
+            Err(fail(
+                span,
+                key,
+                format!("expected one entry per probe ({count}), got {len}"),
+            ))
+        }
+    };
+    let gains = match &r.gain_error {
+        None => vec![0.0; count],
+        Some(g) => {
+            per_probe_len(g.get_ref().len(), g.span(), "gain_error")?;
+            if let Some(bad) = g
+                .get_ref()
+                .iter()
+                .find(|x| !(x.is_finite() && x.abs() < 0.5))
+            {
+                return Err(fail(
+                    g.span(),
+                    "gain_error",
+                    format!("{bad}: expected a relative error within ±0.5"),
+                ));
+            }
+            g.get_ref().clone()
+        }
+    };
+    let directions = match &r.direction_error_mrad {
+        None => vec![[0.0; 2]; count],
+        Some(d) => {
+            per_probe_len(d.get_ref().len(), d.span(), "direction_error_mrad")?;
+            if d.get_ref()
+                .iter()
+                .flatten()
+                .any(|x| !(x.is_finite() && x.abs() <= 100.0))
+            {
+                return Err(fail(
+                    d.span(),
+                    "direction_error_mrad",
+                    "expected [elevation, azimuth] pairs within ±100 mrad".into(),
+                ));
+            }
+            d.get_ref().clone()
+        }
+    };
+    let probes = Nest::nominal_axes(count)
+        .into_iter()
+        .zip(gains.iter().zip(&directions))
+        .map(|(nominal, (&gain_error, error))| {
+            let elevation = nominal.z.asin() + error[0] * 1e-3;
+            let azimuth = nominal.y.atan2(nominal.x) + error[1] * 1e-3;
+            Probe {
+                nominal_axis: nominal,
+                axis: probe_axis(azimuth, elevation),
+                gain_error,
+            }
+        })
+        .collect();
+    let step = number(&r.calibration_step_mm, "calibration_step_mm", 0.5, false)? * M_PER_MM;
+    let calibration = match r
+        .calibration
+        .as_ref()
+        .map(|c| (c.get_ref().as_str(), c.span()))
+    {
+        None | Some(("six_point", _)) => Calibration::SixPoint { step },
+        Some(("nominal", _)) => Calibration::Nominal,
+        Some((other, span)) => {
+            return Err(fail(
+                span,
+                "calibration",
+                format!("expected \"six_point\" or \"nominal\", got \"{other}\""),
+            ));
+        }
+    };
+    if step >= range {
+        return Err(fail(
+            r.calibration_step_mm
+                .as_ref()
+                .map_or(raw.span(), |s| s.span()),
+            "calibration_step_mm",
+            "the calibration step must lie inside the probes' range".into(),
+        ));
+    }
+    let mode = match r.mode.as_ref().map(|m| (m.get_ref().as_str(), m.span())) {
+        None | Some(("static", _)) => Mode::Static {
+            dwell: number(&r.dwell_s, "dwell_s", 1.0, false)?,
+        },
+        Some(("dynamic", _)) => {
+            let mut kv = [100.0 / 3.0; 7];
+            if let Some(map) = &r.kv_per_s {
+                for (letter, &value) in map.get_ref() {
+                    let axis = single_axis(letter)
+                        .filter(|a| machine.has_axis(*a) && *a != Axis::S)
+                        .ok_or_else(|| {
+                            fail(
+                                map.span(),
+                                "kv_per_s",
+                                format!("{letter}: not a feed axis of the machine"),
+                            )
+                        })?;
+                    if !(value.is_finite() && value > 0.0) {
+                        return Err(fail(
+                            map.span(),
+                            "kv_per_s",
+                            format!("{letter} = {value}: expected a positive gain"),
+                        ));
+                    }
+                    kv[axis.index()] = value;
+                }
+            }
+            Mode::Dynamic(Dynamic {
+                rate: number(
+                    &r.rotary_feed_deg_per_min,
+                    "rotary_feed_deg_per_min",
+                    1800.0,
+                    false,
+                )? * RAD_PER_DEG
+                    / 60.0,
+                sample_rate: number(&r.sample_rate_hz, "sample_rate_hz", 100.0, false)?,
+                ipo_period: number(&r.ipo_period_ms, "ipo_period_ms", 1.0, false)? * 1e-3,
+                kv,
+            })
+        }
+        Some((other, span)) => {
+            return Err(fail(
+                span,
+                "mode",
+                format!("expected \"static\" or \"dynamic\", got \"{other}\""),
+            ));
+        }
+    };
+    let nest = Nest {
+        probes,
+        tip,
+        sphere_radius,
+        range,
+        noise,
+        resolution,
+        calibration,
+    };
+
+    let mut tests: Vec<KTest> = Vec::new();
+    let mut workspace = Workspace::new(machine);
+    if r.test.get_ref().is_empty() {
+        return Err(fail(r.test.span(), "test", "give at least one test".into()));
+    }
+    for t in r.test.get_ref() {
+        let raw_test = t.get_ref();
+        let name = raw_test.name.get_ref().trim().to_string();
+        let key = format!("test \"{name}\"");
+        if name.is_empty() || name.contains(',') || name.contains('"') {
+            return Err(fail(
+                raw_test.name.span(),
+                "test.name",
+                "expected a non-empty name without commas or quotes".into(),
+            ));
+        }
+        if tests.iter().any(|other| other.name == name) {
+            return Err(fail(
+                raw_test.name.span(),
+                "test.name",
+                format!("\"{name}\" is given twice"),
+            ));
+        }
+        let angles = |map: &Option<Spanned<BTreeMap<String, Real>>>,
+                      base: AxisValues,
+                      field: &str|
+         -> Result<AxisValues, ScenarioError> {
+            let mut out = base;
+            let Some(map) = map else { return Ok(out) };
+            for (letter, &value) in map.get_ref() {
+                let Some(info) = single_axis(letter)
+                    .filter(|a| a.is_rotary())
+                    .and_then(|a| machine.axis(a))
+                else {
+                    return Err(fail(
+                        map.span(),
+                        &format!("test.{field}"),
+                        format!(
+                            "{key}: {letter} is not a rotary axis of machine \"{}\"",
+                            machine.name()
+                        ),
+                    ));
+                };
+                let v = value * RAD_PER_DEG;
+                if !info.within_travel(v) {
+                    return Err(fail(
+                        map.span(),
+                        &format!("test.{field}"),
+                        format!("{key}: {letter} = {value}° is outside its travel"),
+                    ));
+                }
+                out[info.axis] = v;
+            }
+            Ok(out)
+        };
+        let from = angles(&raw_test.from_deg, AxisValues::ZERO, "from_deg")?;
+        let to = angles(&raw_test.to_deg, from, "to_deg")?;
+        let points = match &raw_test.points {
+            None => 25,
+            Some(p) if (2..=100_000).contains(p.get_ref()) => *p.get_ref() as usize,
+            Some(p) => {
+                return Err(fail(
+                    p.span(),
+                    "test.points",
+                    format!("{key}: expected 2 … 100000 poses, got {}", p.get_ref()),
+                ));
+            }
+        };
+        let test = KTest {
+            name,
+            from,
+            to,
+            points,
+        };
+        // Every pose must be reachable: check a fine sweep of the path.
+        let checks = (test.rotary_travel(machine).to_degrees().ceil() as usize).clamp(2, 3600);
+        for k in 0..=checks {
+            let angles = test.angles_at(machine, k as Real / checks as Real);
+            follow(machine, &mut workspace, &angles, sphere)
+                .map_err(|e: FollowError| fail(t.span(), "test", format!("{key}: {e}")))?;
+        }
+        tests.push(test);
+    }
+    Ok(RTest {
+        sphere,
+        nest,
+        tests,
+        mode,
+    })
+}
+
+/// The axis of a one-letter key (`A`, `c`).
+fn single_axis(letter: &str) -> Option<Axis> {
+    let mut chars = letter.chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) => Axis::from_letter(c.to_ascii_uppercase()),
+        _ => None,
+    }
+}

@@ -1,0 +1,244 @@
+//! The `rtest` measurement table: the displacement of the tool (the nest) relative to the
+//! sphere at each pose of each test, as R-test software exports it, in any column order.
+//!
+//! | column | required | meaning |
+//! |---|---|---|
+//! | `test` | yes | the test's name (rows of one test together, in order) |
+//! | `point` | no | index of the pose in its test |
+//! | `time_s` | no | time since the start of the test (s) |
+//! | `a_deg`, `b_deg`, `c_deg` | at least one | the controller's rotary angles |
+//! | `x_mm`, `y_mm`, `z_mm` | no | the controller's linear axes |
+//! | `dx_um`, `dy_um`, `dz_um` | yes | tool (nest reference point) relative to the sphere centre, actual − nominal, along the machine's X, Y, Z, zeroed at the first pose of the test (the software zeroes the probe readings, so on a tilting head the first pose's offset turns with the nest) |
+//! | `probe1_um` … `probe4_um` | no | the raw readings (+ when the sphere pushes the probe in) |
+//!
+//! Preamble keys (`# key = value`, see [`crate::io::Conditions`]): `machine`, `sphere_mm`
+//! (`x y z` in the workpiece frame), `sphere_diameter_mm`, `tip`, `calibration`, `mode`.
+//! Analyses need none of them.
+
+use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
+use crate::machine::Axis;
+use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Vector, fixed};
+use std::path::Path;
+
+/// One row: one pose of one test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RtestRow {
+    /// The test's name.
+    pub test: String,
+    /// Index of the pose in its test.
+    pub point: Option<usize>,
+    /// Time since the start of the test (s).
+    pub time: Option<Real>,
+    /// The controller's rotary angles (rad), A, B, C; `None` for a column the file lacks.
+    pub angles: [Option<Real>; 3],
+    /// The controller's linear axes (m), when recorded.
+    pub linear: Option<Vector>,
+    /// Tool relative to the sphere, actual − nominal, machine X, Y, Z (m).
+    pub deviation: Vector,
+    /// Raw probe readings (m).
+    pub probes: Vec<Real>,
+}
+
+impl RtestRow {
+    /// The angle of a rotary axis (rad), if recorded.
+    pub fn angle(&self, axis: Axis) -> Option<Real> {
+        match axis {
+            Axis::A => self.angles[0],
+            Axis::B => self.angles[1],
+            Axis::C => self.angles[2],
+            _ => None,
+        }
+    }
+}
+
+/// An R-test table: the rows in file order and the preamble.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RtestTable {
+    /// The rows.
+    pub rows: Vec<RtestRow>,
+    /// The preamble (empty for a file without one).
+    pub conditions: Conditions,
+}
+
+const ANGLES: [&str; 3] = ["a_deg", "b_deg", "c_deg"];
+const LINEAR: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
+const DEVIATION: [&str; 3] = ["dx_um", "dy_um", "dz_um"];
+const PROBES: [&str; 4] = ["probe1_um", "probe2_um", "probe3_um", "probe4_um"];
+
+impl RtestTable {
+    /// The tests in the order they first appear, each with its rows.
+    pub fn tests(&self) -> Vec<(&str, Vec<&RtestRow>)> {
+        let mut out: Vec<(&str, Vec<&RtestRow>)> = Vec::new();
+        for row in &self.rows {
+            match out.iter_mut().find(|(name, _)| *name == row.test) {
+                Some((_, rows)) => rows.push(row),
+                None => out.push((&row.test, vec![row])),
+            }
+        }
+        out
+    }
+
+    /// Reads an R-test table file.
+    pub fn read(path: impl AsRef<Path>) -> Result<RtestTable, TableError> {
+        let (bytes, file) = read_file(path.as_ref())?;
+        RtestTable::parse(&bytes, &file)
+    }
+
+    /// Reads an R-test table from bytes; `file` names it in messages.
+    pub fn parse(bytes: &[u8], file: &str) -> Result<RtestTable, TableError> {
+        let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
+        let conditions = Conditions::parse(bytes, file)?;
+        let mut reader = csv_reader(bytes);
+        let (header, header_line) = read_header(&mut reader, file)?;
+        let known = |name: &str| {
+            ["test", "point", "time_s"].contains(&name)
+                || ANGLES.contains(&name)
+                || LINEAR.contains(&name)
+                || DEVIATION.contains(&name)
+                || PROBES.contains(&name)
+        };
+        if let Some(name) = header.iter().find(|n| !known(n)) {
+            return Err(fail(
+                Some(header_line),
+                format!(
+                    "unknown column `{name}`: expected test, point, time_s, a_deg/b_deg/c_deg, \
+                     x_mm/y_mm/z_mm, dx_um, dy_um, dz_um, probe1_um … probe4_um"
+                ),
+            ));
+        }
+        let column = |name: &str| header.iter().position(|h| h == name);
+        let required = |name: &str| {
+            column(name).ok_or_else(|| {
+                fail(
+                    Some(header_line),
+                    format!("missing column `{name}` (required: test, dx_um, dy_um, dz_um and a rotary angle)"),
+                )
+            })
+        };
+        let test_column = required("test")?;
+        let deviation: Vec<usize> = DEVIATION
+            .iter()
+            .map(|n| required(n))
+            .collect::<Result<_, _>>()?;
+        let angles: Vec<Option<usize>> = ANGLES.iter().map(|n| column(n)).collect();
+        if angles.iter().all(Option::is_none) {
+            return Err(fail(
+                Some(header_line),
+                "missing a rotary angle column (a_deg, b_deg or c_deg)".into(),
+            ));
+        }
+        let linear: Vec<Option<usize>> = LINEAR.iter().map(|n| column(n)).collect();
+        if linear.iter().any(Option::is_some) && linear.iter().any(Option::is_none) {
+            return Err(fail(
+                Some(header_line),
+                "give all of x_mm, y_mm, z_mm or none".into(),
+            ));
+        }
+        let probes: Vec<usize> = PROBES.iter().map_while(|n| column(n)).collect();
+        if let Some(extra) = PROBES[probes.len()..].iter().find(|n| column(n).is_some()) {
+            return Err(fail(
+                Some(header_line),
+                format!("`{extra}` without the probes before it"),
+            ));
+        }
+        let (point_column, time_column) = (column("point"), column("time_s"));
+        let mut rows = Vec::new();
+        for record in reader.records() {
+            let record = row(record, bytes, file)?;
+            let line = record.position().map(|p| p.line());
+            let number = |index: usize, name: &str| finite_number(&record, index, name, file);
+            let test = record[test_column].to_string();
+            if test.is_empty() {
+                return Err(fail(line, "column `test`: empty test name".into()));
+            }
+            let point = match point_column {
+                None => None,
+                Some(i) => Some(record[i].parse::<usize>().map_err(|_| {
+                    fail(
+                        line,
+                        format!(
+                            "column `point`: expected a pose index (0, 1, …), found \"{}\"",
+                            &record[i]
+                        ),
+                    )
+                })?),
+            };
+            let time = time_column.map(|i| number(i, "time_s")).transpose()?;
+            let mut row_angles = [None; 3];
+            for ((slot, index), name) in row_angles.iter_mut().zip(&angles).zip(ANGLES) {
+                *slot = index
+                    .map(|i| number(i, name).map(|v| v * RAD_PER_DEG))
+                    .transpose()?;
+            }
+            let linear_values = match linear[..] {
+                [Some(x), Some(y), Some(z)] => Some(
+                    Vector::new(number(x, "x_mm")?, number(y, "y_mm")?, number(z, "z_mm")?)
+                        * M_PER_MM,
+                ),
+                _ => None,
+            };
+            let d = Vector::new(
+                number(deviation[0], "dx_um")?,
+                number(deviation[1], "dy_um")?,
+                number(deviation[2], "dz_um")?,
+            ) * M_PER_UM;
+            let readings = probes
+                .iter()
+                .zip(PROBES)
+                .map(|(&i, name)| number(i, name).map(|v| v * M_PER_UM))
+                .collect::<Result<Vec<_>, _>>()?;
+            rows.push(RtestRow {
+                test,
+                point,
+                time,
+                angles: row_angles,
+                linear: linear_values,
+                deviation: d,
+                probes: readings,
+            });
+        }
+        if rows.is_empty() {
+            return Err(fail(None, "no data rows".into()));
+        }
+        Ok(RtestTable { rows, conditions })
+    }
+
+    /// The table as CSV: the preamble, then the columns the rows have (angles of the axes
+    /// `rotary`), deviations and readings in µm to 4 decimals.
+    pub fn to_csv(&self, rotary: &[Axis]) -> Vec<u8> {
+        let mut text = if self.conditions.is_empty() {
+            String::new()
+        } else {
+            self.conditions.to_preamble("mtwin rtest table")
+        };
+        let probes = self.rows.first().map_or(0, |r| r.probes.len());
+        let mut header = vec!["test", "point", "time_s"];
+        header.extend(rotary.iter().map(|a| ANGLES[a.coordinate()]));
+        header.extend(LINEAR);
+        header.extend(DEVIATION);
+        header.extend(&PROBES[..probes]);
+        text += &header.join(",");
+        text.push('\n');
+        for row in &self.rows {
+            let mut fields = vec![
+                row.test.clone(),
+                row.point.map_or_else(String::new, |p| p.to_string()),
+                row.time.map_or_else(String::new, |t| fixed(t, 4)),
+            ];
+            for axis in rotary {
+                fields.push(
+                    row.angle(*axis)
+                        .map_or_else(String::new, |a| fixed(a / RAD_PER_DEG, 6)),
+                );
+            }
+            let linear = row.linear.unwrap_or(Vector::ZERO) / M_PER_MM;
+            fields.extend(linear.to_array().map(|v| fixed(v, 6)));
+            let d = row.deviation / M_PER_UM;
+            fields.extend(d.to_array().map(|v| fixed(v, 4)));
+            fields.extend(row.probes.iter().map(|p| fixed(p / M_PER_UM, 4)));
+            text += &fields.join(",");
+            text.push('\n');
+        }
+        text.into_bytes()
+    }
+}
