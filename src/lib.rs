@@ -62,6 +62,7 @@
 //! ```
 
 pub mod app;
+pub mod collision;
 pub mod contact;
 pub mod discovery;
 pub mod errors;

@@ -453,6 +453,21 @@ fn bad_r_test_sections_are_refused_with_the_line_and_the_reason() {
             "expected 2 … 100000 poses",
         ),
     ];
+    let swing = |to: &str| {
+        format!("name = \"swing\"\nfrom_deg = {{ A = 0.0, C = 0.0 }}\nto_deg = {{ A = {to} }}")
+    };
+    let cases = cases.into_iter().chain([
+        (
+            base("sphere_mm = [0.0, -100.0, 100.0]", &swing("110.0")),
+            "the head (tool side) would touch the cradle (workpiece side)",
+        ),
+        (
+            base("sphere_mm = [50.0, 0.0, 10.0]", ok_test),
+            "at least its radius (12.7 mm) above the table",
+        ),
+    ]);
+    // The same swing to 90° clears the cradle and loads.
+    load(&base("sphere_mm = [0.0, -100.0, 100.0]", &swing("90.0"))).unwrap();
     for (text, expected) in cases {
         let error = load(&text).unwrap_err();
         assert!(error.contains(expected), "{error}\nexpected: {expected}");

@@ -30,8 +30,9 @@
 
 use super::instrument::{Calibration, Nest, Probe, Tip, probe_axis};
 use super::program::{Dynamic, FollowError, KTest, follow};
+use crate::collision::{Mount, Scene, Solid};
 use crate::machine::{Axis, AxisValues, Machine, Workspace};
-use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Vector};
+use crate::math::{M_PER_MM, M_PER_UM, Pose, RAD_PER_DEG, Real, Vector};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -332,6 +333,17 @@ pub(crate) fn rtest(
         calibration,
     };
 
+    if sphere.z < sphere_radius {
+        return Err(fail(
+            r.sphere_mm.span(),
+            "sphere_mm",
+            format!(
+                "the sphere's centre must stand at least its radius ({} mm) above the table surface",
+                sphere_radius / M_PER_MM
+            ),
+        ));
+    }
+    let scene = collision_scene(machine, sphere, sphere_radius);
     let mut tests: Vec<KTest> = Vec::new();
     let mut workspace = Workspace::new(machine);
     if r.test.get_ref().is_empty() {
@@ -406,12 +418,32 @@ pub(crate) fn rtest(
             to,
             points,
         };
-        // Every pose must be reachable: check a fine sweep of the path.
+        // Every pose must be reachable, and the path free of collisions: check it finely.
+        let duration = match &mode {
+            Mode::Static { dwell } => (test.points - 1) as Real * dwell,
+            Mode::Dynamic(d) => test.rotary_travel(machine) / d.rate,
+        };
         let checks = (test.rotary_travel(machine).to_degrees().ceil() as usize).clamp(2, 3600);
+        let mut path = Vec::with_capacity(checks + 1);
         for k in 0..=checks {
-            let angles = test.angles_at(machine, k as Real / checks as Real);
-            follow(machine, &mut workspace, &angles, sphere)
+            let lambda = k as Real / checks as Real;
+            let angles = test.angles_at(machine, lambda);
+            let position = follow(machine, &mut workspace, &angles, sphere)
                 .map_err(|e: FollowError| fail(t.span(), "test", format!("{key}: {e}")))?;
+            path.push((lambda * duration, position));
+        }
+        if let Err(hit) = scene.sweep(machine, &path) {
+            return Err(fail(
+                t.span(),
+                "test",
+                format!(
+                    "{key}: the {} (tool side) would touch the {} (workpiece side) {:.2} s into the test, at {}",
+                    hit.tool_body,
+                    hit.workpiece_body,
+                    hit.time,
+                    hit.describe(machine)
+                ),
+            ));
         }
         tests.push(test);
     }
@@ -421,6 +453,43 @@ pub(crate) fn rtest(
         tests,
         mode,
     })
+}
+
+/// The nest's holder: a cylinder of this radius (m) around the tool axis, from [`NEST_GAP`]
+/// above the sphere's top to the spindle nose, 150 mm above the tip. The probes that reach
+/// down around the sphere are not modelled.
+pub const NEST_RADIUS: Real = 0.040;
+/// The gap (m) between the sphere's top and the nest's holder when the readings are zero.
+pub const NEST_GAP: Real = 0.010;
+/// The radius (m) of the post the sphere stands on, from the table surface up to the sphere.
+pub const POST_RADIUS: Real = 0.008;
+
+/// The machine (its `tool` link replaced by the nest) with the sphere on its post.
+fn collision_scene(machine: &Machine, sphere: Vector, radius: Real) -> Scene {
+    let mut scene = Scene::of_machine(machine, &["tool"]);
+    let (bottom, top) = (radius + NEST_GAP, 0.150_f64.max(radius + NEST_GAP + 0.01));
+    scene.attach(
+        "nest",
+        Mount::Tool,
+        Pose::from_translation(Vector::new(0.0, 0.0, (bottom + top) / 2.0)),
+        Solid::Cylinder(NEST_RADIUS, top - bottom),
+    );
+    scene.attach(
+        "sphere",
+        Mount::Workpiece,
+        Pose::from_translation(sphere),
+        Solid::Sphere(radius),
+    );
+    let post = sphere.z - radius;
+    if post > 1e-6 {
+        scene.attach(
+            "post",
+            Mount::Workpiece,
+            Pose::from_translation(Vector::new(sphere.x, sphere.y, post / 2.0)),
+            Solid::Cylinder(POST_RADIUS, post),
+        );
+    }
+    scene
 }
 
 /// The axis of a one-letter key (`A`, `c`).
