@@ -27,7 +27,12 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // 100 mm circle at 2000 mm/min, 18.85 s at 100 Hz, 1 885 per sense; warm-up 7 targets
     // (5..755 step 125) × 2 × 4 runs. The ETVE test reads every minute for 480 min: 481 rows.
     let full_150 = 2 * 14_137;
-    let expected: [(&str, &[(&str, usize)]); 13] = [
+    // The R-tests: one row per static pose, 37 + 37 + 19 + 37 on trunnion5, 37 + 37 + 19 on
+    // headtable5, 73 + 19 in the lesson.
+    let expected: [(&str, &[(&str, usize)]); 16] = [
+        ("teach_rtest.toml", &[("rtest.csv", 73 + 19)]),
+        ("trunnion5_rtest.toml", &[("rtest.csv", 37 + 37 + 19 + 37)]),
+        ("headtable5_rtest.toml", &[("rtest.csv", 37 + 37 + 19)]),
         ("teach_abbe.toml", &[("positioning.csv", 6 * 2 * 2)]),
         (
             "teach_squareness_ballbar.toml",

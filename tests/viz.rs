@@ -460,3 +460,35 @@ fn volumetric_map_arrows_are_the_map_enlarged() {
         "one frame of the table per grid point"
     );
 }
+
+#[test]
+fn rtest_lesson_logs_each_pose_and_the_circle_an_axis_offset_draws() {
+    // EX0C = 20 µm alone, C turning at A = 0: the tool relative to the sphere moves by
+    // −EX0C·(1 − cos C, sin C, 0) in machine axes (tests/rtest.rs derives it). The nest's
+    // noise (0.1 µm per probe, orthonormal axes) and the zeroing at the first pose give each
+    // component a standard deviation of √2 · 0.1 µm; 5 of those bound the difference.
+    let (_, simulation, recording) = record("teach_rtest.toml");
+    let table = simulation.rtest.as_ref().unwrap();
+    let (name, rows) = &table.tests()[0];
+    assert_eq!(*name, "C circle at A0");
+    let series = |axis: &str| recording.scalars(&format!("rtest/C_circle_at_A0/{axis}"));
+    let (dx, dy) = (series("dx_um"), series("dy_um"));
+    assert_eq!((dx.len(), dy.len()), (73, 73));
+    let bound = 5.0 * 2f64.sqrt() * 0.1;
+    for ((row, x), y) in rows.iter().zip(&dx).zip(&dy) {
+        assert!((x.1 - row.deviation.x * 1e6).abs() < 1e-9);
+        let c = row.angle(mtwin::machine::Axis::C).unwrap();
+        assert!(
+            (x.1 + 20.0 * (1.0 - c.cos())).abs() < bound,
+            "C {c}: dx {}",
+            x.1
+        );
+        assert!((y.1 + 20.0 * c.sin()).abs() < bound, "C {c}: dy {}", y.1);
+    }
+    assert_eq!(
+        recording.rows("world/workpiece_nominal/rtest_C_circle_at_A0_x2000"),
+        73
+    );
+    assert!(recording.rows("world/workpiece_nominal/rtest_sphere") > 0);
+    assert_eq!(recording.scalars("rtest/A_swing_at_C0/probe3_um").len(), 19);
+}

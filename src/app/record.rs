@@ -3,7 +3,7 @@
 //! conventions are in [`crate::viz`].
 
 use super::{Scenario, Simulation};
-use crate::kinds::{ballbar, positioning, volumetric};
+use crate::kinds::{ballbar, positioning, rtest, volumetric};
 use crate::math::Real;
 use crate::viz::machine::MachineScene;
 use crate::viz::rr;
@@ -48,6 +48,9 @@ pub fn record(
             ballbar::scene::discovery(rec, circle, table, &mut legend, progress)?;
             start = end + 1.0;
         }
+    }
+    if let (Some(test), Some(table)) = (&scenario.rtest, &simulation.rtest) {
+        start = rtest::scene::record(rec, &mut scene, test, table, start, &mut legend)? + 1.0;
     }
     if let Some(map) = &simulation.volumetric {
         volumetric::scene::record(rec, &mut scene, map, start, &mut legend)?;
@@ -119,6 +122,12 @@ fn layout(scenario: &Scenario, simulation: &Simulation) -> rr::blueprint::Bluepr
         series.insert(
             0,
             series_view(&format!("ball-bar {plane} (µm)"), format!("/{root}")),
+        );
+    }
+    if simulation.rtest.is_some() {
+        series.insert(
+            0,
+            series_view("R-test (µm)", format!("/{}", rtest::scene::SERIES)),
         );
     }
     let left = Vertical::new([

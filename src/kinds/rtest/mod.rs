@@ -12,6 +12,7 @@
 //! | [`analysis`] | deviation ranges and the fitted circle or line per test |
 //! | [`plot`] | the SVG of each test |
 //! | [`cli`] | `mtwin analyze rtest` |
+//! | `scene` | the teaching scene (feature `viz`) |
 
 pub mod analysis;
 pub mod cli;
@@ -20,6 +21,8 @@ pub mod plot;
 pub mod program;
 pub mod run;
 pub mod scenario;
+#[cfg(feature = "viz")]
+pub mod scene;
 pub mod table;
 
 pub use analysis::{RtestEvaluation, TestEvaluation, evaluate};
