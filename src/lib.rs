@@ -34,6 +34,8 @@
 //! | [`program`] | what the machine does over time (moves, dwells, warm-up strokes, visits) and the servo loops |
 //! | [`twin`] | machine + errors (+ thermal) → actual poses, the ground truth |
 //! | [`io`] | file primitives: the CSV dialect and header, located table errors, writing whole |
+//! | [`contact`] | where a stylus ball touches an artefact: closed forms for analytic artefacts, parry for meshes |
+//! | [`collision`] | collision checks of programmes: the machine's and an instrument's bodies swept with parry |
 //! | [`scenario`] | scenario-file primitives: located errors, `[errors.*]`, `[thermal]`, `[lesson]` |
 //! | [`discovery`] | the discovery engine (problems, folds, forward selection) |
 //! | `viz` | rerun helpers and conventions (feature `viz`) |

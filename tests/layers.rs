@@ -10,7 +10,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// The layers, lowest first.
-const LAYERS: [&str; 12] = [
+const LAYERS: [&str; 14] = [
     "math",
     "machine",
     "errors",
@@ -18,6 +18,8 @@ const LAYERS: [&str; 12] = [
     "program",
     "twin",
     "io",
+    "contact",
+    "collision",
     "scenario",
     "discovery",
     "viz",
