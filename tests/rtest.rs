@@ -535,3 +535,78 @@ fn the_table_reads_back_as_written_and_foreign_files_read_too() {
         "{missing}"
     );
 }
+
+#[test]
+fn a_foreign_export_of_an_axis_offset_fits_the_circle_of_that_offset() {
+    // tests/data/rtest/foreign_ck1.csv was written by an independent script (plain rotations
+    // of the sphere about a C axis line displaced by δ = (15, −10) µm, seeded noise of 0.15 µm,
+    // rounded to 0.1 µm, other column order, a vendor's free-text header). The tool relative to
+    // the sphere is −(I − R)·δ, R = Rot(Z, −C): centre (−δx, −δy), cos θ term (δx, δy), sin θ
+    // term (δy, −δx), radius |δ| = 18.03 µm. Noise and rounding (0.15 and 0.1/√12 µm) give each
+    // coefficient a standard error of 0.153·√(2/73) = 0.025 µm; 5 of them bound the check.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/rtest/foreign_ck1.csv");
+    let table = RtestTable::read(&path).unwrap();
+    let evaluation = evaluate(&table).unwrap();
+    let Fit::Circle {
+        centre_um,
+        cos_um,
+        sin_um,
+        radius_um,
+        residual_um,
+    } = &evaluation.tests[0].fit
+    else {
+        panic!("{:?}", evaluation.tests[0].fit);
+    };
+    let bound = 5.0 * 0.025;
+    let near = |got: &[Real; 3], want: [Real; 2]| {
+        (got[0] - want[0]).abs() < bound && (got[1] - want[1]).abs() < bound
+    };
+    assert!(near(centre_um, [-15.0, 10.0]), "{centre_um:?}");
+    assert!(near(cos_um, [15.0, -10.0]), "{cos_um:?}");
+    assert!(near(sin_um, [-10.0, -15.0]), "{sin_um:?}");
+    assert!((radius_um - 325.0_f64.sqrt()).abs() < bound, "{radius_um}");
+    // What is left is the noise and the rounding.
+    assert!(*residual_um < 0.25, "{residual_um}");
+}
+
+#[test]
+fn point_tips_read_the_flat_readings_less_the_curvature_of_the_sphere() {
+    // The same machine read by flat and by point tips (nominal axes, no noise): with the
+    // sphere's centre at v in the nest (v = Σ aᵢ·dᵢ from the flat readings, the axes
+    // orthonormal), a point tip reads aᵢ·v − (ρ − √(ρ² − (|v|² − (aᵢ·v)²))), ρ the sphere's
+    // radius: the lateral cross-talk of a curved target. A 200 µm axis offset moves the
+    // sphere 0.4 mm across the probes: micrometres of cross-talk.
+    let extra = "calibration = \"nominal\"\nrange_mm = 1.0";
+    let flat = run(&trunnion_scenario("EX0C", 200.0, extra));
+    let point = run(&trunnion_scenario(
+        "EX0C",
+        200.0,
+        &format!("{extra}\ntip = \"point\""),
+    ));
+    let elevation = (1.0 / 3.0_f64.sqrt()).asin();
+    let axes: Vec<Vector> = (0..3)
+        .map(|i| {
+            let azimuth = i as Real * std::f64::consts::TAU / 3.0;
+            Vector::new(
+                elevation.cos() * azimuth.cos(),
+                elevation.cos() * azimuth.sin(),
+                elevation.sin(),
+            )
+        })
+        .collect();
+    let rho: Real = 12.7e-3;
+    let mut largest: Real = 0.0;
+    for (f, p) in flat.rows.iter().zip(&point.rows) {
+        let v: Vector = axes.iter().zip(&f.probes).map(|(a, d)| *a * *d).sum();
+        for ((a, d_flat), d_point) in axes.iter().zip(&f.probes).zip(&p.probes) {
+            let across2 = v.length_squared() - a.dot(v).powi(2);
+            let expected = d_flat - (rho - (rho * rho - across2).sqrt());
+            assert!(
+                (d_point - expected).abs() < 1e-12,
+                "{d_point} vs {expected}"
+            );
+            largest = largest.max((d_point - d_flat).abs());
+        }
+    }
+    assert!(largest > 1.0 * UM, "{largest}");
+}
