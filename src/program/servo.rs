@@ -228,3 +228,62 @@ impl AxisLoop {
         }
     }
 }
+
+/// Runs position loops behind a command interpolated linearly over each period and samples
+/// them: periods of `ipo_period` from 0 to `duration` (the last one cut at `duration`), the
+/// command at each period's end from `command_at(t1)` (from `start` at 0), every loop
+/// integrated exactly, and `sample(t, state)` called every `sample_period` from t = 0 with the
+/// loops' actual positions and directions written into `base`'s axes (at most
+/// `⌊duration / sample_period⌋ + 1` samples; a sample on a period boundary belongs to the
+/// period it starts, the very last to the last period). Allocates one scratch period per loop.
+pub fn sample_loops<E>(
+    loops: &mut [AxisLoop],
+    start: &crate::machine::AxisValues,
+    ipo_period: Real,
+    duration: Real,
+    sample_period: Real,
+    base: crate::machine::MachineState,
+    mut command_at: impl FnMut(Real) -> Result<crate::machine::AxisValues, E>,
+    mut sample: impl FnMut(Real, &crate::machine::MachineState) -> Result<(), E>,
+) -> Result<(), E> {
+    let periods = (duration / ipo_period).ceil() as usize;
+    let samples = (duration / sample_period).floor() as usize + 1;
+    let mut spans = Vec::with_capacity(loops.len());
+    let mut next_sample = 0usize;
+    let mut command_start = *start;
+    for i in 0..periods {
+        let t0 = i as Real * ipo_period;
+        let t1 = ((i + 1) as Real * ipo_period).min(duration);
+        let dt = t1 - t0;
+        if dt <= 0.0 {
+            break;
+        }
+        let command_end = command_at(t1)?;
+        spans.clear();
+        spans.extend(
+            loops
+                .iter()
+                .map(|l| l.start_period(t0, command_start[l.axis], command_end[l.axis], dt)),
+        );
+        loop {
+            let t = next_sample as Real * sample_period;
+            let last = i + 1 == periods;
+            if next_sample >= samples || t > t1 || (t == t1 && !last) {
+                break;
+            }
+            let mut state = base;
+            for (l, span) in loops.iter().zip(&spans) {
+                let (position, direction) = l.actual(span, t);
+                state.position[l.axis] = position;
+                state.direction[l.axis.index()] = direction;
+            }
+            sample(t, &state)?;
+            next_sample += 1;
+        }
+        for (l, span) in loops.iter_mut().zip(&spans) {
+            l.finish_period(span, t1);
+        }
+        command_start = command_end;
+    }
+    Ok(())
+}

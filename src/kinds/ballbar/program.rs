@@ -7,6 +7,7 @@ use super::table::Sense;
 use crate::machine::{AxisValues, Plane};
 use crate::machine::{Direction, MachineState};
 use crate::math::Real;
+use crate::program::servo::sample_loops;
 use crate::program::{AxisLoop, Servo};
 
 /// One circular test on one plane: the commanded path (SI: m, rad, m/s, m/s², s).
@@ -208,46 +209,24 @@ pub fn run_circle(
         AxisLoop::new(*servo.axis(axis), axis, start[axis], direction)
     });
     let duration = circle.duration();
-    let periods = (duration / servo.ipo_period).ceil() as usize;
-    let samples = (duration / sample_period).floor() as usize + 1;
-    let mut out = Vec::with_capacity(samples);
-    let mut next_sample = 0usize;
-    let mut command_start = start;
-    for i in 0..periods {
-        let t0 = i as Real * servo.ipo_period;
-        let t1 = ((i + 1) as Real * servo.ipo_period).min(duration);
-        let command_end = circle.position(circle.command(t1).angle);
-        let dt = t1 - t0;
-        if dt <= 0.0 {
-            break;
-        }
-        let spans = loops
-            .each_ref()
-            .map(|l| l.start_period(t0, command_start[l.axis], command_end[l.axis], dt));
-        loop {
-            let t = next_sample as Real * sample_period;
-            let last = i + 1 == periods;
-            if next_sample >= samples || t > t1 || (t == t1 && !last) {
-                break;
-            }
-            let command = circle.command(t);
-            let mut state = MachineState::at(circle.centre);
-            for (l, span) in loops.iter().zip(&spans) {
-                let (position, direction) = l.actual(span, t);
-                state.position[l.axis] = position;
-                state.direction[l.axis.index()] = direction;
-            }
+    let mut out = Vec::with_capacity((duration / sample_period).floor() as usize + 1);
+    let never: Result<(), std::convert::Infallible> = sample_loops(
+        &mut loops,
+        &start,
+        servo.ipo_period,
+        duration,
+        sample_period,
+        MachineState::at(circle.centre),
+        |t1| Ok(circle.position(circle.command(t1).angle)),
+        |t, state| {
             out.push(ServoSample {
                 time: t,
-                command,
-                state,
+                command: circle.command(t),
+                state: *state,
             });
-            next_sample += 1;
-        }
-        for (l, span) in loops.iter_mut().zip(&spans) {
-            l.finish_period(span, t1);
-        }
-        command_start = command_end;
-    }
+            Ok(())
+        },
+    );
+    let Ok(()) = never;
     out
 }

@@ -11,6 +11,7 @@
 
 use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
 use crate::math::{Real, Vector};
+use crate::program::servo::sample_loops;
 use crate::program::{AxisLoop, AxisServo};
 
 /// One test: the rotary axes from `from` to `to` (rad), the linear axes following.
@@ -261,48 +262,28 @@ pub fn dynamic_poses(
             )
         })
         .collect();
-    let periods = (duration / ipo_period).ceil() as usize;
-    let sample_period = 1.0 / sample_rate;
-    let mut next_sample = 0usize;
-    let mut poses = Vec::new();
-    let mut c0 = start;
-    let mut spans = Vec::with_capacity(loops.len());
-    for p in 0..periods {
-        let (t0, t1) = (p as Real * ipo_period, (p + 1) as Real * ipo_period);
-        let c1 = command_at(workspace, t1)?;
-        spans.clear();
-        spans.extend(
-            loops
-                .iter()
-                .map(|l| l.start_period(t0, c0[l.axis], c1[l.axis], ipo_period)),
-        );
-        loop {
-            let t = next_sample as Real * sample_period;
-            if t >= t1 || t > duration {
-                break;
-            }
-            let mut state = MachineState::at(AxisValues::ZERO);
-            for (l, span) in loops.iter().zip(&spans) {
-                let (x, direction) = l.actual(span, t);
-                state.position[l.axis] = x;
-                state.direction[l.axis.index()] = direction;
-            }
-            let fraction = (t - t0) / ipo_period;
-            let mut command = c0;
-            for info in machine.axes() {
-                command[info.axis] = c0[info.axis] + (c1[info.axis] - c0[info.axis]) * fraction;
-            }
+    let mut poses = Vec::with_capacity((duration * sample_rate) as usize + 1);
+    sample_loops(
+        &mut loops,
+        &start,
+        ipo_period,
+        duration,
+        1.0 / sample_rate,
+        MachineState::at(AxisValues::ZERO),
+        |t| command_at(workspace, t),
+        |t, state| {
             poses.push(Pose {
                 time: t,
-                command,
-                state,
+                command: AxisValues::ZERO,
+                state: *state,
             });
-            next_sample += 1;
-        }
-        for (l, span) in loops.iter_mut().zip(&spans) {
-            l.finish_period(span, t1);
-        }
-        c0 = c1;
+            Ok(())
+        },
+    )?;
+    // The controller's command at each sample (the path exactly; the interpolator's chords
+    // differ from it by nanometres).
+    for pose in &mut poses {
+        pose.command = command_at(workspace, pose.time)?;
     }
     Ok(poses)
 }
