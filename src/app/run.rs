@@ -178,6 +178,9 @@ impl Simulation {
         if let (Some(test), Some(run)) = (&scenario.etve_test, &self.etve) {
             truth["etve_test"] = drift::run::truth(test, run);
         }
+        if let Some(test) = &scenario.rtest {
+            truth["rtest"] = rtest::run::truth(test);
+        }
         if let Some(states) = thermal_truth {
             truth["thermal_states"] = states;
         }
@@ -270,7 +273,6 @@ fn truth(scenario: &Scenario) -> Value {
         "seed": scenario.seed,
         "laser_test": laser_test,
         "ballbar_test": scenario.ballbar_test.as_ref().map(ballbar::run::truth),
-        "rtest": scenario.rtest.as_ref().map(rtest::run::truth),
         "thermal_model": thermal_model,
         "convention": "deviation = actual - nominal, workpiece frame. Component, tool and zero-position errors are \
                        motions of the tool relative to the workpiece in the frame of their axis; location errors \
