@@ -229,6 +229,17 @@ impl AxisLoop {
     }
 }
 
+/// The timing of [`sample_loops`] (s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampling {
+    /// The interpolation period.
+    pub ipo_period: Real,
+    /// How long the run lasts.
+    pub duration: Real,
+    /// The time between samples.
+    pub sample_period: Real,
+}
+
 /// Runs position loops behind a command interpolated linearly over each period and samples
 /// them: periods of `ipo_period` from 0 to `duration` (the last one cut at `duration`), the
 /// command at each period's end from `command_at(t1)` (from `start` at 0), every loop
@@ -239,13 +250,16 @@ impl AxisLoop {
 pub fn sample_loops<E>(
     loops: &mut [AxisLoop],
     start: &crate::machine::AxisValues,
-    ipo_period: Real,
-    duration: Real,
-    sample_period: Real,
+    timing: Sampling,
     base: crate::machine::MachineState,
     mut command_at: impl FnMut(Real) -> Result<crate::machine::AxisValues, E>,
     mut sample: impl FnMut(Real, &crate::machine::MachineState) -> Result<(), E>,
 ) -> Result<(), E> {
+    let Sampling {
+        ipo_period,
+        duration,
+        sample_period,
+    } = timing;
     let periods = (duration / ipo_period).ceil() as usize;
     let samples = (duration / sample_period).floor() as usize + 1;
     let mut spans = Vec::with_capacity(loops.len());

@@ -7,7 +7,7 @@ use super::table::Sense;
 use crate::machine::{AxisValues, Plane};
 use crate::machine::{Direction, MachineState};
 use crate::math::Real;
-use crate::program::servo::sample_loops;
+use crate::program::servo::{Sampling, sample_loops};
 use crate::program::{AxisLoop, Servo};
 
 /// One circular test on one plane: the commanded path (SI: m, rad, m/s, m/s², s).
@@ -213,9 +213,11 @@ pub fn run_circle(
     let never: Result<(), std::convert::Infallible> = sample_loops(
         &mut loops,
         &start,
-        servo.ipo_period,
-        duration,
-        sample_period,
+        Sampling {
+            ipo_period: servo.ipo_period,
+            duration,
+            sample_period,
+        },
         MachineState::at(circle.centre),
         |t1| Ok(circle.position(circle.command(t1).angle)),
         |t, state| {

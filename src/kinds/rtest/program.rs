@@ -11,7 +11,7 @@
 
 use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
 use crate::math::{Real, Vector};
-use crate::program::servo::sample_loops;
+use crate::program::servo::{Sampling, sample_loops};
 use crate::program::{AxisLoop, AxisServo};
 
 /// One test: the rotary axes from `from` to `to` (rad), the linear axes following.
@@ -266,9 +266,11 @@ pub fn dynamic_poses(
     sample_loops(
         &mut loops,
         &start,
-        ipo_period,
-        duration,
-        1.0 / sample_rate,
+        Sampling {
+            ipo_period,
+            duration,
+            sample_period: 1.0 / sample_rate,
+        },
         MachineState::at(AxisValues::ZERO),
         |t| command_at(workspace, t),
         |t, state| {
