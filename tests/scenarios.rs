@@ -28,8 +28,26 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // (5..755 step 125) × 2 × 4 runs. The ETVE test reads every minute for 480 min: 481 rows.
     let full_150 = 2 * 14_137;
     // The R-tests: one row per static pose, 37 + 37 + 19 + 37 on trunnion5, 37 + 37 + 19 on
-    // headtable5, 73 + 19 in the lesson.
-    let expected: [(&str, &[(&str, usize)]); 16] = [
+    // headtable5, 73 + 19 in the lesson. The probe: a touch per point and a fit per sphere:
+    // 8 rotary positions × 5 points on trunnion5 and headtable5; a 4 × 5 ball plate at 3
+    // placements, 5 points a ball; a ring of 36 points and 3 mesh points (no sphere).
+    let expected: [(&str, &[(&str, usize)]); 20] = [
+        (
+            "trunnion5_probe_sphere.toml",
+            &[("probe.csv", 8 * 5), ("spheres.csv", 8)],
+        ),
+        (
+            "headtable5_probe_sphere.toml",
+            &[("probe.csv", 8 * 5), ("spheres.csv", 8)],
+        ),
+        (
+            "vmc3_ballplate.toml",
+            &[("probe.csv", 3 * 20 * 5), ("spheres.csv", 3 * 20)],
+        ),
+        (
+            "vmc3_probe_ring_mesh.toml",
+            &[("probe.csv", 36 + 3), ("spheres.csv", 0)],
+        ),
         ("teach_rtest.toml", &[("rtest.csv", 73 + 19)]),
         ("trunnion5_rtest.toml", &[("rtest.csv", 37 + 37 + 19 + 37)]),
         ("headtable5_rtest.toml", &[("rtest.csv", 37 + 37 + 19)]),

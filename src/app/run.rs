@@ -6,6 +6,7 @@ use crate::errors::{Lu2012Error, ParameterName};
 use crate::kinds::ballbar::{self, BallbarTable};
 use crate::kinds::drift::{self, EtveRun};
 use crate::kinds::positioning::{self, LaserRun};
+use crate::kinds::probe::{self, ProbeRun};
 use crate::kinds::rtest::{self, RtestRunError, RtestTable};
 use crate::kinds::volumetric::{VolumetricMap, VolumetricRow, volumetric_map};
 use crate::machine::Side;
@@ -30,6 +31,9 @@ pub enum RunError {
     /// The R-test could not be simulated.
     #[error(transparent)]
     Rtest(#[from] RtestRunError),
+    /// The probing cycles could not be simulated.
+    #[error(transparent)]
+    Probe(#[from] probe::run::ProbeRunError),
     /// An output could not be written.
     #[error(transparent)]
     Write(#[from] crate::io::WriteError),
@@ -56,6 +60,8 @@ pub struct Simulation {
     pub etve: Option<EtveRun>,
     /// The R-test table, if asked for.
     pub rtest: Option<RtestTable>,
+    /// The touch-probe run, if asked for.
+    pub probe: Option<ProbeRun>,
 }
 
 /// Simulates everything `scenario` asks for. Nothing here depends on the clock, the thread
@@ -102,12 +108,18 @@ pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
         .as_ref()
         .map(|test| rtest::run::simulate(&scenario.twin, test, scenario.seed))
         .transpose()?;
+    let probe = scenario
+        .probe_test
+        .as_ref()
+        .map(|test| probe::run::simulate(&scenario.twin, test, scenario.seed))
+        .transpose()?;
     Ok(Simulation {
         volumetric,
         laser,
         ballbar,
         etve,
         rtest,
+        probe,
     })
 }
 
@@ -126,6 +138,7 @@ impl Simulation {
         parts.extend(self.ballbar.iter().map(ballbar::run::summary));
         parts.extend(self.etve.as_ref().map(EtveRun::summary));
         parts.extend(self.rtest.as_ref().map(rtest::run::summary));
+        parts.extend(self.probe.as_ref().map(probe::run::summary));
         parts
     }
 
@@ -170,6 +183,18 @@ impl Simulation {
                 .collect();
             files.push(("rtest.csv".into(), table.to_csv(&rotary)));
         }
+        if let Some(run) = &self.probe {
+            let mut bytes = Vec::new();
+            run.probe
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("probe.csv".into(), bytes));
+            let mut bytes = Vec::new();
+            run.spheres
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("spheres.csv".into(), bytes));
+        }
         let records = (self.laser.as_ref())
             .and_then(|run| run.thermal.as_ref())
             .or(self.etve.as_ref().map(|run| &run.records));
@@ -180,6 +205,9 @@ impl Simulation {
         }
         if let Some(test) = &scenario.rtest {
             truth["rtest"] = rtest::run::truth(test);
+        }
+        if let Some(test) = &scenario.probe_test {
+            truth["probe_test"] = probe::run::truth(test);
         }
         if let Some(states) = thermal_truth {
             truth["thermal_states"] = states;

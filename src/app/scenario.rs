@@ -4,6 +4,7 @@
 use crate::kinds::ballbar::{self, BallbarTest};
 use crate::kinds::drift::{self, EtveTest};
 use crate::kinds::positioning::{self, LaserTest};
+use crate::kinds::probe::{self, ProbeTest};
 use crate::kinds::rtest::{self, RTest};
 use crate::kinds::volumetric::{self, VolumetricSpec};
 use crate::machine::Machine;
@@ -69,6 +70,7 @@ struct RawScenario {
     ballbar: Option<Spanned<ballbar::scenario::RawBallbar>>,
     servo: Option<Spanned<ballbar::scenario::RawServo>>,
     rtest: Option<Spanned<rtest::scenario::RawRtest>>,
+    probe: Option<Spanned<probe::scenario::RawProbe>>,
     lesson: Option<Spanned<RawLesson>>,
 }
 
@@ -104,6 +106,8 @@ pub struct Scenario {
     pub ballbar_test: Option<BallbarTest>,
     /// The R-test to simulate, if asked for.
     pub rtest: Option<RTest>,
+    /// The touch-probe cycles to simulate, if asked for.
+    pub probe_test: Option<ProbeTest>,
     /// The explanation a teaching recording carries, if the scenario is a lesson.
     pub lesson: Option<Lesson>,
 }
@@ -271,6 +275,12 @@ impl Scenario {
             .as_ref()
             .map(|section| rtest::scenario::rtest(&context, &machine, section))
             .transpose()?;
+        let scenario_dir = path.parent().unwrap_or(Path::new(""));
+        let probe_test = raw
+            .probe
+            .as_ref()
+            .map(|section| probe::scenario::probe_test(&context, &machine, section, scenario_dir))
+            .transpose()?;
         let lesson = raw
             .lesson
             .as_ref()
@@ -281,11 +291,12 @@ impl Scenario {
             && ballbar_test.is_none()
             && etve_test.is_none()
             && rtest.is_none()
+            && probe_test.is_none()
         {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve], [ballbar] or [rtest] section",
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve], [ballbar], [rtest] or [probe] section",
             ));
         }
 
@@ -304,6 +315,7 @@ impl Scenario {
             etve_test,
             ballbar_test,
             rtest,
+            probe_test,
             lesson,
         })
     }
@@ -361,6 +373,7 @@ impl Scenario {
         lines.extend(self.thermal.as_ref().map(ThermalSetup::describe));
         lines.extend(self.ballbar_test.iter().flat_map(BallbarTest::describe));
         lines.extend(self.rtest.iter().flat_map(RTest::describe));
+        lines.extend(self.probe_test.iter().flat_map(ProbeTest::describe));
         lines
     }
 }

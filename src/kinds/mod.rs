@@ -7,6 +7,7 @@
 //! | drift records (ISO 230-3) | [`drift`] | — | `drift` tables from other instruments | `analyze` |
 //! | volumetric map | [`volumetric`] | `[volumetric]` | `volumetric.csv` | — |
 //! | R-test (ISO 10791-6) | [`rtest`] | `[rtest]` | `rtest.csv` | `analyze` |
+//! | touch probe on artefacts | [`probe`] | `[probe]` | `probe.csv`, `spheres.csv` | `analyze` |
 //!
 //! A kind's folder holds, each in its own file: its scenario sections (`scenario.rs`: the
 //! raw TOML structs and their checks, errors located by [`crate::scenario::Context`]), its
@@ -94,4 +95,5 @@ pub const KINDS: &[Kind] = &[
     ballbar::cli::KIND,
     volumetric::KIND,
     rtest::cli::KIND,
+    probe::cli::KIND,
 ];

@@ -1,0 +1,508 @@
+//! `mtwin analyze probe`: the evaluation of a `probe` table, simulated or exported: a sphere
+//! fit per sphere feature (centre, radius as measured and its error against the calibration,
+//! form, and ISO 10360-5's P_FTU for 25 points), a circle fit per ring (diameter and its error,
+//! roundness), the centre-distance errors of each ball-plate placement against the calibrated
+//! plate, and the surface points of mesh cycles.
+//!
+//! The controller's compensation, as the evaluation applies it: a sphere's radius is the fit
+//! of the stylus-ball centres minus the stylus radius (plus it for a bore); a mesh point is the
+//! latched centre plus the stylus radius along the approach. Everything is in machine axis
+//! coordinates; distances do not depend on the frame.
+
+use super::cycles::CycleKind;
+use super::fit::{CircleFit, FitError, SphereFit, fit_circle, fit_sphere};
+use super::table::{ProbeTable, ProbeTouch, RowKey, SphereRow, SpheresTable};
+use crate::math::{M_PER_MM, M_PER_UM, Real, Vector};
+use nalgebra::{Matrix3, SymmetricEigen};
+use serde_json::{Value, json};
+use std::fmt::Write as _;
+
+/// Why a table could not be evaluated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EvaluationError {
+    /// A feature's fit failed.
+    #[error("cycle {cycle}, feature {feature}: {error}")]
+    Fit {
+        /// The cycle.
+        cycle: usize,
+        /// The feature.
+        feature: usize,
+        /// Why.
+        error: FitError,
+    },
+    /// A feature's rows disagree on its kind or rotary angles.
+    #[error("cycle {cycle}, feature {feature}: its rows disagree on the {what}")]
+    Inconsistent {
+        /// The cycle.
+        cycle: usize,
+        /// The feature.
+        feature: usize,
+        /// What differs.
+        what: &'static str,
+    },
+    /// The stylus radius is not known or not valid.
+    #[error(
+        "the stylus radius is needed: give the table a `# stylus_radius_mm = R` preamble or --stylus-radius-mm"
+    )]
+    NoStylusRadius,
+}
+
+/// A sphere feature's fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SphereResult {
+    /// Cycle, feature, angles, calibration.
+    pub key: RowKey,
+    /// The fit of the stylus-ball centres.
+    pub fit: SphereFit,
+    /// The artefact's radius as measured (fit − stylus radius, m).
+    pub radius: Real,
+}
+
+impl SphereResult {
+    /// The fitted centre (axis coordinates, m).
+    pub fn centre(&self) -> Vector {
+        Vector::from_array(self.fit.centre)
+    }
+
+    /// Measured − calibrated radius (m), when calibrated.
+    pub fn radius_error(&self) -> Option<Real> {
+        self.key.calibrated_diameter.map(|d| self.radius - d / 2.0)
+    }
+
+    /// ISO 10360-5 P_FTU (the range of the 25 radii), for a 25-point feature.
+    pub fn p_ftu(&self) -> Option<Real> {
+        (self.fit.residuals.len() == 25).then(|| self.fit.form())
+    }
+}
+
+/// A ring feature's fit, in the plane across the approach vectors.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RingResult {
+    /// Cycle, feature, angles, calibration.
+    pub key: RowKey,
+    /// The fit of the stylus-ball centres in the plane.
+    pub fit: CircleFit,
+    /// Each point's angle in the plane (rad, from the plane's first axis), in fit order.
+    pub angles: Vec<Real>,
+    /// The centre (axis coordinates, m).
+    pub centre: Vector,
+    /// The diameter as measured (m).
+    pub diameter: Real,
+    /// Whether it is a bore (approaches outward) rather than a plug.
+    pub bore: bool,
+}
+
+impl RingResult {
+    /// Measured − calibrated diameter (m), when calibrated.
+    pub fn diameter_error(&self) -> Option<Real> {
+        self.key.calibrated_diameter.map(|d| self.diameter - d)
+    }
+}
+
+/// One centre distance of a ball plate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DistanceError {
+    /// The two features (balls).
+    pub balls: (usize, usize),
+    /// The calibrated distance (m).
+    pub calibrated: Real,
+    /// The measured distance (m).
+    pub measured: Real,
+}
+
+/// A ball-plate placement's centre distances.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlateResult {
+    /// The cycle.
+    pub cycle: usize,
+    /// Every pair of calibrated balls.
+    pub distances: Vec<DistanceError>,
+}
+
+impl PlateResult {
+    /// The largest |measured − calibrated| (m).
+    pub fn max_abs_error(&self) -> Real {
+        self.distances
+            .iter()
+            .map(|d| (d.measured - d.calibrated).abs())
+            .fold(0.0, Real::max)
+    }
+
+    /// The RMS of measured − calibrated (m).
+    pub fn rms_error(&self) -> Real {
+        let n = self.distances.len().max(1) as Real;
+        (self
+            .distances
+            .iter()
+            .map(|d| (d.measured - d.calibrated).powi(2))
+            .sum::<Real>()
+            / n)
+            .sqrt()
+    }
+}
+
+/// A point on a mesh workpiece as the controller reports it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// Cycle, feature.
+    pub key: RowKey,
+    /// The point's number.
+    pub point: usize,
+    /// Latched centre + stylus radius along the approach (axis coordinates, m).
+    pub surface: Vector,
+}
+
+/// The evaluation of a `probe` table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProbeEvaluation {
+    /// The stylus radius used (m).
+    pub stylus_radius: Real,
+    /// Sphere and plate-ball fits, in table order.
+    pub spheres: Vec<SphereResult>,
+    /// Ring fits.
+    pub rings: Vec<RingResult>,
+    /// Ball-plate placements.
+    pub plates: Vec<PlateResult>,
+    /// Mesh points.
+    pub mesh_points: Vec<SurfacePoint>,
+}
+
+/// The rows of each (cycle, feature), in order of first appearance.
+fn features(table: &ProbeTable) -> Result<Vec<Vec<&ProbeTouch>>, EvaluationError> {
+    let mut groups: Vec<Vec<&ProbeTouch>> = Vec::new();
+    for touch in &table.touches {
+        let key = (touch.key.cycle, touch.key.feature);
+        match groups
+            .iter_mut()
+            .find(|g| (g[0].key.cycle, g[0].key.feature) == key)
+        {
+            Some(group) => {
+                let first = group[0].key;
+                let what = if first.kind != touch.key.kind {
+                    Some("kind")
+                } else if first.rotary != touch.key.rotary {
+                    Some("rotary angles")
+                } else {
+                    None
+                };
+                if let Some(what) = what {
+                    return Err(EvaluationError::Inconsistent {
+                        cycle: key.0,
+                        feature: key.1,
+                        what,
+                    });
+                }
+                group.push(touch);
+            }
+            None => groups.push(vec![touch]),
+        }
+    }
+    Ok(groups)
+}
+
+/// Evaluates `table` with the stylus radius `stylus_radius` (m).
+pub fn evaluate(
+    table: &ProbeTable,
+    stylus_radius: Real,
+) -> Result<ProbeEvaluation, EvaluationError> {
+    if !(stylus_radius.is_finite() && stylus_radius >= 0.0) {
+        return Err(EvaluationError::NoStylusRadius);
+    }
+    let mut evaluation = ProbeEvaluation {
+        stylus_radius,
+        spheres: Vec::new(),
+        rings: Vec::new(),
+        plates: Vec::new(),
+        mesh_points: Vec::new(),
+    };
+    for group in features(table)? {
+        let key = group[0].key;
+        let failed = |error| EvaluationError::Fit {
+            cycle: key.cycle,
+            feature: key.feature,
+            error,
+        };
+        let points: Vec<Vector> = group.iter().map(|t| t.position).collect();
+        match key.kind {
+            CycleKind::Sphere | CycleKind::Plate => {
+                let fit = fit_sphere(&points).map_err(failed)?;
+                let radius = fit.radius - stylus_radius;
+                evaluation.spheres.push(SphereResult { key, fit, radius });
+            }
+            CycleKind::Ring => {
+                evaluation
+                    .rings
+                    .push(ring(&group, key, stylus_radius).map_err(failed)?);
+            }
+            CycleKind::Mesh => {
+                evaluation
+                    .mesh_points
+                    .extend(group.iter().map(|t| SurfacePoint {
+                        key,
+                        point: t.point,
+                        surface: t.position + t.approach * stylus_radius,
+                    }));
+            }
+        }
+    }
+    let mut cycles: Vec<usize> = evaluation
+        .spheres
+        .iter()
+        .filter(|s| s.key.kind == CycleKind::Plate)
+        .map(|s| s.key.cycle)
+        .collect();
+    cycles.dedup();
+    for cycle in cycles {
+        let balls: Vec<&SphereResult> = evaluation
+            .spheres
+            .iter()
+            .filter(|s| s.key.cycle == cycle && s.key.calibrated_centre.is_some())
+            .collect();
+        let mut distances = Vec::new();
+        for (n, a) in balls.iter().enumerate() {
+            for b in &balls[n + 1..] {
+                let (ca, cb) = (a.key.calibrated_centre, b.key.calibrated_centre);
+                let calibrated = ca.zip(cb).map_or(0.0, |(ca, cb)| (ca - cb).length());
+                distances.push(DistanceError {
+                    balls: (a.key.feature, b.key.feature),
+                    calibrated,
+                    measured: (a.centre() - b.centre()).length(),
+                });
+            }
+        }
+        if !distances.is_empty() {
+            evaluation.plates.push(PlateResult { cycle, distances });
+        }
+    }
+    Ok(evaluation)
+}
+
+/// A ring: the plane across the approach vectors (the eigenvector of `Σ e·eᵀ` with the
+/// smallest eigenvalue is its normal), the circle fit there.
+fn ring(group: &[&ProbeTouch], key: RowKey, stylus_radius: Real) -> Result<RingResult, FitError> {
+    let mut scatter = Matrix3::<Real>::zeros();
+    for t in group {
+        let e = nalgebra::Vector3::new(t.approach.x, t.approach.y, t.approach.z);
+        scatter += e * e.transpose();
+    }
+    let eigen = SymmetricEigen::new(scatter);
+    let smallest = eigen.eigenvalues.imin();
+    let n = eigen.eigenvectors.column(smallest);
+    let normal = Vector::new(n[0], n[1], n[2]).normalize();
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    let n_points = group.len() as Real;
+    let mean = group.iter().map(|t| t.position).sum::<Vector>() / n_points;
+    let planar: Vec<[Real; 2]> = group
+        .iter()
+        .map(|t| {
+            let d = t.position - mean;
+            [d.dot(u), d.dot(v)]
+        })
+        .collect();
+    let fit = fit_circle(&planar)?;
+    let centre = mean + u * fit.centre[0] + v * fit.centre[1];
+    let outward: Real = group
+        .iter()
+        .map(|t| t.approach.dot(t.position - centre))
+        .sum();
+    let bore = outward > 0.0;
+    let diameter = 2.0 * (fit.radius + if bore { stylus_radius } else { -stylus_radius });
+    let angles = planar
+        .iter()
+        .map(|p| (p[1] - fit.centre[1]).atan2(p[0] - fit.centre[0]))
+        .collect();
+    Ok(RingResult {
+        key,
+        fit,
+        angles,
+        centre,
+        diameter,
+        bore,
+    })
+}
+
+fn mm(v: Vector) -> [Real; 3] {
+    (v / M_PER_MM).to_array()
+}
+
+fn key_json(key: &RowKey) -> serde_json::Map<String, Value> {
+    let mut map = serde_json::Map::new();
+    map.insert("cycle".into(), json!(key.cycle));
+    map.insert("kind".into(), json!(key.kind.name()));
+    map.insert("feature".into(), json!(key.feature));
+    for (angle, name) in key.rotary.iter().zip(["a_deg", "b_deg", "c_deg"]) {
+        if let Some(a) = angle {
+            map.insert(name.into(), json!(a.to_degrees()));
+        }
+    }
+    map
+}
+
+impl ProbeEvaluation {
+    /// The fitted spheres as a `spheres` table.
+    pub fn spheres_table(&self, conditions: super::table::ProbeConditions) -> SpheresTable {
+        SpheresTable {
+            spheres: self
+                .spheres
+                .iter()
+                .map(|s| SphereRow {
+                    key: s.key,
+                    centre: s.centre(),
+                    radius: s.radius,
+                    form: s.fit.form(),
+                    points: s.fit.residuals.len(),
+                })
+                .collect(),
+            conditions,
+        }
+    }
+
+    /// The evaluation with stable keys (see `mtwin analyze probe --help`).
+    pub fn to_json(&self) -> Value {
+        let um = |v: Real| v / M_PER_UM;
+        let spheres: Vec<Value> = self
+            .spheres
+            .iter()
+            .map(|s| {
+                let mut m = key_json(&s.key);
+                m.insert("centre_mm".into(), json!(mm(s.centre())));
+                m.insert("radius_mm".into(), json!(s.radius / M_PER_MM));
+                m.insert("radius_error_um".into(), json!(s.radius_error().map(um)));
+                m.insert("form_um".into(), json!(um(s.fit.form())));
+                m.insert("rms_um".into(), json!(um(s.fit.rms())));
+                m.insert("p_ftu_um".into(), json!(s.p_ftu().map(um)));
+                m.insert("points".into(), json!(s.fit.residuals.len()));
+                Value::Object(m)
+            })
+            .collect();
+        let rings: Vec<Value> = self
+            .rings
+            .iter()
+            .map(|r| {
+                let mut m = key_json(&r.key);
+                m.insert("side".into(), json!(if r.bore { "bore" } else { "plug" }));
+                m.insert("centre_mm".into(), json!(mm(r.centre)));
+                m.insert("diameter_mm".into(), json!(r.diameter / M_PER_MM));
+                m.insert(
+                    "diameter_error_um".into(),
+                    json!(r.diameter_error().map(um)),
+                );
+                m.insert("roundness_um".into(), json!(um(r.fit.form())));
+                m.insert("points".into(), json!(r.fit.residuals.len()));
+                Value::Object(m)
+            })
+            .collect();
+        let plates: Vec<Value> = self
+            .plates
+            .iter()
+            .map(|p| {
+                json!({
+                    "cycle": p.cycle,
+                    "pairs": p.distances.len(),
+                    "max_abs_error_um": um(p.max_abs_error()),
+                    "rms_error_um": um(p.rms_error()),
+                    "distances": p.distances.iter().map(|d| json!({
+                        "from": d.balls.0,
+                        "to": d.balls.1,
+                        "calibrated_mm": d.calibrated / M_PER_MM,
+                        "measured_mm": d.measured / M_PER_MM,
+                        "error_um": um(d.measured - d.calibrated),
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let mesh_points: Vec<Value> = self
+            .mesh_points
+            .iter()
+            .map(|p| {
+                json!({
+                    "cycle": p.key.cycle,
+                    "feature": p.key.feature,
+                    "point": p.point,
+                    "surface_mm": mm(p.surface),
+                })
+            })
+            .collect();
+        json!({
+            "stylus_radius_mm": self.stylus_radius / M_PER_MM,
+            "spheres": spheres,
+            "rings": rings,
+            "plates": plates,
+            "mesh_points": mesh_points,
+        })
+    }
+
+    /// The evaluation for people.
+    pub fn to_text(&self) -> String {
+        let mut out = String::new();
+        let angles = |key: &RowKey| {
+            key.rotary
+                .iter()
+                .zip(['A', 'B', 'C'])
+                .filter_map(|(a, l)| a.map(|a| format!(" {l} {:.3}°", a.to_degrees())))
+                .collect::<String>()
+        };
+        let optional =
+            |v: Option<Real>| v.map_or("-".to_string(), |v| format!("{:+.3}", v / M_PER_UM));
+        let _ = writeln!(out, "stylus radius {:.4} mm", self.stylus_radius / M_PER_MM);
+        if !self.spheres.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nspheres (centre mm; radius mm; radius error, form µm):"
+            );
+            for s in &self.spheres {
+                let c = mm(s.centre());
+                let _ = writeln!(
+                    out,
+                    "  cycle {} {} {}{}: ({:.4}, {:.4}, {:.4}); R {:.4}; error {}; form {:.3}{} ({} points)",
+                    s.key.cycle,
+                    s.key.kind.name(),
+                    s.key.feature,
+                    angles(&s.key),
+                    c[0],
+                    c[1],
+                    c[2],
+                    s.radius / M_PER_MM,
+                    optional(s.radius_error()),
+                    s.fit.form() / M_PER_UM,
+                    s.p_ftu()
+                        .map_or(String::new(), |p| format!(" = P_FTU {:.3}", p / M_PER_UM)),
+                    s.fit.residuals.len()
+                );
+            }
+        }
+        for r in &self.rings {
+            let _ = writeln!(
+                out,
+                "\nring cycle {} ({}){}: diameter {:.4} mm, error {} µm, roundness {:.3} µm ({} points)",
+                r.key.cycle,
+                if r.bore { "bore" } else { "plug" },
+                angles(&r.key),
+                r.diameter / M_PER_MM,
+                optional(r.diameter_error()),
+                r.fit.form() / M_PER_UM,
+                r.fit.residuals.len()
+            );
+        }
+        for p in &self.plates {
+            let _ = writeln!(
+                out,
+                "\nball plate cycle {}: {} centre distances, error max |{:.3}| µm, RMS {:.3} µm",
+                p.cycle,
+                p.distances.len(),
+                p.max_abs_error() / M_PER_UM,
+                p.rms_error() / M_PER_UM
+            );
+        }
+        if !self.mesh_points.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nmesh: {} surface points (--json lists them)",
+                self.mesh_points.len()
+            );
+        }
+        out
+    }
+}
