@@ -735,3 +735,33 @@ fn the_analyze_verb_prints_the_figures_and_stable_json() {
     let s = &json["mesh_points"][0]["surface_mm"];
     assert!((s[2].as_f64().unwrap() - (p.position.z / M_PER_MM - 1.5)).abs() < 1e-6);
 }
+
+#[test]
+fn a_cycle_that_drives_the_head_into_the_trunnion_is_refused_naming_the_bodies() {
+    // The calibration sphere 100 mm in front of the C axis, probed with the table tilted: at
+    // A = 95° the head clears the cradle (which stands on edge, 175 mm above the A axis), at
+    // 110° the approach brings the head down onto it.
+    let base = std::fs::read_to_string(scenarios().join("trunnion5_probe_sphere.toml")).unwrap();
+    let at = |a: &str| {
+        let start = base.find("rotary = [").unwrap();
+        let end = start + base[start..].find("\n]").unwrap() + 2;
+        let text = format!(
+            "{}rotary = [{{ a_deg = {a}, c_deg = 0.0 }}]{}",
+            &base[..start],
+            &base[end..]
+        )
+        .replacen(
+            "centre_mm = [60.0, 0.0, 150.0]",
+            "centre_mm = [0.0, -100.0, 100.0]",
+            1,
+        );
+        load_text(&text)
+    };
+    assert!(at("95.0").is_ok());
+    let refused = at("110.0").unwrap_err().to_string();
+    assert!(
+        refused.contains("cycle 1, feature 1, point 1: the head (tool side) would touch the cradle (workpiece side)")
+            && refused.contains("A 110.000°"),
+        "{refused}"
+    );
+}

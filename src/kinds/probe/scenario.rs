@@ -471,11 +471,84 @@ pub fn probe_test(
     if cycles.is_empty() {
         return Err(context.error(Some(raw.span()), ScenarioErrorKind::Nothing, "probe: no cycle: add a [[probe.sphere]], [[probe.ring]], [[probe.ballplate]] or [[probe.mesh]]"));
     }
+    if let Some((cycle, feature, point, hit)) = collision(machine, &cycles, probe.feed) {
+        return Err(context.error(
+            Some(raw.span()),
+            ScenarioErrorKind::Value,
+            format!(
+                "probe: cycle {cycle}, feature {feature}, point {point}: the {} (tool side) would touch the {} (workpiece side), {:.2} s into the probing, at {}",
+                hit.tool_body,
+                hit.workpiece_body,
+                hit.time,
+                hit.describe(machine)
+            ),
+        ));
+    }
     Ok(ProbeTest {
         probe,
         cycles,
         machine: machine.name().to_string(),
     })
+}
+
+/// The probe's body in the spindle: a cylinder of this radius (m) from [`PROBE_BODY_FROM`]
+/// above the stylus tip to the spindle nose, 150 mm above it (a 50 mm stylus on a Ø 40 mm
+/// probe). The stylus itself is not checked: touching the artefact is its job.
+pub const PROBE_BODY_RADIUS: Real = 0.020;
+/// Where the probe's body starts above the stylus tip (m).
+pub const PROBE_BODY_FROM: Real = 0.050;
+/// The time (s) the programme takes to move from one probing move to the next.
+const REPOSITION_S: Real = 1.0;
+
+/// Sweeps every probing move (from its start to its full travel, at the probing feed, the
+/// machine repositioning in a straight line of axis values between moves) with the machine's
+/// bodies and the probe's against the workpiece side; the first collision, with its cycle,
+/// feature and point (1-based).
+fn collision(
+    machine: &Machine,
+    cycles: &[Cycle],
+    feed: Real,
+) -> Option<(usize, usize, usize, crate::collision::Collision)> {
+    use crate::collision::{Mount, Scene, Solid};
+    let mut scene = Scene::of_machine(machine, &["tool"]);
+    let length = 0.150 - PROBE_BODY_FROM;
+    scene.attach(
+        "probe body",
+        Mount::Tool,
+        crate::math::Pose::from_translation(Vector::new(0.0, 0.0, PROBE_BODY_FROM + length / 2.0)),
+        Solid::Cylinder(PROBE_BODY_RADIUS, length),
+    );
+    let mut path = Vec::new();
+    let mut labels = Vec::new();
+    let mut time = 0.0;
+    for (c, cycle) in cycles.iter().enumerate() {
+        for (f, feature) in cycle.features.iter().enumerate() {
+            for (m, probing) in feature.moves.iter().enumerate() {
+                let mut end = probing.start;
+                for (axis, component) in [Axis::X, Axis::Y, Axis::Z]
+                    .into_iter()
+                    .zip(probing.direction.to_array())
+                {
+                    end[axis] += component * probing.max_travel;
+                }
+                if !path.is_empty() {
+                    time += REPOSITION_S;
+                }
+                labels.push((time, (c + 1, f + 1, m + 1)));
+                path.push((time, probing.start));
+                time += probing.max_travel / feed;
+                path.push((time, end));
+            }
+        }
+    }
+    let hit = scene.sweep(machine, &path).err()?;
+    let (_, (c, f, m)) = labels
+        .iter()
+        .rev()
+        .find(|(t, _)| *t <= hit.time)
+        .copied()
+        .unwrap_or((0.0, (1, 1, 1)));
+    Some((c, f, m, hit))
 }
 
 /// Planning the cycles with the checks.
