@@ -102,8 +102,8 @@ fn check_accepts_every_scenario() {
     let scenarios = files_with_extension("scenarios", "toml");
     assert_eq!(
         scenarios.len(),
-        13,
-        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment, the ISO 230-3 linear-motion and ETVE tests, three ball-bar tests and three lessons"
+        21,
+        "one volumetric scenario per model, the ISO 230-2 laser test, the warm-up experiment, the ISO 230-3 linear-motion and ETVE tests, three ball-bar tests, two R-tests, four probe scenarios and five lessons"
     );
     for scenario in scenarios {
         let output = check(&scenario);

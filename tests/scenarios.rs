@@ -30,8 +30,9 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // The R-tests: one row per static pose, 37 + 37 + 19 + 37 on trunnion5, 37 + 37 + 19 on
     // headtable5, 73 + 19 in the lesson. The probe: a touch per point and a fit per sphere:
     // 8 rotary positions × 5 points on trunnion5 and headtable5; a 4 × 5 ball plate at 3
-    // placements, 5 points a ball; a ring of 36 points and 3 mesh points (no sphere).
-    let expected: [(&str, &[(&str, usize)]); 20] = [
+    // placements, 5 points a ball; a ring of 36 points and 3 mesh points (no sphere); the
+    // probe lesson 4 C positions × 5 points.
+    let expected: [(&str, &[(&str, usize)]); 21] = [
         (
             "trunnion5_probe_sphere.toml",
             &[("probe.csv", 8 * 5), ("spheres.csv", 8)],
@@ -47,6 +48,10 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
         (
             "vmc3_probe_ring_mesh.toml",
             &[("probe.csv", 36 + 3), ("spheres.csv", 0)],
+        ),
+        (
+            "teach_probe.toml",
+            &[("probe.csv", 4 * 5), ("spheres.csv", 4)],
         ),
         ("teach_rtest.toml", &[("rtest.csv", 73 + 19)]),
         ("trunnion5_rtest.toml", &[("rtest.csv", 37 + 37 + 19 + 37)]),

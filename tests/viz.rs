@@ -492,3 +492,145 @@ fn rtest_lesson_logs_each_pose_and_the_circle_an_axis_offset_draws() {
     assert!(recording.rows("world/workpiece_nominal/rtest_sphere") > 0);
     assert_eq!(recording.scalars("rtest/A_swing_at_C0/probe3_um").len(), 19);
 }
+
+/// One row of an Arrows3D entity: time (s), every vector, every origin.
+type ArrowsRow = (f64, Vec<[f32; 3]>, Vec<[f32; 3]>);
+
+/// Every row of an Arrows3D entity, in time order.
+fn all_arrows(recording: &Recording, entity: &str) -> Vec<ArrowsRow> {
+    let vectors = rerun::Arrows3D::descriptor_vectors().component;
+    let origins = rerun::Arrows3D::descriptor_origins().component;
+    let mut out = Vec::new();
+    for chunk in recording.of(entity) {
+        let times = chunk.iter_component_indices(rerun::TimelineName::from(TIMELINE), vectors);
+        let v = chunk.iter_component::<rerun::components::Vector3D>(vectors);
+        let o = chunk.iter_component::<rerun::components::Position3D>(origins);
+        for (((time, _), v), o) in times.zip(v).zip(o) {
+            out.push((
+                time.as_i64() as f64 * 1e-9,
+                v.iter().map(|v| v.0.0).collect(),
+                o.iter().map(|o| o.0.0).collect(),
+            ));
+        }
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}
+
+#[test]
+fn probe_lesson_logs_every_touch_and_the_fitted_centres_move_as_the_axis_offset_says() {
+    // EY0C = 20 µm alone, the sphere probed at C = 0, 90, 180, 270° (A = 0). The table turns by
+    // R = Rot(z, −C) (trunnion5's C axis points along −Z) about the line δ = EY0C·ŷ off the
+    // nominal one, so the sphere stands (I − R)·δ (bed frame) from where the controller puts it
+    // and the fitted centre carries that error; in the workpiece frame, turned by R from the
+    // bed, it is Rᵀ·(I − R)·δ = (Rot(z, C) − I)·δ = EY0C·(−sin C, cos C − 1, 0). Exact for an
+    // offset (no lever), and the probe's pre-travel is the same in every direction, so only
+    // the trigger scatter (σ = 0.25 µm along each approach, i.e. along the normal) moves the
+    // fit. Linearised, 5 points (4 at 30° elevation 90° apart, the pole) with a free radius
+    // give each horizontal centre component a standard deviation σ/√(2·cos²30°) = 0.82σ and
+    // the vertical one √5·σ (the pole against the side points' mean: (JᵀJ)⁻¹ of the z–radius
+    // block [[2, 3], [3, 5]] is [[5, −3], [−3, 2]]); 5 of those bound each component.
+    use mtwin::kinds::probe::Target;
+    use mtwin::math::Vector;
+    let (scenario, simulation, recording) = record("teach_probe.toml");
+    let test = scenario.probe_test.as_ref().unwrap();
+    let run = simulation.probe.as_ref().unwrap();
+    let m = scenario.lesson.as_ref().unwrap().magnification;
+    assert_eq!(m, 500.0);
+    let feature = &test.cycles[0].features;
+    let Target::Sphere(sphere) = &feature[0].target else {
+        panic!("a sphere cycle")
+    };
+    let nominal = sphere.centre;
+    // A touch per point and position, each drawn at its approach start and its latch.
+    assert_eq!(run.probe.touches.len(), 4 * 5);
+    assert_eq!(run.spheres.spheres.len(), 4);
+    let points = rerun::Points3D::descriptor_positions().component;
+    let drawn: Vec<usize> = recording
+        .of("world/workpiece_nominal/probe_touches")
+        .flat_map(|c| {
+            c.iter_component::<rerun::components::Position3D>(points)
+                .map(|p| p.len())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(drawn.len(), 20);
+    assert_eq!(drawn.iter().max(), Some(&20));
+    assert_eq!(recording.rows("world/machine/rotary_table"), 2 * 20);
+    // The residual of each touch from the spheres table's fit.
+    let stylus = test.probe.stylus_radius;
+    let residuals = recording.scalars("probe/residual_um");
+    assert_eq!(residuals.len(), 20);
+    for ((_, logged), touch) in residuals.iter().zip(&run.probe.touches) {
+        let fit = &run.spheres.spheres[touch.key.feature - 1];
+        let expected = ((touch.position - fit.centre).length() - (fit.radius + stylus)) * 1e6;
+        assert!((logged - expected).abs() < 1e-9, "{logged} vs {expected}");
+        assert!(logged.abs() < 5.0 * 0.25, "{logged} µm");
+    }
+    // trunnion5 at A = 0 by hand: the tool tip is at (X − 325, Y − 275, Z + 100) mm from the
+    // workpiece origin in bed axes, and the workpiece frame is turned by Rot(z, −C).
+    let workpiece = |xyz: Vector, c: f64| {
+        let bed = xyz + Vector::new(-0.325, -0.275, 0.1);
+        Vector::new(
+            bed.x * c.cos() - bed.y * c.sin(),
+            bed.x * c.sin() + bed.y * c.cos(),
+            bed.z,
+        )
+    };
+    let arrows = all_arrows(
+        &recording,
+        "world/workpiece_nominal/probe_centre_error_x500",
+    );
+    assert_eq!(arrows.len(), 4);
+    let (_, vectors, origins) = arrows.last().unwrap();
+    assert_eq!((vectors.len(), origins.len()), (4, 4));
+    let sigma = 0.25;
+    let (horizontal, vertical) = (
+        5.0 * sigma / (2.0 * 30f64.to_radians().cos().powi(2)).sqrt(),
+        5.0 * 5f64.sqrt() * sigma,
+    );
+    let tool = recording.arrows(&viz::tool_tip_error(m));
+    assert_eq!(tool.len(), 2 * 20);
+    for (((fit, vector), origin), (time, ..)) in run
+        .spheres
+        .spheres
+        .iter()
+        .zip(vectors)
+        .zip(origins)
+        .zip(&arrows)
+    {
+        let c = fit.key.rotary[2].unwrap();
+        assert_eq!(fit.key.rotary[0], Some(0.0));
+        let error = workpiece(fit.centre, c) - nominal;
+        assert!(near(*origin, nominal.to_array(), F32_M), "{origin:?}");
+        assert!(
+            near(*vector, (error * m).to_array(), F32_M),
+            "C {c}: {vector:?} vs {error:?} × {m}"
+        );
+        let expected = Vector::new(-c.sin(), c.cos() - 1.0, 0.0) * 20.0;
+        let um = error * 1e6;
+        assert!(
+            (um.x - expected.x).abs() < horizontal
+                && (um.y - expected.y).abs() < horizontal
+                && (um.z - expected.z).abs() < vertical,
+            "C {}°: centre error {um:?} µm vs {expected:?} ± ({horizontal:.2}, {vertical:.2})",
+            c.to_degrees()
+        );
+        // At the fit (the position's last latch) the tool-tip error arrow is the opposite.
+        let (_, at_fit, _) = tool.iter().find(|(t, ..)| t == time).unwrap();
+        let sum: Vec<f64> = (0..3)
+            .map(|i| (vector[i] + at_fit[i]) as f64 / m * 1e6)
+            .collect();
+        assert!(
+            sum[0].abs() < horizontal && sum[1].abs() < horizontal && sum[2].abs() < vertical,
+            "C {c}: centre error + tool-tip error = {sum:?} µm"
+        );
+    }
+    let positions = recording.scalars("probe/centre_error_um/dy");
+    assert_eq!(positions.len(), 4);
+    assert!(
+        recording
+            .text(viz::LESSON)
+            .contains("EY0C·(−sin C, cos C − 1, 0)")
+    );
+}

@@ -3,7 +3,7 @@
 //! conventions are in [`crate::viz`].
 
 use super::{Scenario, Simulation};
-use crate::kinds::{ballbar, positioning, rtest, volumetric};
+use crate::kinds::{ballbar, positioning, probe, rtest, volumetric};
 use crate::math::Real;
 use crate::viz::machine::MachineScene;
 use crate::viz::rr;
@@ -51,6 +51,9 @@ pub fn record(
     }
     if let (Some(test), Some(table)) = (&scenario.rtest, &simulation.rtest) {
         start = rtest::scene::record(rec, &mut scene, test, table, start, &mut legend)? + 1.0;
+    }
+    if let (Some(test), Some(run)) = (&scenario.probe_test, &simulation.probe) {
+        start = probe::scene::record(rec, &mut scene, test, run, start, &mut legend)? + 1.0;
     }
     if let Some(map) = &simulation.volumetric {
         volumetric::scene::record(rec, &mut scene, map, start, &mut legend)?;
@@ -128,6 +131,12 @@ fn layout(scenario: &Scenario, simulation: &Simulation) -> rr::blueprint::Bluepr
         series.insert(
             0,
             series_view("R-test (µm)", format!("/{}", rtest::scene::SERIES)),
+        );
+    }
+    if simulation.probe.is_some() {
+        series.insert(
+            0,
+            series_view("probe (µm)", format!("/{}", probe::scene::SERIES)),
         );
     }
     let left = Vertical::new([

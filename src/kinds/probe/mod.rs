@@ -13,6 +13,7 @@
 //! | [`analysis`] | [`ProbeEvaluation`]: sphere form and radius error, P_FTU, ring diameter and roundness, plate centre distances |
 //! | [`run`] | the simulation: tables and truth |
 //! | [`cli`] | `mtwin analyze probe` |
+//! | `scene` | the teaching scene (feature `viz`) |
 
 pub mod analysis;
 pub mod cli;
@@ -21,6 +22,8 @@ pub mod fit;
 pub mod instrument;
 pub mod run;
 pub mod scenario;
+#[cfg(feature = "viz")]
+pub mod scene;
 pub mod table;
 
 pub use analysis::{ProbeEvaluation, evaluate};

@@ -101,8 +101,10 @@ pub fn simulate(twin: &Twin, test: &ProbeTest, seed: u64) -> Result<ProbeRun, Pr
     Ok(ProbeRun { probe, spheres })
 }
 
+/// In mm, rounded to 1 pm, so that positions summed from a placement and a grid
+/// (−160 + 2 × 80 mm) do not carry their rounding residue (1e-17 m) into `truth.json`.
 fn mm(v: Vector) -> [Real; 3] {
-    (v / M_PER_MM).to_array()
+    (v / M_PER_MM).to_array().map(|x| (x * 1e9).round() / 1e9)
 }
 
 /// The probe and the artefacts as injected, in file units.
