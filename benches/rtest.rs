@@ -17,7 +17,10 @@ use std::hint::black_box;
 use std::time::Duration;
 
 fn bench(c: &mut Criterion) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/trunnion5_rtest.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/trunnion5_rtest.toml"
+    );
     let scenario = Scenario::load(path).unwrap_or_else(|error| panic!("loading {path}: {error}"));
     let mut test = scenario.rtest.clone().expect("an R-test");
     for k_test in &mut test.tests {
