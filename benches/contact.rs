@@ -6,7 +6,8 @@
 //! - `touch/mesh_parry`: pose + parry's ball–mesh cast on a 12-triangle cube (STL);
 //! - `touch/cylinder_parry_gjk`: pose + parry's GJK ball–cylinder cast, for comparison;
 //! - `probe/touch`: one whole probe touch (the fixed point on the actual chain, a few pose
-//!   evaluations, pre-travel, latency, scatter), as a cycle makes it.
+//!   evaluations, pre-travel, latency, scatter), as a cycle makes it;
+//! - `probe/touch_mesh`: the same on the cube mesh (each step a parry cast).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mtwin::contact::{Approach, Artefact, Mesh, Sphere};
@@ -62,14 +63,16 @@ fn bench(c: &mut Criterion) {
             black_box(sphere.touch(r, &approach, 0.01).unwrap())
         })
     });
-    let cube = Mesh::read(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/probe/cube.stl"),
-        1e-3,
-    )
-    .unwrap()
-    .placed(&mtwin::math::Pose::from_translation(Vector::new(
-        -0.02, -0.02, 0.13,
-    )));
+    let cube = std::sync::Arc::new(
+        Mesh::read(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/probe/cube.stl"),
+            1e-3,
+        )
+        .unwrap()
+        .placed(&mtwin::math::Pose::from_translation(Vector::new(
+            -0.02, -0.02, 0.13,
+        ))),
+    );
     group.bench_function("mesh_parry", |b| {
         b.iter(|| {
             let pose =
@@ -136,5 +139,53 @@ fn bench(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench);
+/// One whole probe touch on the cube mesh (the fixed point on the actual chain: about three
+/// pose evaluations and two parry casts), from 2 mm off its +X face.
+fn mesh_touch(c: &mut Criterion) {
+    let twin = twin();
+    let mut workspace = Workspace::new(&twin.machine);
+    let cube = std::sync::Arc::new(
+        Mesh::read(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/probe/cube.stl"),
+            1e-3,
+        )
+        .unwrap()
+        .placed(&mtwin::math::Pose::from_translation(Vector::new(
+            -0.02, -0.02, 0.13,
+        ))),
+    );
+    let frame = LinearFrame::at(&twin.machine, &AxisValues::ZERO).unwrap();
+    let probe = TouchProbe {
+        stylus_radius: 3e-3,
+        radius_error: 0.0,
+        pretravel: 1e-6,
+        lobing: 0.0,
+        lobing_phase: 0.0,
+        pretravel_axial: 1e-6,
+        repeatability: 0.25e-6,
+        feed: 0.004,
+        latency: 0.0,
+    };
+    let start = Vector::new(0.02 + 3e-3 + 2e-3, 0.0, 0.15);
+    let probing = frame.move_from(start, -Vector::X, 4e-3);
+    let target = Target::Mesh(cube);
+    let mut rng = seeded_rng(1, "bench");
+    c.bench_function("probe/touch_mesh", |b| {
+        b.iter(|| {
+            black_box(
+                probe
+                    .touch(
+                        &twin,
+                        &mut workspace,
+                        &target,
+                        black_box(&probing),
+                        &mut rng,
+                    )
+                    .unwrap(),
+            )
+        })
+    });
+}
+
+criterion_group!(benches, bench, mesh_touch);
 criterion_main!(benches);

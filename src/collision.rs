@@ -28,7 +28,8 @@ use crate::machine::{Axis, AxisValues, Machine, Shape, Side, Workspace};
 use crate::math::{Pose, Real, Vector};
 use rapier3d_f64::parry::math::Pose as ParryPose;
 use rapier3d_f64::parry::query;
-use rapier3d_f64::parry::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+pub use rapier3d_f64::parry::shape::SharedShape;
+use rapier3d_f64::parry::shape::{Ball, Capsule, Cuboid, Cylinder};
 
 /// The largest motion of any body point between two checked steps (m).
 pub const MAX_STEP: Real = 0.5e-3;
@@ -212,6 +213,32 @@ impl Scene {
             .reach
             .max(end_from_shape.translation.length() + bounding_radius(solid));
         self.push(name.to_string(), side, end, end_from_shape, solid);
+    }
+
+    /// Adds an instrument's or a workpiece's body of any parry shape (a mesh workpiece) at
+    /// `end_from_shape` in the frame of `end`.
+    pub fn attach_shape(
+        &mut self,
+        name: &str,
+        end: Mount,
+        end_from_shape: Pose,
+        shape: SharedShape,
+    ) {
+        let side = match end {
+            Mount::Tool => Side::Tool,
+            Mount::Workpiece | Mount::Body(_) => Side::Workpiece,
+        };
+        let aabb = shape.compute_local_aabb();
+        let radius =
+            (aabb.maxs - aabb.mins).length() / 2.0 + ((aabb.maxs + aabb.mins) / 2.0).length();
+        self.reach = self.reach.max(end_from_shape.translation.length() + radius);
+        self.colliders.push(Collider {
+            name: name.to_string(),
+            side,
+            mount: end,
+            mount_from_shape: end_from_shape,
+            shape,
+        });
     }
 
     /// The bodies left out of the check (mesh visuals).

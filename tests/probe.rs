@@ -508,13 +508,34 @@ fn iso_10360_5_p_ftu_from_25_points() {
         [count(0), count(225), count(450), count(675), count(900)],
         [1, 4, 8, 4, 8]
     );
-    let (_, evaluation) = run(&twin(&machine, &[]), &test);
+    // An ideal probe whose pre-travel is the same in every direction: every touch moves by
+    // the same amount along its normal, the fitted radius absorbs it, P_FTU is zero.
+    let mut even = test.clone();
+    ideal(&mut even);
+    (even.probe.pretravel, even.probe.pretravel_axial) = (1.0 * UM, 1.0 * UM);
+    let (_, evaluation) = run(&twin(&machine, &[]), &even);
     for s in &evaluation.spheres {
+        assert!(s.p_ftu().unwrap() < 1e-9, "{:?}", s.p_ftu());
+    }
+    // With the scenario's scatter and lobing: the range of the distances from the centre of an
+    // independent algebraic fit (normal equations, in this file) of the 25 stylus centres.
+    let (table, evaluation) = run(&twin(&machine, &[]), &test);
+    for s in &evaluation.spheres {
+        let centres: Vec<Vector> = table
+            .touches
+            .iter()
+            .filter(|t| t.key.cycle == s.key.cycle && t.key.feature == s.key.feature)
+            .map(|t| t.position)
+            .collect();
+        assert_eq!(centres.len(), 25);
+        let (c, _) = normal_equations_sphere(&centres);
+        let distances: Vec<Real> = centres.iter().map(|p| (*p - c).length()).collect();
+        let range = distances.iter().copied().fold(Real::MIN, Real::max)
+            - distances.iter().copied().fold(Real::MAX, Real::min);
+        // The two fits' centres differ by far less than the scatter: 1 nm on a range of µm.
         let p = s.p_ftu().unwrap();
-        let max = s.fit.residuals.iter().copied().fold(Real::MIN, Real::max);
-        let min = s.fit.residuals.iter().copied().fold(Real::MAX, Real::min);
-        assert_eq!(p, max - min);
-        assert!(p > 0.0 && p < 8.0 * test.probe.repeatability + 4.0 * test.probe.lobing + 2.0 * UM);
+        assert!((p - range).abs() < 1e-9, "{p} vs {range}");
+        assert!(p > test.probe.repeatability, "{p}");
     }
     let json = evaluation.to_json();
     assert!(json["spheres"][0]["p_ftu_um"].as_f64().is_some());
@@ -618,8 +639,8 @@ fn bad_sections_are_refused_with_the_key_and_line() {
         |text: &str, needle: &str| text.lines().position(|l| l.contains(needle)).unwrap() + 1;
 
     let zero = refused(
-        "direction = [0.3, 0.2, -1.0]",
-        "direction = [0.0, 0.0, 0.0]",
+        "start_mm = [-125.0, -25.0, 150.0], direction = [0.0, 0.0, -1.0]",
+        "start_mm = [-125.0, -25.0, 150.0], direction = [0.0, 0.0, 0.0]",
     );
     assert!(
         zero.contains("probe.mesh[0].points[1].direction: (0, 0, 0) has zero length"),
@@ -642,21 +663,21 @@ fn bad_sections_are_refused_with_the_key_and_line() {
         far.starts_with(&format!("t.toml:{}:", line_of(&base, "[[probe.ring]]"))),
         "{far}"
     );
-    let open = refused("data/cube_100mm.stl", "../tests/data/probe/open_box.obj");
+    let open = refused("data/cube_40mm.stl", "../tests/data/probe/open_box.obj");
     assert!(
         open.contains("probe.mesh[0].file") && open.contains("not closed"),
         "{open}"
     );
     assert!(
-        open.starts_with(&format!("t.toml:{}:", line_of(&base, "cube_100mm.stl"))),
+        open.starts_with(&format!("t.toml:{}:", line_of(&base, "cube_40mm.stl"))),
         "{open}"
     );
-    let parse = refused("data/cube_100mm.stl", "../tests/data/probe/bad_keyword.stl");
+    let parse = refused("data/cube_40mm.stl", "../tests/data/probe/bad_keyword.stl");
     assert!(
         parse.contains("bad_keyword.stl:5:7: expected `vertex`"),
         "{parse}"
     );
-    let missing = refused("data/cube_100mm.stl", "../tests/data/probe/none.stl");
+    let missing = refused("data/cube_40mm.stl", "../tests/data/probe/none.stl");
     assert!(missing.contains("cannot read"), "{missing}");
     let miss = refused(
         "start_mm = [-130.0, -30.0, 150.0]",
@@ -764,4 +785,78 @@ fn a_cycle_that_drives_the_head_into_the_trunnion_is_refused_naming_the_bodies()
             && refused.contains("A 110.000°"),
         "{refused}"
     );
+}
+
+#[test]
+fn mesh_points_are_probed_along_the_surface_normal_and_land_on_their_facet() {
+    // The cube (40 mm, its corner at (−150, −50, 100) mm, turned 15° about z) on vmc3, probed
+    // with an ideal probe on no errors: the surface point the analysis reports (latched centre
+    // + r along the approach, in machine axes) plus vmc3's tool tip at axes zero, (−380, −205,
+    // 100) mm from the table centre (the URDF), must lie on the facet's plane. For the third
+    // point that is the face x' = 0 of the turned cube: n = −(cos 15°, sin 15°, 0) through the
+    // corner.
+    let (machine, mut test) = scenario("vmc3_probe_ring_mesh.toml");
+    ideal(&mut test);
+    let (_, evaluation) = run(&twin(&machine, &[]), &test);
+    let json = evaluation.to_json();
+    let surface = &json["mesh_points"][2]["surface_mm"];
+    let p = Vector::new(
+        surface[0].as_f64().unwrap() - 380.0,
+        surface[1].as_f64().unwrap() - 205.0,
+        surface[2].as_f64().unwrap() + 100.0,
+    );
+    let (c, s) = (15f64.to_radians().cos(), 15f64.to_radians().sin());
+    let height = -(c * (p.x + 150.0) + s * (p.y + 50.0));
+    assert!(height.abs() < 1e-6, "{height} mm off the face");
+    // An approach 17° off the normal is refused: the radius would be compensated wrongly.
+    let base = std::fs::read_to_string(scenarios().join("vmc3_probe_ring_mesh.toml")).unwrap();
+    let off = base.replacen(
+        "direction = [0.9659258263, 0.2588190451, 0.0]",
+        "direction = [1.0, 0.0, 0.0]",
+        1,
+    );
+    let error = load_text(&off).unwrap_err().to_string();
+    assert!(
+        error.contains("points[2].direction") && error.contains("15.00° off the surface normal"),
+        "{error}"
+    );
+}
+
+#[test]
+fn the_25_point_pattern_is_refused_on_a_plate_set_on_edge() {
+    // ISO 10360-5's 25 points cover the whole ball down to its equator all round; on a plate
+    // standing on edge (put in the third placement here) the plate hides the back half.
+    let base = std::fs::read_to_string(scenarios().join("vmc3_ballplate.toml")).unwrap();
+    let upright = base.replacen("points = 5", "points = 25", 1).replacen(
+        "{ origin_mm = [120.0, -160.0, 200.0], along_row = [0.0, 1.0, 0.0], across_rows = [-1.0, 0.0, 0.0] }",
+        "{ origin_mm = [-160.0, 0.0, 130.0], along_row = [1.0, 0.0, 0.0], across_rows = [0.0, 0.0, 1.0] }",
+        1,
+    );
+    assert!(upright.contains("across_rows = [0.0, 0.0, 1.0]"));
+    let error = load_text(&upright).unwrap_err().to_string();
+    assert!(
+        error.contains("placements[2]") && error.contains("the plate hides its back half"),
+        "{error}"
+    );
+}
+
+#[test]
+fn probing_a_plate_on_edge_from_above_is_refused_where_the_head_meets_the_balls_above() {
+    // A 4-row plate standing on edge (rows 80 mm apart in z) probed with a vertical stylus:
+    // while the lowest row is probed, the spindle head and the probe's body (from 50 mm above
+    // the tip) come down in front of the balls 80 mm higher, 12 mm from their centres, which
+    // a 10 mm ball and a 20 mm body cannot clear. The artefacts are colliders of the cycle
+    // that probes them only (the plate is moved between placements).
+    let base = std::fs::read_to_string(scenarios().join("vmc3_ballplate.toml")).unwrap();
+    let upright = base.replacen(
+        "{ origin_mm = [120.0, -160.0, 200.0], along_row = [0.0, 1.0, 0.0], across_rows = [-1.0, 0.0, 0.0] }",
+        "{ origin_mm = [-160.0, 0.0, 130.0], along_row = [1.0, 0.0, 0.0], across_rows = [0.0, 0.0, 1.0] }",
+        1,
+    );
+    let error = load_text(&upright).unwrap_err().to_string();
+    assert!(
+        error.contains("cycle 3, feature 1") && error.contains("would touch the plate ball"),
+        "{error}"
+    );
+    assert!(load_text(&base).is_ok());
 }

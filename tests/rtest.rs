@@ -610,3 +610,23 @@ fn point_tips_read_the_flat_readings_less_the_curvature_of_the_sphere() {
     }
     assert!(largest > 1.0 * UM, "{largest}");
 }
+
+#[test]
+fn the_axial_probes_direction_error_tilts_it_about_the_nests_x_and_y() {
+    // The fourth probe looks down the tool axis and has no azimuth: its [a, b] error is a tilt
+    // by a about x, then b about y: Rot(y, b)·Rot(x, a)·z = (cos a·sin b, −sin a, cos a·cos b).
+    for (a, b) in [(1.0e-3_f64, 0.0_f64), (0.0, 1.0e-3), (0.5e-3, -0.7e-3)] {
+        let extra = format!(
+            "probes = 4\ndirection_error_mrad = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [{}, {}]]",
+            a * 1e3,
+            b * 1e3
+        );
+        let scenario = load(&trunnion_scenario("EX0C", 1.0, &extra)).unwrap();
+        let axis = scenario.rtest.unwrap().nest.probes[3].axis;
+        let expected = Vector::new(a.cos() * b.sin(), -a.sin(), a.cos() * b.cos());
+        assert!(
+            (axis - expected).length() < 1e-15,
+            "{axis:?} vs {expected:?}"
+        );
+    }
+}

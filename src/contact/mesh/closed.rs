@@ -84,7 +84,8 @@ pub(crate) fn check(welded: &Welded, facets: &Facets, file: &str) -> Result<Real
         .iter()
         .filter(|(edge, _)| !edges.contains_key(&(edge.1, edge.0)))
         .collect();
-    open.sort_by_key(|(_, facet)| **facet);
+    // By facet, then by edge: the message must not depend on the hash map's order.
+    open.sort_by_key(|(edge, facet)| (**facet, **edge));
     if let Some(&(edge, &facet)) = open.first() {
         return Err(at(
             facet,

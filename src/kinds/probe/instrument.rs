@@ -65,6 +65,9 @@ pub enum TouchError {
     /// The stylus ball missed the artefact within the move's travel.
     #[error("the stylus ball did not touch within {0:.3} mm of travel")]
     Missed(Real),
+    /// The search for the actual contact did not settle: the errors bend the path too much.
+    #[error("the contact on the actual path did not settle within {0} steps")]
+    NotConverged(usize),
     /// The contact query failed.
     #[error(transparent)]
     Contact(#[from] ContactError),
@@ -132,6 +135,7 @@ impl TouchProbe {
             touch.ok_or(TouchError::Missed(limit * 1e3))?.travel
         };
         let mut contact = start;
+        let mut converged = false;
         for _ in 0..MAX_STEPS {
             let here = actual(s);
             let chord = here - start;
@@ -145,8 +149,12 @@ impl TouchProbe {
             let step = (next - s).abs();
             s = next;
             if step < CONVERGED {
+                converged = true;
                 break;
             }
+        }
+        if !converged {
+            return Err(TouchError::NotConverged(MAX_STEPS));
         }
         if s > limit {
             return Err(TouchError::Missed(limit * 1e3));

@@ -44,7 +44,7 @@
 //! origin_mm = [0.0, 0.0, 0.0]       # where the mesh's origin sits (workpiece frame)
 //! rotation_deg = 0.0                # about the workpiece z axis
 //! max_travel_mm = 10.0
-//! points = [{ start_mm = [0.0, 0.0, 80.0], direction = [0.0, 0.0, -1.0] }]
+//! points = [{ start_mm = [0.0, 0.0, 80.0], direction = [0.0, 0.0, -1.0] }]   # along the surface normal (within 1 mrad)
 //! ```
 //!
 //! Every move is checked on the nominal chain: it must touch its artefact within its travel,
@@ -491,37 +491,38 @@ pub fn probe_test(
     })
 }
 
+/// How far (rad) a mesh point's approach may be from the surface normal: 1 mrad leaves
+/// `r·θ²/2` (under 1 nm for a 3 mm stylus) along the normal.
+pub const MESH_NORMAL_TOLERANCE: Real = 1e-3;
+
 /// The probe's body in the spindle: a cylinder of this radius (m) from [`PROBE_BODY_FROM`]
 /// above the stylus tip to the spindle nose, 150 mm above it (a 50 mm stylus on a Ø 40 mm
 /// probe). The stylus itself is not checked: touching the artefact is its job.
 pub const PROBE_BODY_RADIUS: Real = 0.020;
 /// Where the probe's body starts above the stylus tip (m).
 pub const PROBE_BODY_FROM: Real = 0.050;
+/// The radius (m) of a calibration sphere's stem, from the table surface up to the sphere.
+pub const STEM_RADIUS: Real = 0.005;
 /// The time (s) the programme takes to move from one probing move to the next.
 const REPOSITION_S: Real = 1.0;
 
 /// Sweeps every probing move (from its start to its full travel, at the probing feed, the
 /// machine repositioning in a straight line of axis values between moves) with the machine's
-/// bodies and the probe's against the workpiece side; the first collision, with its cycle,
-/// feature and point (1-based).
+/// bodies and the probe's against the workpiece side and the artefacts (spheres on their
+/// stems, plate balls, mesh workpieces; a ring gauge's body is not modelled); the first
+/// collision, with its cycle, feature and point (1-based).
 fn collision(
     machine: &Machine,
     cycles: &[Cycle],
     feed: Real,
 ) -> Option<(usize, usize, usize, crate::collision::Collision)> {
-    use crate::collision::{Mount, Scene, Solid};
-    let mut scene = Scene::of_machine(machine, &["tool"]);
-    let length = 0.150 - PROBE_BODY_FROM;
-    scene.attach(
-        "probe body",
-        Mount::Tool,
-        crate::math::Pose::from_translation(Vector::new(0.0, 0.0, PROBE_BODY_FROM + length / 2.0)),
-        Solid::Cylinder(PROBE_BODY_RADIUS, length),
-    );
-    let mut path = Vec::new();
-    let mut labels = Vec::new();
     let mut time = 0.0;
     for (c, cycle) in cycles.iter().enumerate() {
+        // One scene per cycle: its artefact is on the table for that cycle only (a ball plate
+        // moves between its placements).
+        let scene = cycle_scene(machine, cycle);
+        let mut path = Vec::new();
+        let mut labels = Vec::new();
         for (f, feature) in cycle.features.iter().enumerate() {
             for (m, probing) in feature.moves.iter().enumerate() {
                 let mut end = probing.start;
@@ -531,7 +532,7 @@ fn collision(
                 {
                     end[axis] += component * probing.max_travel;
                 }
-                if !path.is_empty() {
+                if time > 0.0 {
                     time += REPOSITION_S;
                 }
                 labels.push((time, (c + 1, f + 1, m + 1)));
@@ -540,15 +541,73 @@ fn collision(
                 path.push((time, end));
             }
         }
+        if let Err(hit) = scene.sweep(machine, &path) {
+            let (_, (c, f, m)) = labels
+                .iter()
+                .rev()
+                .find(|(t, _)| *t <= hit.time)
+                .copied()
+                .unwrap_or((0.0, (c + 1, 1, 1)));
+            return Some((c, f, m, hit));
+        }
     }
-    let hit = scene.sweep(machine, &path).err()?;
-    let (_, (c, f, m)) = labels
-        .iter()
-        .rev()
-        .find(|(t, _)| *t <= hit.time)
-        .copied()
-        .unwrap_or((0.0, (1, 1, 1)));
-    Some((c, f, m, hit))
+    None
+}
+
+/// The machine without its `tool` link, the probe's body in its place, and the artefacts of
+/// `cycle` the stylus does not touch by design: the stems, and what the probe's body could
+/// meet (a sphere, a plate's balls, a mesh workpiece).
+fn cycle_scene(machine: &Machine, cycle: &Cycle) -> crate::collision::Scene {
+    use crate::collision::{Mount, Scene, SharedShape, Solid};
+    let at = crate::math::Pose::from_translation;
+    let mut scene = Scene::of_machine(machine, &["tool"]);
+    let length = 0.150 - PROBE_BODY_FROM;
+    scene.attach(
+        "probe body",
+        Mount::Tool,
+        at(Vector::new(0.0, 0.0, PROBE_BODY_FROM + length / 2.0)),
+        Solid::Cylinder(PROBE_BODY_RADIUS, length),
+    );
+    for (f, feature) in cycle.features.iter().enumerate() {
+        let name = format!("artefact {}", f + 1);
+        match &feature.target {
+            Target::Sphere(sphere) => {
+                scene.attach(
+                    &name,
+                    Mount::Workpiece,
+                    at(sphere.centre),
+                    Solid::Sphere(sphere.radius),
+                );
+                let stem = sphere.centre.z - sphere.radius;
+                if stem > 1e-6 {
+                    scene.attach(
+                        &format!("{name} stem"),
+                        Mount::Workpiece,
+                        at(Vector::new(sphere.centre.x, sphere.centre.y, stem / 2.0)),
+                        Solid::Cylinder(STEM_RADIUS, stem),
+                    );
+                }
+            }
+            Target::Plate(plate) => {
+                for centre in &plate.centres {
+                    scene.attach(
+                        "plate ball",
+                        Mount::Workpiece,
+                        at(*centre),
+                        Solid::Sphere(plate.radius),
+                    );
+                }
+            }
+            Target::Mesh(mesh) => scene.attach_shape(
+                "mesh workpiece",
+                Mount::Workpiece,
+                crate::math::Pose::IDENTITY,
+                SharedShape::new(mesh.shape().clone()),
+            ),
+            Target::Ring(_) => {}
+        }
+    }
+    scene
 }
 
 /// Planning the cycles with the checks.
@@ -823,6 +882,14 @@ impl Plan<'_> {
                 return Err(self.check.fail(Some(span.clone()), &key, "the plate faces away from the probe (along_row × across_rows points down the tool axis)"));
             }
             let facing = (normal.cross(tool_axis).length() > 1e-9).then_some(normal);
+            if facing.is_some() && points == 25 {
+                return Err(self.check.fail(
+                    Some(span.clone()),
+                    &key,
+                    "the 25-point ISO 10360-5 pattern covers the whole ball, but on a plate set on \
+                     edge the plate hides its back half: use 4 to 24 points there",
+                ));
+            }
             let plate_from = Rotation::from_cols(along, across, normal);
             let grid = BallPlate::grid(origin, along, across, pitch, rows, columns, ball / 2.0);
             let calibrated: Vec<Vector> = grid
@@ -949,6 +1016,24 @@ impl Plan<'_> {
                 m.points.span(),
                 &key,
             )?);
+            // Vector probing: the controller compensates the stylus radius along the approach,
+            // which is the surface point only when the approach is along the surface normal.
+            if let Ok(Ok(Some(touch))) = Approach::new(start, direction)
+                .map(|approach| target.touch(self.r, &approach, max_travel))
+            {
+                let off = (-touch.normal).angle_between(direction);
+                if off > MESH_NORMAL_TOLERANCE {
+                    let n = touch.normal;
+                    return Err(self.check.fail(
+                        Some(m.points.span()),
+                        &format!("{key}.direction"),
+                        format!(
+                            "the approach is {:.2}° off the surface normal ({:.4}, {:.4}, {:.4}) at the planned contact: mesh points are probed along the normal (vector probing), since the stylus radius is compensated along the approach",
+                            off.to_degrees(), n.x, n.y, n.z
+                        ),
+                    ));
+                }
+            }
         }
         Ok(Cycle {
             kind: CycleKind::Mesh,

@@ -154,6 +154,19 @@ fn calibrate(
         let seen = sphere_in_nest(twin, workspace, &MachineState::at(command), test.sphere);
         let mut d = vec![0.0; test.nest.probes.len()];
         test.nest.read(seen, rng, &mut d);
+        if let Some((probe, reading)) = d
+            .iter()
+            .enumerate()
+            .find(|(_, d)| d.abs() > test.nest.range)
+        {
+            return Err(RtestRunError::OutOfRange {
+                test: "six-point calibration".into(),
+                angles: describe_angles(machine, &command),
+                probe: probe + 1,
+                reading_um: um(*reading),
+                range_um: um(test.nest.range),
+            });
+        }
         readings.push(d);
     }
     Ok(Conversion::new(fit_sensitivity(&positions, &readings))?)

@@ -12,6 +12,7 @@
 //! resolution_um = 0.01
 //! gain_error = [0.0, 0.0, 0.0]      # per probe, relative (0.001 = 0.1 %)
 //! direction_error_mrad = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]   # per probe: elevation, azimuth
+//!                                   # (the fourth, axial probe: tilts about the nest's x and y)
 //! calibration = "six_point"         # or "nominal" (the software trusts the nominal axes)
 //! calibration_step_mm = 0.5
 //! mode = "static"                   # or "dynamic" (continuous, through the position loops)
@@ -29,10 +30,10 @@
 //! ```
 
 use super::instrument::{Calibration, Nest, Probe, Tip, probe_axis};
-use super::program::{Dynamic, FollowError, KTest, follow};
+use super::program::{Dynamic, FollowError, KTest, SETTLE, follow};
 use crate::collision::{Mount, Scene, Solid};
 use crate::machine::{Axis, AxisValues, Machine, Workspace};
-use crate::math::{M_PER_MM, M_PER_UM, Pose, RAD_PER_DEG, Real, Vector};
+use crate::math::{M_PER_MM, M_PER_UM, Pose, RAD_PER_DEG, Real, Rotation, Vector};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -241,11 +242,19 @@ pub(crate) fn rtest(
         .into_iter()
         .zip(gains.iter().zip(&directions))
         .map(|(nominal, (&gain_error, error))| {
-            let elevation = nominal.z.asin() + error[0] * 1e-3;
-            let azimuth = nominal.y.atan2(nominal.x) + error[1] * 1e-3;
+            // The axial probe has no azimuth: its pair is a tilt about the nest's x, then y.
+            let axis = if nominal == Vector::Z {
+                Rotation::from_rotation_y(error[1] * 1e-3)
+                    * Rotation::from_rotation_x(error[0] * 1e-3)
+                    * Vector::Z
+            } else {
+                let elevation = nominal.z.asin() + error[0] * 1e-3;
+                let azimuth = nominal.y.atan2(nominal.x) + error[1] * 1e-3;
+                probe_axis(azimuth, elevation)
+            };
             Probe {
                 nominal_axis: nominal,
-                axis: probe_axis(azimuth, elevation),
+                axis,
                 gain_error,
             }
         })
@@ -419,9 +428,11 @@ pub(crate) fn rtest(
             points,
         };
         // Every pose must be reachable, and the path free of collisions: check it finely.
-        let duration = match &mode {
-            Mode::Static { dwell } => (test.points - 1) as Real * dwell,
-            Mode::Dynamic(d) => test.rotary_travel(machine) / d.rate,
+        // The times the table will carry: static poses `dwell` apart; in dynamic mode the
+        // motion starts after the loops have settled.
+        let (start_time, move_time) = match &mode {
+            Mode::Static { dwell } => (0.0, (test.points - 1) as Real * dwell),
+            Mode::Dynamic(d) => (SETTLE, test.rotary_travel(machine) / d.rate),
         };
         let checks = (test.rotary_travel(machine).to_degrees().ceil() as usize).clamp(2, 3600);
         let mut path = Vec::with_capacity(checks + 1);
@@ -430,7 +441,7 @@ pub(crate) fn rtest(
             let angles = test.angles_at(machine, lambda);
             let position = follow(machine, &mut workspace, &angles, sphere)
                 .map_err(|e: FollowError| fail(t.span(), "test", format!("{key}: {e}")))?;
-            path.push((lambda * duration, position));
+            path.push((start_time + lambda * move_time, position));
         }
         if let Err(hit) = scene.sweep(machine, &path) {
             return Err(fail(
