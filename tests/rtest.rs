@@ -28,45 +28,46 @@ fn run(text: &str) -> RtestTable {
     simulate(&scenario).unwrap().rtest.unwrap()
 }
 
-/// trunnion5's K-tests with one error and an exact nest (no noise, no resolution).
-fn trunnion_scenario(error: &str, value: Real, extra: &str) -> String {
-    let unit = if error.starts_with("EX") || error.starts_with("EY") || error.starts_with("EZ") {
+/// A scenario on `machine` with one error, an exact nest (no noise, no resolution) on a
+/// sphere at `sphere_mm`, the nest's `extra` keys and the K-tests `tests` (name, from, to,
+/// poses).
+fn scenario_text(
+    machine: &str,
+    (error, value): (&str, Real),
+    sphere_mm: &str,
+    extra: &str,
+    tests: &[(&str, &str, &str, usize)],
+) -> String {
+    let unit = if ["EX", "EY", "EZ"].iter().any(|p| error.starts_with(p)) {
         "um"
     } else {
         "urad"
     };
-    format!(
-        r#"schema = 1
-machine = "MODELS/trunnion5.urdf"
-seed = 3
-[errors.{error}]
-constant_{unit} = {value}
-[rtest]
-sphere_mm = [100.0, 30.0, 250.0]
-noise_um = 0.0
-resolution_um = 0.0
-{extra}
-[[rtest.test]]
-name = "C at A0"
-from_deg = {{ A = 0.0, C = 0.0 }}
-to_deg = {{ C = 360.0 }}
-points = 13
-[[rtest.test]]
-name = "C at A-45"
-from_deg = {{ A = -45.0, C = 0.0 }}
-to_deg = {{ C = 360.0 }}
-points = 13
-[[rtest.test]]
-name = "A swing"
-from_deg = {{ A = -45.0, C = 0.0 }}
-to_deg = {{ A = 45.0 }}
-points = 10
-[[rtest.test]]
-name = "A and C"
-from_deg = {{ A = 0.0, C = 30.0 }}
-to_deg = {{ A = -40.0, C = 300.0 }}
-points = 10
-"#
+    let mut text = format!(
+        "schema = 1\nmachine = \"MODELS/{machine}.urdf\"\nseed = 3\n[errors.{error}]\nconstant_{unit} = {value}\n\
+         [rtest]\nsphere_mm = {sphere_mm}\nnoise_um = 0.0\nresolution_um = 0.0\n{extra}\n"
+    );
+    for (name, from, to, points) in tests {
+        text += &format!(
+            "[[rtest.test]]\nname = \"{name}\"\nfrom_deg = {{ {from} }}\nto_deg = {{ {to} }}\npoints = {points}\n"
+        );
+    }
+    text
+}
+
+/// trunnion5's K-tests: C circles at A = 0 and −45°, an A swing, a simultaneous A + C path.
+fn trunnion_scenario(error: &str, value: Real, extra: &str) -> String {
+    scenario_text(
+        "trunnion5",
+        (error, value),
+        "[100.0, 30.0, 250.0]",
+        extra,
+        &[
+            ("C at A0", "A = 0.0, C = 0.0", "C = 360.0", 13),
+            ("C at A-45", "A = -45.0, C = 0.0", "C = 360.0", 13),
+            ("A swing", "A = -45.0, C = 0.0", "A = 45.0", 10),
+            ("A and C", "A = 0.0, C = 30.0", "A = -40.0, C = 300.0", 10),
+        ],
     )
 }
 
@@ -171,37 +172,16 @@ fn each_location_error_of_a_and_c_draws_its_first_order_closed_form_on_trunnion5
 
 /// headtable5's K-tests with one error: C at B = 0 and at B = −45°, B swinging at C = 0.
 fn headtable_scenario(error: &str, value: Real) -> String {
-    let unit = if error.starts_with("EX") || error.starts_with("EZ") || error.starts_with("EY") {
-        "um"
-    } else {
-        "urad"
-    };
-    format!(
-        r#"schema = 1
-machine = "MODELS/headtable5.urdf"
-seed = 3
-[errors.{error}]
-constant_{unit} = {value}
-[rtest]
-sphere_mm = [120.0, -40.0, 250.0]
-noise_um = 0.0
-resolution_um = 0.0
-[[rtest.test]]
-name = "C at B0"
-from_deg = {{ B = 0.0, C = 0.0 }}
-to_deg = {{ C = 360.0 }}
-points = 13
-[[rtest.test]]
-name = "C at B-45"
-from_deg = {{ B = -45.0, C = 0.0 }}
-to_deg = {{ C = 360.0 }}
-points = 13
-[[rtest.test]]
-name = "B swing"
-from_deg = {{ B = -45.0, C = 0.0 }}
-to_deg = {{ B = 45.0 }}
-points = 13
-"#
+    scenario_text(
+        "headtable5",
+        (error, value),
+        "[120.0, -40.0, 250.0]",
+        "",
+        &[
+            ("C at B0", "B = 0.0, C = 0.0", "C = 360.0", 13),
+            ("C at B-45", "B = -45.0, C = 0.0", "C = 360.0", 13),
+            ("B swing", "B = -45.0, C = 0.0", "B = 45.0", 13),
+        ],
     )
 }
 
