@@ -119,73 +119,43 @@ fn bench(c: &mut Criterion) {
         latency: 5e-5,
     };
     let probing = frame.move_from(start_tip, direction, 4e-3);
-    let target = Target::Sphere(sphere);
-    let mut rng = seeded_rng(1, "bench");
     assert_eq!(probing.start[Axis::A], 0.0);
-    c.bench_function("probe/touch", |b| {
-        b.iter(|| {
-            black_box(
-                probe
-                    .touch(
-                        &twin,
-                        &mut workspace,
-                        &target,
-                        black_box(&probing),
-                        &mut rng,
-                    )
-                    .unwrap(),
-            )
-        })
-    });
-}
-
-/// One whole probe touch on the cube mesh (the fixed point on the actual chain: about three
-/// pose evaluations and two parry casts), from 2 mm off its +X face.
-fn mesh_touch(c: &mut Criterion) {
-    let twin = twin();
-    let mut workspace = Workspace::new(&twin.machine);
-    let cube = std::sync::Arc::new(
-        Mesh::read(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/probe/cube.stl"),
-            1e-3,
-        )
-        .unwrap()
-        .placed(&mtwin::math::Pose::from_translation(Vector::new(
-            -0.02, -0.02, 0.13,
-        ))),
+    touch_bench(
+        c,
+        "probe/touch",
+        &probe,
+        &twin,
+        &Target::Sphere(sphere),
+        &probing,
     );
-    let frame = LinearFrame::at(&twin.machine, &AxisValues::ZERO).unwrap();
-    let probe = TouchProbe {
-        stylus_radius: 3e-3,
-        radius_error: 0.0,
-        pretravel: 1e-6,
-        lobing: 0.0,
-        lobing_phase: 0.0,
-        pretravel_axial: 1e-6,
-        repeatability: 0.25e-6,
-        feed: 0.004,
-        latency: 0.0,
-    };
-    let start = Vector::new(0.02 + 3e-3 + 2e-3, 0.0, 0.15);
+    // The same on the cube mesh, from 2 mm off its +X face: each fixed-point step a parry cast.
+    let start = Vector::new(0.02 + r + 2e-3, 0.0, 0.15);
     let probing = frame.move_from(start, -Vector::X, 4e-3);
     let target = Target::Mesh(cube);
+    touch_bench(c, "probe/touch_mesh", &probe, &twin, &target, &probing);
+}
+
+/// One whole probe touch of `target` along `probing`, as a cycle makes it.
+fn touch_bench(
+    c: &mut Criterion,
+    name: &str,
+    probe: &TouchProbe,
+    twin: &Twin,
+    target: &Target,
+    probing: &mtwin::kinds::probe::ProbeMove,
+) {
+    let mut workspace = Workspace::new(&twin.machine);
     let mut rng = seeded_rng(1, "bench");
-    c.bench_function("probe/touch_mesh", |b| {
+    c.bench_function(name, |b| {
         b.iter(|| {
             black_box(
                 probe
-                    .touch(
-                        &twin,
-                        &mut workspace,
-                        &target,
-                        black_box(&probing),
-                        &mut rng,
-                    )
+                    .touch(twin, &mut workspace, target, black_box(probing), &mut rng)
                     .unwrap(),
             )
         })
     });
 }
 
-criterion_group!(benches, bench, mesh_touch);
+criterion_group!(benches, bench);
 criterion_main!(benches);
