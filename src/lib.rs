@@ -68,6 +68,7 @@ pub mod collision;
 pub mod contact;
 pub mod discovery;
 pub mod errors;
+pub mod estimate;
 pub mod io;
 pub mod kinds;
 pub mod machine;

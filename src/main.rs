@@ -54,6 +54,99 @@ enum Command {
         /// The file.
         file: PathBuf,
     },
+    /// Estimate error parameters from measurement tables (R-test, sphere probing, laser
+    /// positioning, ball-bar): identifiability first (what the tables cannot tell apart, in
+    /// ISO names), then a Levenberg-Marquardt fit on the twin's exact chain, weighted by each
+    /// instrument's uncertainty, with standard uncertainties, 95 % intervals and, with
+    /// --monte-carlo, a GUM Supplement 1 propagation. With --out: estimate.json, the identified
+    /// machine as a URDF, LinuxCNC pitch tables, and with --scenario a compensated scenario.
+    Identify {
+        /// The machine model the tables were measured on (URDF).
+        #[arg(long, value_name = "M.urdf")]
+        machine: PathBuf,
+        /// The parameters: ISO names (EX0C, EC0Y, EXX:3) and presets (location, zero,
+        /// squareness, tool, linear21[:N]), separated by commas.
+        #[arg(long, value_name = "SPEC")]
+        params: String,
+        /// Measurement tables; a table whose first line does not name its kind takes a
+        /// prefix: rtest:FILE, spheres:FILE, positioning:FILE, ballbar:FILE.
+        #[arg(required = true, value_name = "TABLE")]
+        tables: Vec<String>,
+        /// Standard uncertainty of each reading of a kind, overriding its default
+        /// (rtest 0.2, spheres 0.5, positioning 0.02, ballbar 0.104 µm), e.g.
+        /// --sigma-um rtest=0.3 (repeatable).
+        #[arg(long = "sigma-um", value_name = "KIND=UM")]
+        sigma_um: Vec<String>,
+        /// The R-test sphere position is unknown (no preset at the first pose): estimate it too.
+        #[arg(long)]
+        free_setup: bool,
+        /// Standard uncertainty of the R-test sphere's position as the preset found it (µm;
+        /// default 0.5), a set-up input of the Monte Carlo.
+        #[arg(long, value_name = "UM")]
+        sphere_setup_um: Option<f64>,
+        /// Monte Carlo trials (GUM Supplement 1) propagating the instruments' noise and the
+        /// set-up uncertainties through the twin; 0 for none.
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        monte_carlo: usize,
+        /// Seed of the Monte Carlo.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// The scenario the tables were simulated from: --out then holds compensated.toml,
+        /// that scenario compensated with the estimate, for `mtwin run`.
+        #[arg(long, value_name = "SCENARIO.toml")]
+        scenario: Option<PathBuf>,
+        /// Print estimate.json instead of the report.
+        #[arg(long)]
+        json: bool,
+        /// Write estimate.json, the identified URDF, LinuxCNC tables (and compensated.toml).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
+    /// Test design: from candidate R-tests (turns of the table at every 15° of the tilting
+    /// axis, sweeps of the tilting axis), choose those that make the parameters identifiable
+    /// with the smallest uncertainty for the readings spent (D-optimal, greedy), and show the
+    /// predicted standard uncertainty of every parameter after each test.
+    Plan {
+        /// The machine model (URDF).
+        #[arg(long, value_name = "M.urdf")]
+        machine: PathBuf,
+        /// The parameters, as for identify.
+        #[arg(long, value_name = "SPEC")]
+        params: String,
+        /// The sphere centre in the workpiece frame (mm).
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            value_delimiter = ',',
+            allow_negative_numbers = true,
+            required = true
+        )]
+        sphere_mm: Vec<f64>,
+        /// Standard uncertainty of each reading component (µm).
+        #[arg(long, default_value_t = 0.2)]
+        sigma_um: f64,
+        /// Readings to spend (three per pose).
+        #[arg(long, default_value_t = 240)]
+        budget: usize,
+        /// Print JSON instead of the report.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Score an estimate against the truth: per parameter the error, the error over its
+    /// uncertainty and whether the 95 % interval covers the truth; and the volumetric
+    /// deviation over the working volume before and after compensating with the estimate.
+    Score {
+        /// estimate.json from `mtwin identify`.
+        estimate: PathBuf,
+        /// truth.json from `mtwin run`.
+        truth: PathBuf,
+        /// The machine model (URDF); default: the estimate's `machine_file`.
+        #[arg(long, value_name = "M.urdf")]
+        machine: Option<PathBuf>,
+        /// Print JSON instead of the report.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// The command line: `run` and `check`, then `analyze` and `discover` with a subcommand for
@@ -200,6 +293,132 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             Ok(())
         }
         Command::Check { file } => check(&file),
+        Command::Identify {
+            machine,
+            params,
+            tables,
+            sigma_um,
+            free_setup,
+            sphere_setup_um,
+            monte_carlo,
+            seed,
+            scenario,
+            json,
+            out,
+        } => {
+            if let Some(u) = sphere_setup_um
+                && !(u.is_finite() && u >= 0.0)
+            {
+                bail!("--sphere-setup-um {u}: expected a number of µm, 0 or more");
+            }
+            let mut sigma = std::collections::BTreeMap::new();
+            for item in &sigma_um {
+                let parsed = item
+                    .split_once('=')
+                    .and_then(|(k, v)| Some((k.trim(), v.trim().parse::<f64>().ok()?)))
+                    .filter(|(k, v)| {
+                        mtwin::app::identify::TABLE_KINDS.contains(k) && v.is_finite() && *v > 0.0
+                    });
+                let Some((kind, value)) = parsed else {
+                    bail!(
+                        "--sigma-um {item}: expected KIND=UM with KIND one of {} and a positive number of µm",
+                        mtwin::app::identify::TABLE_KINDS.join(", ")
+                    );
+                };
+                sigma.insert(kind.to_string(), value * 1e-6);
+            }
+            if let Some(dir) = &out {
+                std::fs::create_dir_all(dir).map_err(|e| {
+                    anyhow::anyhow!("{}: cannot create the folder: {e}", dir.display())
+                })?;
+            }
+            let request = mtwin::app::identify::Request {
+                machine,
+                params,
+                tables,
+                sigma,
+                free_setup,
+                sphere_setup: sphere_setup_um.map(|u| u * 1e-6),
+                trials: monte_carlo,
+                seed,
+                scenario,
+            };
+            let identified = mtwin::app::identify::identify(&request)?;
+            if json {
+                say_raw(&format!("{:#}\n", identified.json));
+            } else {
+                say_raw(&identified.text);
+            }
+            if let Some(dir) = &out {
+                mtwin::io::write_files(&identified.files, dir)?;
+                for (name, bytes) in &identified.files {
+                    eprintln!("{}  ({} bytes)", dir.join(name).display(), bytes.len());
+                }
+            }
+            Ok(())
+        }
+        Command::Plan {
+            machine,
+            params,
+            sphere_mm,
+            sigma_um,
+            budget,
+            json,
+        } => {
+            if !(sigma_um.is_finite() && sigma_um > 0.0) {
+                bail!("--sigma-um {sigma_um}: expected a positive number of µm");
+            }
+            if sphere_mm.len() != 3 || sphere_mm.iter().any(|v| !v.is_finite()) {
+                bail!("--sphere-mm: expected three numbers X,Y,Z (mm)");
+            }
+            let sphere = mtwin::math::Vector::new(sphere_mm[0], sphere_mm[1], sphere_mm[2]) * 1e-3;
+            let plan =
+                mtwin::app::identify::plan(&machine, &params, sphere, sigma_um * 1e-6, budget)?;
+            if json {
+                say_raw(&format!("{:#}\n", plan.to_json()));
+            } else {
+                say_raw(&plan.report());
+            }
+            Ok(())
+        }
+        Command::Score {
+            estimate,
+            truth,
+            machine,
+            json,
+        } => {
+            let read = |path: &Path| -> Result<serde_json::Value> {
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", path.display()))?;
+                serde_json::from_str(&text).map_err(|e| {
+                    anyhow::anyhow!(
+                        "{}:{}:{}: not JSON: {e}",
+                        path.display(),
+                        e.line(),
+                        e.column()
+                    )
+                })
+            };
+            let (estimate_json, truth_json) = (read(&estimate)?, read(&truth)?);
+            let machine_file = match machine {
+                Some(path) => path,
+                None => match estimate_json["machine_file"].as_str() {
+                    Some(file) => PathBuf::from(file),
+                    None => bail!(
+                        "{}: no machine_file; give the machine with --machine M.urdf",
+                        estimate.display()
+                    ),
+                },
+            };
+            let machine = Machine::from_urdf_file(&machine_file)?;
+            let score = mtwin::estimate::score::score(&estimate_json, &truth_json, &machine)?;
+            if json {
+                say_raw(&format!("{:#}\n", score.to_json()));
+            } else {
+                say_raw(&score.report());
+            }
+            Ok(())
+        }
     }
 }
 

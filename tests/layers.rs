@@ -10,7 +10,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// The layers, lowest first.
-const LAYERS: [&str; 14] = [
+const LAYERS: [&str; 15] = [
     "math",
     "machine",
     "errors",
@@ -22,6 +22,7 @@ const LAYERS: [&str; 14] = [
     "collision",
     "scenario",
     "discovery",
+    "estimate",
     "viz",
     "kinds",
     "app",

@@ -11,6 +11,7 @@
 //! assert_eq!(names, ["positioning.csv", "truth.json", "manifest.json"]);
 //! ```
 
+pub mod identify;
 #[cfg(feature = "viz")]
 pub mod record;
 mod run;

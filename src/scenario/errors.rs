@@ -457,3 +457,172 @@ fn varying_key(spec: &ErrorSpec) -> &'static str {
         .find(|(_, present)| *present)
         .map_or("", |(key, _)| key)
 }
+
+/// The error function (SI) of the terms `spec` (file units) give for parameter `name`: what an
+/// `[errors.NAME]` section or a `terms` object of `truth.json` / `estimate.json` means.
+///
+/// The function's argument is the position of the parameter's own axis for component errors
+/// (mm or deg in the file, m or rad in SI); location, squareness and tool errors are constants.
+/// The message names the key inside the terms (e.g. `harmonic[0].period_mm`) and what is wrong
+/// with it: a unit that does not fit the parameter or its axis, a value that is not a finite
+/// number, a missing field, no term at all, or a varying term for a constant parameter.
+pub fn function_of(spec: &ErrorSpec, name: ParameterName) -> Result<ErrorFunction, String> {
+    let unit = name.file_unit();
+    if *spec == ErrorSpec::default() {
+        return Err(format!(
+            "no term given; expected one or more of constant_{unit}, polynomial_{unit}, \
+             reversal_{unit}, harmonic, table"
+        ));
+    }
+    let argument = name
+        .axis()
+        .filter(|_| matches!(name, ParameterName::Component { .. }));
+    let function = spec_to_function(spec, name, argument)
+        .map_err(|(_, key, message)| format!("{key}: {message}"))?;
+    if argument.is_none() && !function.is_constant() {
+        return Err(format!(
+            "{}: location, squareness and tool errors are constants; use constant_{unit}",
+            varying_key(spec)
+        ));
+    }
+    Ok(function)
+}
+
+/// The terms, in file units, of the SI `function` of parameter `name`: the inverse of
+/// [`function_of`] (`function_of(&spec_of(f, name), name)` is `f` to round-off, with the terms
+/// of a sum in the order constant, polynomial, reversal, harmonics, table).
+///
+/// Values go to `*_um` for translations and `*_urad` for rotations; polynomial coefficients of
+/// degree k to µm (µrad) per mm^k, or per deg^k for a component error of a rotary axis;
+/// harmonic periods and table positions to mm or deg the same way, phases to degrees. A
+/// [`ErrorFunction::Sum`] (nested or not) is merged into one spec: constants, reversals and
+/// polynomials (coefficient by coefficient) add, harmonics are listed in turn, and tables add:
+/// on the same knots value by value, otherwise on the union of both tables' knots (exact for
+/// linear tables, which the sum of two is; a cubic sum is then exact at the knots only).
+pub fn spec_of(function: &ErrorFunction, name: ParameterName) -> ErrorSpec {
+    let translation = name.motion().is_translation();
+    let rotary_argument =
+        matches!(name, ParameterName::Component { axis, .. } if !axis.is_linear());
+    let position_scale = match name {
+        ParameterName::Component { axis, .. } => axis_unit_to_si(axis),
+        _ => crate::math::M_PER_MM,
+    };
+    let value = |v: Real| v / RAD_PER_URAD;
+    let mut spec = ErrorSpec::default();
+    let mut constant: Option<Real> = None;
+    let mut polynomial: Option<Vec<Real>> = None;
+    let mut reversal: Option<Real> = None;
+    let mut table: Option<(Vec<Real>, Vec<Real>, Interpolation)> = None;
+    let mut flat = Vec::new();
+    flatten(function, &mut flat);
+    for term in flat {
+        match term {
+            ErrorFunction::Constant(c) => *constant.get_or_insert(0.0) += value(*c),
+            ErrorFunction::Reversal(r) => *reversal.get_or_insert(0.0) += value(*r),
+            ErrorFunction::Polynomial(c) => {
+                let sum = polynomial.get_or_insert_with(Vec::new);
+                if sum.len() < c.len() {
+                    sum.resize(c.len(), 0.0);
+                }
+                for (k, (s, c)) in sum.iter_mut().zip(c).enumerate() {
+                    *s += value(*c) * position_scale.powi(k as i32);
+                }
+            }
+            ErrorFunction::Harmonic {
+                period,
+                amplitude,
+                phase,
+            } => {
+                let period = Some(period / position_scale);
+                let amplitude = Some(value(*amplitude));
+                spec.harmonic.push(HarmonicSpec {
+                    period_mm: period.filter(|_| !rotary_argument),
+                    period_deg: period.filter(|_| rotary_argument),
+                    amplitude_um: amplitude.filter(|_| translation),
+                    amplitude_urad: amplitude.filter(|_| !translation),
+                    phase_deg: phase / crate::math::RAD_PER_DEG,
+                });
+            }
+            ErrorFunction::Table(t) => {
+                table = Some(match table.take() {
+                    None => (
+                        t.positions().to_vec(),
+                        t.values().to_vec(),
+                        t.interpolation(),
+                    ),
+                    Some((positions, values, interpolation)) => {
+                        add_tables(positions, values, interpolation, t)
+                    }
+                });
+            }
+            ErrorFunction::Sum(_) => unreachable!("flattened"),
+        }
+    }
+    let by_unit = |v: Option<Real>| (v.filter(|_| translation), v.filter(|_| !translation));
+    (spec.constant_um, spec.constant_urad) = by_unit(constant);
+    (spec.reversal_um, spec.reversal_urad) = by_unit(reversal);
+    if translation {
+        spec.polynomial_um = polynomial;
+    } else {
+        spec.polynomial_urad = polynomial;
+    }
+    if let Some((positions, values, interpolation)) = table {
+        let positions: Vec<Real> = positions.iter().map(|p| p / position_scale).collect();
+        let values: Vec<Real> = values.iter().map(|v| value(*v)).collect();
+        let (values_um, values_urad) = if translation {
+            (Some(values), None)
+        } else {
+            (None, Some(values))
+        };
+        spec.table = Some(TableSpec {
+            positions_mm: Some(positions.clone()).filter(|_| !rotary_argument),
+            positions_deg: Some(positions).filter(|_| rotary_argument),
+            values_um,
+            values_urad,
+            interpolation: match interpolation {
+                Interpolation::Linear => InterpolationSpec::Linear,
+                Interpolation::Cubic => InterpolationSpec::Cubic,
+            },
+        });
+    }
+    spec
+}
+
+/// The terms of `function`, sums opened recursively.
+fn flatten<'a>(function: &'a ErrorFunction, out: &mut Vec<&'a ErrorFunction>) {
+    match function {
+        ErrorFunction::Sum(terms) => terms.iter().for_each(|term| flatten(term, out)),
+        term => out.push(term),
+    }
+}
+
+/// The sum of a table (SI knots and values) and `other`: value by value on the same knots,
+/// otherwise both evaluated on the union of their knots.
+fn add_tables(
+    positions: Vec<Real>,
+    values: Vec<Real>,
+    interpolation: Interpolation,
+    other: &Table,
+) -> (Vec<Real>, Vec<Real>, Interpolation) {
+    if positions == other.positions() {
+        let values = values
+            .iter()
+            .zip(other.values())
+            .map(|(a, b)| a + b)
+            .collect();
+        return (positions, values, interpolation);
+    }
+    let first = Table::new(positions.clone(), values, interpolation)
+        .map(ErrorFunction::Table)
+        .expect("a table that was valid stays valid");
+    let second = ErrorFunction::Table(other.clone());
+    let mut union: Vec<Real> = positions.iter().chain(other.positions()).copied().collect();
+    union.sort_by(Real::total_cmp);
+    union.dedup();
+    let up = crate::machine::Direction::Positive;
+    let values = union
+        .iter()
+        .map(|&q| first.value(q, up) + second.value(q, up))
+        .collect();
+    (union, values, interpolation)
+}

@@ -42,7 +42,7 @@ pub mod errors;
 pub mod lesson;
 pub mod thermal;
 
-pub use errors::{ErrorSpec, HarmonicSpec, InterpolationSpec, TableSpec};
+pub use errors::{ErrorSpec, HarmonicSpec, InterpolationSpec, TableSpec, function_of, spec_of};
 pub use lesson::Lesson;
 pub use thermal::ThermalSetup;
 

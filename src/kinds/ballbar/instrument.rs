@@ -113,7 +113,9 @@ impl Ballbar {
                 feed: Some(circle.feed),
                 sample_rate: Some(self.sample_rate),
                 first: Some(Sense::Ccw),
+                centre: Some(circle.centre),
             },
+            machine: Some(machine.name().to_string()),
         }
     }
 }

@@ -20,6 +20,7 @@ pub mod discovery;
 pub mod instrument;
 pub mod iso230_4;
 pub mod program;
+pub mod readings;
 pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]

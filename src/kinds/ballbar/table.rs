@@ -19,12 +19,15 @@
 //! | `feed_mm_per_min` | the programmed feed |
 //! | `sample_rate_hz` | the bar's sampling rate |
 //! | `first_direction` | `ccw` or `cw`, the sense of the first run |
+//! | `machine` | the machine's name |
+//! | `centre_mm` | `x y z`: the machine's linear axes at the circle centre (where the centre ball was set) |
+//! | `a_deg`, `b_deg`, `c_deg` | the rotary axes held during the test, when not at 0 (with `centre_mm`) |
 //!
 //! A table without them reads as well: its conditions are then given on the command line
 //! (`--plane`, `--radius-mm`, `--feed-mm-per-min`).
 
 use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
-use crate::machine::Plane;
+use crate::machine::{Axis, AxisValues, Plane};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed, trimmed};
 use std::path::Path;
 
@@ -82,6 +85,9 @@ pub struct TestConditions {
     pub sample_rate: Option<Real>,
     /// The sense of the first run.
     pub first: Option<Sense>,
+    /// The machine's axis positions at the circle centre (SI): the linear axes where the centre
+    /// ball was set, the rotary axes held during the test.
+    pub centre: Option<AxisValues>,
 }
 
 impl TestConditions {
@@ -125,12 +131,42 @@ impl TestConditions {
                 }
             }),
         };
+        let centre = match c.get("centre_mm") {
+            None => None,
+            Some((text, line)) => {
+                let values: Vec<Real> = text
+                    .split_whitespace()
+                    .map(|v| v.parse::<Real>().ok().filter(|v| v.is_finite()))
+                    .collect::<Option<_>>()
+                    .filter(|v: &Vec<Real>| v.len() == 3)
+                    .ok_or_else(|| {
+                        TableError::new(
+                            file,
+                            Some(line),
+                            format!(
+                                "centre_mm = {text}: expected three numbers (mm) separated by spaces"
+                            ),
+                        )
+                    })?;
+                let mut centre = AxisValues::ZERO;
+                for (axis, value) in [Axis::X, Axis::Y, Axis::Z].into_iter().zip(values) {
+                    centre[axis] = value * M_PER_MM;
+                }
+                for (axis, key) in ROTARY_KEYS {
+                    if let Some(value) = c.number(key, file)? {
+                        centre[axis] = value * RAD_PER_DEG;
+                    }
+                }
+                Some(centre)
+            }
+        };
         Ok(TestConditions {
             plane,
             radius: positive("radius_mm")?.map(|r| r * M_PER_MM),
             feed: positive("feed_mm_per_min")?.map(|f| f * M_PER_MM / 60.0),
             sample_rate: positive("sample_rate_hz")?,
             first,
+            centre,
         })
     }
 
@@ -152,9 +188,21 @@ impl TestConditions {
         if let Some(first) = self.first {
             pairs.push(("first_direction", first.name().to_string()));
         }
+        if let Some(centre) = self.centre {
+            let mm = [Axis::X, Axis::Y, Axis::Z].map(|a| trimmed(centre[a] / M_PER_MM, 9));
+            pairs.push(("centre_mm", mm.join(" ")));
+            for (axis, key) in ROTARY_KEYS {
+                if centre[axis] != 0.0 {
+                    pairs.push((key, trimmed(centre[axis] / RAD_PER_DEG, 9)));
+                }
+            }
+        }
         Conditions::from_pairs(pairs)
     }
 }
+
+/// The preamble keys of the rotary axes held during a test.
+const ROTARY_KEYS: [(Axis, &str); 3] = [(Axis::A, "a_deg"), (Axis::B, "b_deg"), (Axis::C, "c_deg")];
 
 /// A ball-bar table: the readings of one plane, both senses, in file order, and the test
 /// conditions its preamble gives.
@@ -164,6 +212,8 @@ pub struct BallbarTable {
     pub readings: Vec<BallbarReading>,
     /// The test conditions from the file's preamble (none for a file without one).
     pub conditions: TestConditions,
+    /// The machine's name, from the preamble's `machine`.
+    pub machine: Option<String>,
 }
 
 const KNOWN: [&str; 4] = ["direction", "angle_deg", "deviation_um", "time_s"];
@@ -178,7 +228,9 @@ impl BallbarTable {
     /// Reads a ball-bar table from bytes; `file` names it in messages.
     pub fn parse(bytes: &[u8], file: &str) -> Result<BallbarTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
-        let conditions = TestConditions::from_preamble(&Conditions::parse(bytes, file)?, file)?;
+        let stated = Conditions::parse(bytes, file)?;
+        let conditions = TestConditions::from_preamble(&stated, file)?;
+        let machine = stated.get("machine").map(|(m, _)| m.to_string());
         let mut reader = csv_reader(bytes);
         let (header, header_line) = read_header(&mut reader, file)?;
         for name in &header {
@@ -250,6 +302,7 @@ impl BallbarTable {
         Ok(BallbarTable {
             readings,
             conditions,
+            machine,
         })
     }
 
@@ -319,7 +372,16 @@ impl BallbarTable {
     /// angle_deg, deviation_um[, time_s]`; angles to 1 µ°, deviations to 1 pm, times to 1 µs, so
     /// the same table gives the same bytes.
     pub fn write_csv(&self, mut out: impl std::io::Write) -> csv::Result<()> {
-        let preamble = self.conditions.to_preamble();
+        let conditions = self.conditions.to_preamble();
+        let machine = self
+            .machine
+            .iter()
+            .map(|m| ("machine".to_string(), m.clone()));
+        let stated = conditions.keys().map(|key| {
+            let (value, _) = conditions.get(key).expect("a key it lists");
+            (key.to_string(), value.to_string())
+        });
+        let preamble = Conditions::from_pairs(stated.chain(machine));
         if !preamble.is_empty() {
             out.write_all(
                 preamble

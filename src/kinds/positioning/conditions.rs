@@ -8,16 +8,22 @@
 //! | `runs` | the number of runs |
 //! | `targets_mm` | the target positions, comma-separated |
 //! | `compensation` | what the laser corrected: `none`, `air` (the refractive index, from its sensors), `nde` (the material's expansion, to 20 °C) or `air+nde` |
+//! | `machine` | the machine's name |
+//! | `x_mm`, `y_mm`, `z_mm`, `a_deg`, `b_deg`, `c_deg` | where the machine's other axes stood during the test (the line of the test), as `[iso230_2]` sets them; not the axis under test |
+//! | `beam_offset_mm` | `x y z`: the reflector relative to the tool tip, tool frame (the Abbe offset), as `[laser]` sets it |
+//! | `interferometer_on` | `workpiece` (the reflector rides on the tool) or `tool` (the reverse set-up) |
+//! | `zero` | `once` (one datum for the test, at its first reading) or `each_run` (at each run's first reading) |
 //!
 //! A table without them reads as before. Those the data can check are checked when the table is
 //! read: the axis against an `axis` column, the runs against the runs the rows hold, every
 //! reading's target against the targets (within [`TARGET_TOLERANCE`]) and every target against
 //! the readings.
 
+use super::laser::{Mounting, Zeroing};
 use super::table::{PositioningReading, PositioningTable};
 use crate::io::{Conditions, TableError};
-use crate::machine::Axis;
-use crate::math::{M_PER_MM, Real, trimmed};
+use crate::machine::{Axis, axis_unit_to_si};
+use crate::math::{M_PER_MM, Real, Vector, trimmed};
 
 /// How far a reading's target may lie from a stated target and still be it (m): half the last
 /// digit of an export that writes targets to 1 µm.
@@ -69,6 +75,27 @@ pub struct PositioningConditions {
     pub targets: Option<Vec<Real>>,
     /// What the laser corrected (`none`, `air`, `air+nde`), as stated.
     pub compensation: Option<String>,
+    /// The machine's name.
+    pub machine: Option<String>,
+    /// Where the machine's other axes stood during the test (SI), those the preamble names, in
+    /// ISO order.
+    pub axes: Vec<(Axis, Real)>,
+    /// The reflector relative to the tool tip, tool frame (m).
+    pub beam_offset: Option<Vector>,
+    /// Which side carries the interferometer.
+    pub mounting: Option<Mounting>,
+    /// When the laser was zeroed.
+    pub zero: Option<Zeroing>,
+}
+
+/// The preamble key of an axis position: `x_mm`, …, `c_deg` (none for the spindle).
+pub fn axis_key(axis: Axis) -> Option<String> {
+    let unit = match axis {
+        Axis::S => return None,
+        a if a.is_linear() => "mm",
+        _ => "deg",
+    };
+    Some(format!("{}_{unit}", axis.letter().to_ascii_lowercase()))
 }
 
 impl PositioningConditions {
@@ -131,33 +158,106 @@ impl PositioningConditions {
             }
         };
         let compensation = c.get("compensation").map(|(text, _)| text.to_string());
+        let machine = c.get("machine").map(|(text, _)| text.to_string());
+        let mut axes = Vec::new();
+        for axis in Axis::ALL {
+            if let Some(key) = axis_key(axis)
+                && let Some(value) = c.number(&key, file)?
+            {
+                axes.push((axis, value * axis_unit_to_si(axis)));
+            }
+        }
+        let beam_offset = match c.get("beam_offset_mm") {
+            None => None,
+            Some((text, line)) => {
+                let values: Vec<Real> = text
+                    .split_whitespace()
+                    .map(|v| v.parse::<Real>().ok().filter(|v| v.is_finite()))
+                    .collect::<Option<_>>()
+                    .filter(|v: &Vec<Real>| v.len() == 3)
+                    .ok_or_else(|| {
+                        wrong(
+                            "beam_offset_mm",
+                            text,
+                            line,
+                            "three numbers (mm) separated by spaces",
+                        )
+                    })?;
+                Some(Vector::new(values[0], values[1], values[2]) * M_PER_MM)
+            }
+        };
+        let mounting = match c.get("interferometer_on") {
+            None => None,
+            Some(("workpiece", _)) => Some(Mounting::InterferometerOnWorkpiece),
+            Some(("tool", _)) => Some(Mounting::InterferometerOnTool),
+            Some((text, line)) => {
+                return Err(wrong("interferometer_on", text, line, "workpiece or tool"));
+            }
+        };
+        let zero = match c.get("zero") {
+            None => None,
+            Some(("once", _)) => Some(Zeroing::Once),
+            Some(("each_run", _)) => Some(Zeroing::EachRun),
+            Some((text, line)) => return Err(wrong("zero", text, line, "once or each_run")),
+        };
         Ok(PositioningConditions {
             test,
             axis,
             runs,
             targets,
             compensation,
+            machine,
+            axes,
+            beam_offset,
+            mounting,
+            zero,
         })
     }
 
     /// The preamble that says these conditions (file units).
     pub fn to_preamble(&self) -> Conditions {
-        let mut pairs: Vec<(&str, String)> = Vec::new();
+        let mut pairs: Vec<(String, String)> = Vec::new();
         if let Some(test) = self.test {
-            pairs.push(("test", test.name().to_string()));
+            pairs.push(("test".into(), test.name().to_string()));
         }
         if let Some(axis) = self.axis {
-            pairs.push(("axis", axis.to_string()));
+            pairs.push(("axis".into(), axis.to_string()));
         }
         if let Some(runs) = self.runs {
-            pairs.push(("runs", runs.to_string()));
+            pairs.push(("runs".into(), runs.to_string()));
         }
         if let Some(targets) = &self.targets {
             let list: Vec<String> = targets.iter().map(|t| trimmed(t / M_PER_MM, 6)).collect();
-            pairs.push(("targets_mm", list.join(", ")));
+            pairs.push(("targets_mm".into(), list.join(", ")));
         }
         if let Some(compensation) = &self.compensation {
-            pairs.push(("compensation", compensation.clone()));
+            pairs.push(("compensation".into(), compensation.clone()));
+        }
+        if let Some(machine) = &self.machine {
+            pairs.push(("machine".into(), machine.clone()));
+        }
+        for &(axis, value) in &self.axes {
+            if let Some(key) = axis_key(axis) {
+                pairs.push((key, trimmed(value / axis_unit_to_si(axis), 9)));
+            }
+        }
+        if let Some(offset) = self.beam_offset {
+            let mm = offset.to_array().map(|v| trimmed(v / M_PER_MM, 9));
+            pairs.push(("beam_offset_mm".into(), mm.join(" ")));
+        }
+        if let Some(mounting) = self.mounting {
+            let side = match mounting {
+                Mounting::InterferometerOnWorkpiece => "workpiece",
+                Mounting::InterferometerOnTool => "tool",
+            };
+            pairs.push(("interferometer_on".into(), side.into()));
+        }
+        if let Some(zero) = self.zero {
+            let when = match zero {
+                Zeroing::Once => "once",
+                Zeroing::EachRun => "each_run",
+            };
+            pairs.push(("zero".into(), when.into()));
         }
         Conditions::from_pairs(pairs)
     }
@@ -174,6 +274,18 @@ impl PositioningConditions {
         file: &str,
     ) -> Result<(), TableError> {
         let line_of = |key: &str| stated.get(key).map(|(_, line)| line);
+        if let Some(axis) = column_axis.or(self.axis)
+            && self.axes.iter().any(|(a, _)| *a == axis)
+        {
+            let key = axis_key(axis).expect("a linear axis has a key");
+            return Err(TableError::new(
+                file,
+                line_of(&key),
+                format!(
+                    "{key}: {axis} is the axis under test; the preamble's axis positions are the other axes'"
+                ),
+            ));
+        }
         if let (Some(said), Some(column)) = (self.axis, column_axis)
             && said != column
         {
@@ -299,6 +411,11 @@ mod tests {
             stray.to_string(),
             "p.csv:4: target_mm 100 is not one of the preamble's targets_mm (line 1)"
         );
+        let tested = read("# axis = Y\n# x_mm = 5\n# y_mm = 205\n").unwrap_err();
+        assert_eq!(
+            tested.to_string(),
+            "p.csv:3: y_mm: Y is the axis under test; the preamble's axis positions are the other axes'"
+        );
         let unvisited = read("# targets_mm = 0, 100, 200\n").unwrap_err();
         assert_eq!(
             unvisited.to_string(),
@@ -322,6 +439,16 @@ mod tests {
                 "# targets_mm = 0, ten",
                 "targets_mm = 0, ten: expected finite numbers separated by commas",
             ),
+            (
+                "# beam_offset_mm = 0 60",
+                "beam_offset_mm = 0 60: expected three numbers (mm) separated by spaces",
+            ),
+            (
+                "# interferometer_on = bed",
+                "interferometer_on = bed: expected workpiece or tool",
+            ),
+            ("# zero = never", "zero = never: expected once or each_run"),
+            ("# y_mm = far", "y_mm = far: expected a finite number"),
         ] {
             let error = read(&format!("{line}\n")).unwrap_err();
             assert_eq!(error.to_string(), format!("p.csv:1: {expected}"));
@@ -338,6 +465,15 @@ mod tests {
             runs: Some(2),
             targets: Some(vec![0.0, 0.1]),
             compensation: Some("air+nde".into()),
+            machine: Some("vmc3".into()),
+            axes: vec![
+                (Axis::X, 380.0 * M_PER_MM),
+                (Axis::Y, 205.5 * M_PER_MM),
+                (Axis::C, 30.0 * crate::math::RAD_PER_DEG),
+            ],
+            beam_offset: Some(Vector::new(0.0, 20.0, 60.0) * M_PER_MM),
+            mounting: Some(Mounting::InterferometerOnTool),
+            zero: Some(Zeroing::EachRun),
         };
         let mut bytes = Vec::new();
         table.write_csv(&mut bytes).unwrap();

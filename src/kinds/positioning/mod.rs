@@ -23,6 +23,7 @@ pub mod discovery;
 pub mod iso230_2;
 pub mod laser;
 pub mod program;
+pub mod readings;
 pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]

@@ -2,8 +2,10 @@
 //! when the scenario has a `[thermal]` model (temperatures change the errors, sensors are read
 //! at each measurement, the laser's air is the machine's air).
 
+use super::conditions::PositioningConditions;
 use super::scenario::LaserTest;
 use super::table::PositioningTable;
+use crate::machine::Axis;
 use crate::math::{Pose, Real};
 use crate::program::Visit;
 use crate::scenario::ThermalSetup;
@@ -72,7 +74,7 @@ pub fn simulate(
             for (reading, record) in table.readings.iter_mut().zip(&records) {
                 reading.temperatures = record.readings.clone();
             }
-            table.conditions = test.conditions();
+            table.conditions = conditions(twin, test);
             LaserRun {
                 table,
                 visits,
@@ -84,7 +86,7 @@ pub fn simulate(
             let visits = crate::program::visits(&test.program.timeline(Real::INFINITY));
             let poses = twin.poses(&visits);
             let mut table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
-            table.conditions = test.conditions();
+            table.conditions = conditions(twin, test);
             LaserRun {
                 table,
                 visits,
@@ -92,6 +94,30 @@ pub fn simulate(
                 thermal: None,
             }
         }
+    }
+}
+
+/// The conditions the table states: the test's ([`LaserTest::conditions`]) and the set-up the
+/// model of its readings needs ([`super::readings`]): the machine, where its other axes stand
+/// (every axis but the spindle), the reflector's offset, the mounting and the zeroing.
+fn conditions(twin: &Twin, test: &LaserTest) -> PositioningConditions {
+    let laser = &test.laser;
+    let mut axes: Vec<_> = twin
+        .machine
+        .axes()
+        .iter()
+        .map(|info| info.axis)
+        .filter(|&axis| axis != laser.axis && axis != Axis::S)
+        .map(|axis| (axis, test.program.start[axis]))
+        .collect();
+    axes.sort_by_key(|(axis, _)| *axis);
+    PositioningConditions {
+        machine: Some(twin.machine.name().to_string()),
+        axes,
+        beam_offset: Some(laser.beam_offset),
+        mounting: Some(laser.mounting),
+        zero: Some(laser.zero),
+        ..test.conditions()
     }
 }
 

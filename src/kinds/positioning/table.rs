@@ -14,8 +14,10 @@
 //!
 //! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
 //! reading at a target in a direction belongs to run k. The test's conditions (test, axis,
-//! runs, targets, compensation) travel in the file's preamble, as `mtwin run` writes them and a
-//! real export can carry them ([`super::conditions`]); a table without one reads as well.
+//! runs, targets, compensation) and its set-up (machine, where the other axes stood, reflector
+//! offset, mounting, zero: what [`super::readings`] models the readings with) travel in the
+//! file's preamble, as `mtwin run` writes them and a real export can carry them
+//! ([`super::conditions`]); a table without one reads as well.
 
 use super::conditions::{PositioningConditions, parse_axis};
 use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};

@@ -19,6 +19,7 @@ pub mod cli;
 pub mod instrument;
 pub mod plot;
 pub mod program;
+pub mod readings;
 pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]
@@ -29,5 +30,5 @@ pub use analysis::{RtestEvaluation, TestEvaluation, evaluate};
 pub use instrument::{Calibration, Nest, Probe, Tip};
 pub use program::KTest;
 pub use run::RtestRunError;
-pub use scenario::{Mode, RTest};
+pub use scenario::{Mode, RTest, Zero};
 pub use table::{RtestRow, RtestTable};

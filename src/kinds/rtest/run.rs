@@ -3,7 +3,7 @@
 
 use super::instrument::{Calibration, Conversion, calibration_offsets, fit_sensitivity, um};
 use super::program::{Pose, describe_angles, dynamic_poses, follow, static_poses};
-use super::scenario::{Mode, RTest};
+use super::scenario::{Mode, RTest, Zero};
 use super::table::{RtestRow, RtestTable};
 use crate::io::Conditions;
 use crate::machine::{Axis, MachineState, Workspace};
@@ -50,6 +50,7 @@ pub fn simulate(twin: &Twin, test: &RTest, seed: u64) -> Result<RtestTable, Rtes
     let mut rows = Vec::new();
     let mut readings = vec![0.0; test.nest.probes.len()];
     let mut change = vec![0.0; test.nest.probes.len()];
+    let mut first: Option<Vec<Real>> = None;
     for k_test in &test.tests {
         let poses: Vec<Pose> = match &test.mode {
             Mode::Static { dwell } => {
@@ -59,7 +60,9 @@ pub fn simulate(twin: &Twin, test: &RTest, seed: u64) -> Result<RtestTable, Rtes
                 dynamic_poses(machine, &mut workspace, k_test, test.sphere, dynamic)?
             }
         };
-        let mut first: Option<Vec<Real>> = None;
+        if test.zero == Zero::EachTest {
+            first = None;
+        }
         for (index, pose) in poses.iter().enumerate() {
             let v = sphere_in_nest(twin, &mut workspace, &pose.state, test.sphere);
             test.nest.read(v, &mut rng, &mut readings);
@@ -212,6 +215,9 @@ fn conditions(twin: &Twin, test: &RTest) -> Conditions {
             },
         ),
     ];
+    if test.zero == Zero::FirstPose {
+        pairs.push(("zero", Zero::FirstPose.name().into()));
+    }
     pairs.push(("frame", "machine".into()));
     Conditions::from_pairs(pairs)
 }
@@ -234,6 +240,7 @@ pub fn truth(test: &RTest) -> Value {
         "noise_um": um(nest.noise),
         "resolution_um": um(nest.resolution),
         "range_mm": nest.range / M_PER_MM,
+        "zero": test.zero.name(),
         "calibration": match nest.calibration {
             Calibration::Nominal => json!({"kind": "nominal"}),
             Calibration::SixPoint { step } => json!({"kind": "six_point", "step_mm": step / M_PER_MM}),

@@ -15,6 +15,9 @@
 //!                                   # (the fourth, axial probe: tilts about the nest's x and y)
 //! calibration = "six_point"         # or "nominal" (the software trusts the nominal axes)
 //! calibration_step_mm = 0.5
+//! zero = "each_test"                # the software zeroes at each test's first pose, or
+//!                                   # "first_pose": once, at the first test's first pose (a datum
+//!                                   # for the whole sequence; the nest follows the sphere between tests)
 //! mode = "static"                   # or "dynamic" (continuous, through the position loops)
 //! dwell_s = 1.0                     # static: time between poses
 //! rotary_feed_deg_per_min = 1800.0  # dynamic: speed of the swept axis
@@ -54,6 +57,7 @@ pub(crate) struct RawRtest {
     direction_error_mrad: Option<Spanned<Vec<[Real; 2]>>>,
     calibration: Option<Spanned<String>>,
     calibration_step_mm: Option<Spanned<Real>>,
+    zero: Option<Spanned<String>>,
     mode: Option<Spanned<String>>,
     dwell_s: Option<Spanned<Real>>,
     rotary_feed_deg_per_min: Option<Spanned<Real>>,
@@ -95,6 +99,28 @@ pub struct RTest {
     pub tests: Vec<KTest>,
     /// How they run.
     pub mode: Mode,
+    /// Where the software zeroes the probes.
+    pub zero: Zero,
+}
+
+/// Where the R-test software zeroes the probes: the readings are changes since then.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Zero {
+    /// At each test's first pose (each K-test evaluated on its own, as ISO 10791-6 does).
+    EachTest,
+    /// Once, at the first test's first pose: one datum for the sequence, so that tests at
+    /// other tilts are read against it (what identifies the tilting axis's line from C circles).
+    FirstPose,
+}
+
+impl Zero {
+    /// Its name in scenarios and table preambles.
+    pub fn name(self) -> &'static str {
+        match self {
+            Zero::EachTest => "each_test",
+            Zero::FirstPose => "first_pose",
+        }
+    }
 }
 
 impl RTest {
@@ -284,6 +310,17 @@ pub(crate) fn rtest(
             "the calibration step must lie inside the probes' range".into(),
         ));
     }
+    let zero = match r.zero.as_ref().map(|z| (z.get_ref().as_str(), z.span())) {
+        None | Some(("each_test", _)) => Zero::EachTest,
+        Some(("first_pose", _)) => Zero::FirstPose,
+        Some((other, span)) => {
+            return Err(fail(
+                span,
+                "zero",
+                format!("expected \"each_test\" or \"first_pose\", got \"{other}\""),
+            ));
+        }
+    };
     let mode = match r.mode.as_ref().map(|m| (m.get_ref().as_str(), m.span())) {
         None | Some(("static", _)) => Mode::Static {
             dwell: number(&r.dwell_s, "dwell_s", 1.0, false)?,
@@ -463,6 +500,7 @@ pub(crate) fn rtest(
         nest,
         tests,
         mode,
+        zero,
     })
 }
 

@@ -97,6 +97,7 @@ impl LaserTest {
             runs: Some(self.runs),
             targets: Some(self.targets.clone()),
             compensation: Some(self.laser.compensation_name().to_string()),
+            ..Default::default()
         }
     }
 

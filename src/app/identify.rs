@@ -1,0 +1,410 @@
+//! `mtwin identify`: measurement tables of any registered kind → readings → the estimate, its
+//! report, and the identified machine written out for compensation.
+
+use crate::errors::{ErrorFunction, ErrorModel};
+use crate::estimate::fit::{self, EstimateError, Problem};
+use crate::estimate::spec::{ParameterSet, SpecError};
+use crate::estimate::{Readings, ReadingsError, compensate, report};
+use crate::io::TableError;
+use crate::kinds::{ballbar, positioning, probe, rtest};
+use crate::machine::{Machine, MachineError};
+use crate::math::Real;
+use crate::scenario::{ScenarioError, spec_of};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The table kinds `identify` reads, by the name a table's first line gives
+/// (`# mtwin rtest table`) or a `KIND:` prefix on the path.
+pub const TABLE_KINDS: [&str; 4] = ["rtest", "spheres", "positioning", "ballbar"];
+
+/// Why `identify` failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IdentifyError {
+    /// The machine model.
+    #[error(transparent)]
+    Machine(#[from] MachineError),
+    /// A table could not be read.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// A table could not be turned into readings.
+    #[error(transparent)]
+    Readings(#[from] ReadingsError),
+    /// The parameter SPEC.
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    /// The estimate.
+    #[error(transparent)]
+    Estimate(#[from] EstimateError),
+    /// The scenario to compensate.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// Something else about an input, with the file.
+    #[error("{0}")]
+    Input(String),
+}
+
+/// What `identify` is asked.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// The machine model (URDF).
+    pub machine: PathBuf,
+    /// The parameters (see [`crate::estimate::spec`]).
+    pub params: String,
+    /// The tables, each `PATH` or `KIND:PATH`.
+    pub tables: Vec<String>,
+    /// Standard uncertainty per reading by kind (m), overriding the defaults.
+    pub sigma: BTreeMap<String, Real>,
+    /// The R-test sphere position is unknown (no preset at the first pose).
+    pub free_setup: bool,
+    /// Standard uncertainty of the R-test sphere position (m), overriding the default.
+    pub sphere_setup: Option<Real>,
+    /// Monte Carlo trials.
+    pub trials: usize,
+    /// Monte Carlo seed.
+    pub seed: u64,
+    /// The scenario the tables were simulated from: a `compensated.toml` extending it is
+    /// written (its errors minus the estimate), for `mtwin run`.
+    pub scenario: Option<PathBuf>,
+}
+
+/// What `identify` produced.
+pub struct Identified {
+    /// The report for people.
+    pub text: String,
+    /// `estimate.json`.
+    pub json: Value,
+    /// Files for `--out` (name, bytes).
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+/// The kind of a table: its `KIND:` prefix, or its first line `# mtwin KIND table`.
+fn kind_of(argument: &str) -> Result<(String, PathBuf), IdentifyError> {
+    if let Some((kind, path)) = argument.split_once(':')
+        && TABLE_KINDS.contains(&kind)
+    {
+        return Ok((kind.to_string(), PathBuf::from(path)));
+    }
+    let path = PathBuf::from(argument);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| IdentifyError::Input(format!("{argument}: cannot read: {e}")))?;
+    let first = text.lines().next().unwrap_or("");
+    TABLE_KINDS
+        .iter()
+        .find(|k| first.starts_with(&format!("# mtwin {k} table")))
+        .map(|k| (k.to_string(), path))
+        .ok_or_else(|| {
+            IdentifyError::Input(format!(
+                "{argument}: which measurement is this? Its first line does not say (`# mtwin rtest table`); prefix the path with its kind: {}",
+                TABLE_KINDS.map(|k| format!("{k}:{argument}")).join(", ")
+            ))
+        })
+}
+
+/// The machine a table's preamble names (`# machine = NAME`), if it does.
+fn machine_named(path: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(path).ok()?;
+    text.lines()
+        .take_while(|line| line.starts_with('#'))
+        .find_map(|line| line.strip_prefix("# machine = "))
+        .map(|name| name.trim().to_string())
+}
+
+/// Reads every table into readings for `machine`.
+pub fn load_readings(request: &Request, machine: &Machine) -> Result<Vec<Readings>, IdentifyError> {
+    let mut sets = Vec::new();
+    for argument in &request.tables {
+        let (kind, path) = kind_of(argument)?;
+        let file = path.display().to_string();
+        if let Some(named) = machine_named(&path).filter(|n| n != machine.name()) {
+            return Err(EstimateError::OtherMachine {
+                file,
+                table: named,
+                machine: machine.name().to_string(),
+            }
+            .into());
+        }
+        let sigma = request.sigma.get(&kind).copied();
+        match kind.as_str() {
+            "rtest" => {
+                let table = rtest::RtestTable::read(&path)?;
+                let mut setup = rtest::readings::Setup {
+                    free_sphere: request.free_setup,
+                    ..Default::default()
+                };
+                if let Some(s) = sigma {
+                    setup.sigma = s;
+                }
+                if let Some(u) = request.sphere_setup {
+                    setup.sphere_uncertainty = u;
+                }
+                sets.push(rtest::readings::readings(&table, &file, machine, setup)?);
+            }
+            "spheres" => {
+                let table = probe::SpheresTable::read(&path)?;
+                let s = sigma.unwrap_or(probe::readings::DEFAULT_SIGMA);
+                sets.push(probe::readings::readings(&table, &file, machine, s)?);
+            }
+            "positioning" => {
+                let table = positioning::PositioningTable::read(&path)?;
+                let mut setup = positioning::readings::Setup::default();
+                if let Some(s) = sigma {
+                    setup.sigma = s;
+                }
+                sets.push(positioning::readings::readings(
+                    &table, &file, machine, &setup,
+                )?);
+            }
+            "ballbar" => {
+                let table = ballbar::BallbarTable::read(&path)?;
+                let mut setup = ballbar::readings::Setup::default();
+                if let Some(s) = sigma {
+                    setup.sigma = s;
+                }
+                sets.push(ballbar::readings::readings(&table, &file, machine, &setup)?);
+            }
+            other => unreachable!("{other} is not in TABLE_KINDS"),
+        }
+    }
+    Ok(sets)
+}
+
+/// The sphere position an R-test table states.
+fn rtest_sphere(argument: &str) -> Result<crate::math::Vector, IdentifyError> {
+    let (_, path) = kind_of(argument)?;
+    let table = rtest::RtestTable::read(&path)?;
+    Ok(rtest::readings::sphere_of(
+        &table,
+        &path.display().to_string(),
+    )?)
+}
+
+/// Runs `identify`.
+pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
+    let machine = Machine::from_urdf_file(&request.machine)?;
+    let set = ParameterSet::parse(&request.params, &machine)?;
+    let sets = load_readings(request, &machine)?;
+    let sources: Vec<String> = sets.iter().map(|s| s.source.clone()).collect();
+    let problem = Problem::new(&machine, &set, &sets)?;
+    let options = fit::Options {
+        trials: request.trials,
+        seed: request.seed,
+        ..Default::default()
+    };
+    let fit = fit::estimate(&problem, &options)?;
+    let machine_file = request.machine.display().to_string();
+    let json = report::to_json(&set, &problem, &fit, &machine, &machine_file, &sources);
+    let mut text = report::text(&set, &problem, &fit, &sources);
+    let mut json = json;
+    if !fit.identifiability.null_combinations.is_empty()
+        && let Some(table) = sets.iter().position(|s| s.kind == "rtest")
+    {
+        let sphere = rtest_sphere(&request.tables[table])?;
+        let found = remedies(&machine, &set, &problem, sphere, sets[table].sigma[0]);
+        text += &remedies_text(&found);
+        json["remedies"] = found
+            .iter()
+            .map(|(combination, tests)| {
+                serde_json::json!({
+                    "combination": combination,
+                    "tests": tests.iter().map(|(t, u)| serde_json::json!({"test": t, "standard_uncertainty_um": u})).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+    }
+    let identified = report::identified_model(&set, &problem, &fit, &machine);
+    let mut files = vec![("estimate.json".to_string(), to_bytes(&json))];
+    let urdf_text = std::fs::read_to_string(&request.machine)
+        .map_err(|e| IdentifyError::Input(format!("{machine_file}: cannot read: {e}")))?;
+    let corrected = compensate::corrected_urdf(&urdf_text, &machine, &identified)
+        .map_err(|e| IdentifyError::Input(format!("corrected URDF: {e}")))?;
+    files.push((
+        format!("{}_identified.urdf", machine.name()),
+        corrected.urdf.into_bytes(),
+    ));
+    let tables = compensate::linuxcnc_tables(&machine, &identified, 0.01, 1f64.to_radians())
+        .map_err(|e| IdentifyError::Input(format!("LinuxCNC tables: {e}")))?;
+    for (axis, table) in tables {
+        files.push((format!("linuxcnc_{axis}.comp"), table.into_bytes()));
+    }
+    if let Some(scenario) = &request.scenario {
+        files.push((
+            "compensated.toml".to_string(),
+            compensated_scenario(scenario, &identified)?.into_bytes(),
+        ));
+    }
+    Ok(Identified { text, json, files })
+}
+
+/// A scenario extending `scenario` whose errors are its own minus the estimate: the machine
+/// after compensation with the identified model (first order: the controller subtracts the
+/// predicted deviation).
+fn compensated_scenario(scenario: &Path, identified: &ErrorModel) -> Result<String, IdentifyError> {
+    let base = crate::app::Scenario::load(scenario)?;
+    let mut out = format!(
+        "# The machine of {} compensated with the identified errors (written by mtwin identify):\n\
+         # each estimated parameter's truth minus its estimate.\n\
+         schema = 1\nextends = {:?}\ndescription = \"compensated with mtwin identify\"\n",
+        scenario.display(),
+        std::path::absolute(scenario)
+            .unwrap_or_else(|_| scenario.to_path_buf())
+            .display()
+            .to_string()
+    );
+    for parameter in identified.parameters() {
+        let truth = base.twin.errors.parameter(parameter.name);
+        let negated = negate(&parameter.function);
+        let remaining = match truth {
+            Some(t) => ErrorFunction::Sum(vec![t.function.clone(), negated]),
+            None => negated,
+        };
+        let spec = spec_of(&remaining, parameter.name);
+        let mut table = toml::Table::new();
+        table.insert(
+            parameter.name.to_string(),
+            toml::Value::try_from(spec).map_err(|e| IdentifyError::Input(e.to_string()))?,
+        );
+        let mut errors = toml::Table::new();
+        errors.insert("errors".into(), toml::Value::Table(table));
+        out += "\n";
+        out += &toml::to_string(&errors).map_err(|e| IdentifyError::Input(e.to_string()))?;
+    }
+    Ok(out)
+}
+
+/// `−f`.
+fn negate(function: &ErrorFunction) -> ErrorFunction {
+    let mut out = function.clone();
+    let mut coefficients = Vec::new();
+    out.coefficients(&mut coefficients);
+    coefficients.iter_mut().for_each(|c| *c = -*c);
+    out.set_coefficients(&coefficients);
+    out
+}
+
+fn to_bytes(value: &Value) -> Vec<u8> {
+    let mut bytes = serde_json::to_vec_pretty(value).expect("JSON values serialise");
+    bytes.push(b'\n');
+    bytes
+}
+
+/// Candidate R-tests on `machine` with the sphere at `sphere` (m), each as its design on the
+/// errors of `set` with its own set-up profiled out ([`fit::profiled_design`]): each
+/// candidate is zeroed at its own first pose (what any added test can count on).
+pub fn candidate_designs(
+    machine: &Machine,
+    set: &ParameterSet,
+    sphere: crate::math::Vector,
+    sigma: Real,
+) -> Vec<(String, nalgebra::DMatrix<Real>)> {
+    let setup = rtest::readings::Setup {
+        sigma,
+        ..Default::default()
+    };
+    rtest::readings::candidates(machine)
+        .into_iter()
+        .filter_map(|test| {
+            let readings = rtest::readings::planned(
+                machine,
+                std::slice::from_ref(&test),
+                sphere,
+                rtest::Zero::EachTest,
+                setup,
+            )
+            .ok()?;
+            let sets = [readings];
+            let problem = Problem::new(machine, set, &sets).ok()?;
+            Some((
+                format!("R-test {}", test.name),
+                fit::profiled_design(&problem),
+            ))
+        })
+        .collect()
+}
+
+/// For each combination the tables cannot see (on the errors, the set-up profiled out), the
+/// candidate R-tests that would make it identifiable and the uncertainty it would then have
+/// (µm, solver units), best first.
+fn remedies(
+    machine: &Machine,
+    set: &ParameterSet,
+    problem: &Problem<'_>,
+    sphere: crate::math::Vector,
+    sigma: Real,
+) -> Vec<(String, Vec<(String, Real)>)> {
+    let options = crate::estimate::identifiability::Options::default();
+    let base = fit::profiled_design(problem);
+    let report = crate::estimate::identifiability::analyse(&base, &set.labels, &options);
+    if report.null_combinations.is_empty() {
+        return Vec::new();
+    }
+    let candidates = candidate_designs(machine, set, sphere, sigma);
+    let found = crate::estimate::identifiability::remedies(
+        &base,
+        &report.null_combinations,
+        &candidates,
+        &options,
+    );
+    report
+        .null_combinations
+        .iter()
+        .zip(found)
+        .map(|(c, tests)| (c.describe(&set.labels), tests))
+        .collect()
+}
+
+/// The remedies for people.
+fn remedies_text(remedies: &[(String, Vec<(String, Real)>)]) -> String {
+    if remedies.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "what would make the unseen combinations identifiable (one more R-test, same sphere):\n",
+    );
+    for (name, tests) in remedies {
+        match tests.first() {
+            Some((test, u)) => {
+                out += &format!("  {name}: add {test} (then u = {u:.3} µm-eq)");
+                if let Some((second, u2)) = tests.get(1) {
+                    out += &format!(", or {second} ({u2:.3})");
+                }
+                out += "\n";
+            }
+            None => {
+                out += &format!(
+                    "  {name}: no single candidate R-test sees it (it needs another instrument: a level, a laser, a tool-length measurement)\n"
+                )
+            }
+        }
+    }
+    out
+}
+
+/// A test plan: from the candidate R-tests on `machine` (sphere at `sphere`, m), the tests
+/// that identify `params` best (D-optimal, greedy) within `budget` readings.
+pub fn plan(
+    machine_file: &Path,
+    params: &str,
+    sphere: crate::math::Vector,
+    sigma: Real,
+    budget: usize,
+) -> Result<crate::estimate::plan::Plan, IdentifyError> {
+    let machine = Machine::from_urdf_file(machine_file)?;
+    let set = ParameterSet::parse(params, &machine)?;
+    let candidates = candidate_designs(&machine, &set, sphere, sigma);
+    if candidates.is_empty() {
+        return Err(IdentifyError::Input(format!(
+            "{}: no R-test can be planned on machine \"{}\" with the sphere there (the linear axes cannot follow it, or the machine has no rotary axis)",
+            machine_file.display(),
+            machine.name()
+        )));
+    }
+    Ok(crate::estimate::plan::choose(
+        None,
+        &candidates,
+        &set.labels,
+        budget,
+        &crate::estimate::identifiability::Options::default(),
+    ))
+}

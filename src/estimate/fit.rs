@@ -1,0 +1,658 @@
+//! The estimate: every reading set stacked into one weighted least-squares problem on the
+//! twin's exact chain, its identifiability, the Levenberg–Marquardt fit, the linearised
+//! covariance and the Monte Carlo propagation (GUM Supplement 1).
+//!
+//! # The problem
+//!
+//! The unknowns are the free coefficients of the [`ParameterSet`] and every set's nuisances,
+//! in **solver units** `z` (1 µm, or the rotation moving a point at
+//! [`super::spec::REFERENCE_LENGTH`] by 1 µm; a nuisance from its start value). The residual of
+//! reading `i` is `(prediction_i(z) − measured_i) / σ_i`, so the design `J = ∂r/∂z` is
+//! noise-weighted and column-scaled, and `1/s` for a singular value `s` of `J` is the standard
+//! uncertainty (µm) of the combination along its right singular vector.
+//!
+//! # The steps
+//!
+//! 1. **Identifiability first**, at the start (`z = 0`, the linearisation): the design by
+//!    central differences on the exact chain (step 1 µm: the truncation error is of the order
+//!    of (1 µm / 0.1 m)² relative, round-off 1e-10 relative), [`super::identifiability::analyse`].
+//! 2. **The fit** on the identified subspace only: `z = B w` with `B` the right singular
+//!    vectors of the `r` identified directions, by [`super::lm::solve`] from `w = 0` (its first
+//!    step is the linearised estimate). Directions the design cannot see stay at zero: the
+//!    estimate is the minimum-norm one, and unidentifiable parameters get no number.
+//! 3. **Uncertainty**: `C_z = B (J_Bᵀ J_B)⁻¹ Bᵀ` with `J_B = J B` at the solution (central
+//!    differences again). When the residuals are significantly larger than the stated
+//!    uncertainties (χ² above its 99 % quantile), `C_z` is scaled by the Birge ratio χ²/dof
+//!    and the report says so.
+//! 4. **Monte Carlo** (`trials > 0`): each trial draws the known set-up quantities from their
+//!    stated uncertainties and the readings' noise, simulates the readings through the twin at
+//!    the estimate, and refits (Gauss–Newton with the Jacobian frozen at the solution, two
+//!    steps: the model is linear to 1e-5 at these error sizes). Trial `t` draws from its own
+//!    stream (`seed`, `monte carlo t`), so the result is the same whatever the thread count.
+
+use super::Readings;
+use super::identifiability::{self, Identifiability};
+use super::lm;
+use super::spec::ParameterSet;
+use crate::errors::ErrorModel;
+use crate::machine::{Machine, Workspace};
+use crate::math::{Real, seeded_rng, standard_normal};
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
+/// Finite-difference step in solver units (1 µm).
+const STEP: Real = 1.0;
+
+/// Why an estimate cannot be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EstimateError {
+    /// No readings at all.
+    #[error("no readings: give at least one measurement table")]
+    NoReadings,
+    /// A table says it was measured on another machine.
+    #[error("{file}: measured on machine \"{table}\", not on \"{machine}\" (--machine)")]
+    OtherMachine {
+        /// The table.
+        file: String,
+        /// The machine it names.
+        table: String,
+        /// The machine given.
+        machine: String,
+    },
+    /// Measured values and uncertainties do not match.
+    #[error(
+        "{0}: a measured value or an uncertainty is missing, not finite, or an uncertainty is not positive"
+    )]
+    BadReadings(String),
+    /// The tables identify none of the error parameters.
+    #[error(
+        "the tables see none of the parameters (each is unseen or confounded with the set-up): give other tables or other parameters"
+    )]
+    NothingIdentifiable,
+    /// The solver failed.
+    #[error("the fit failed: {0}")]
+    Solver(String),
+}
+
+/// The stacked problem: the parameters, the reading sets and the layout of the unknowns.
+pub struct Problem<'a> {
+    machine: &'a Machine,
+    parameters: &'a ParameterSet,
+    sets: &'a [Readings],
+    /// Where each set's nuisances start in `z`.
+    nuisance_at: Vec<usize>,
+    /// Where each set's readings start in the residuals.
+    row_at: Vec<usize>,
+    rows: usize,
+    /// SI per solver unit of each unknown.
+    scales: Vec<Real>,
+    /// SI start of each unknown.
+    starts: Vec<Real>,
+    /// A label per unknown.
+    labels: Vec<String>,
+    /// Whether each unknown is a rotation.
+    rotation: Vec<bool>,
+}
+
+impl<'a> Problem<'a> {
+    /// Stacks `sets` for `parameters` on `machine`; checks that every table was measured on
+    /// it (when it says) and that the readings are usable.
+    pub fn new(
+        machine: &'a Machine,
+        parameters: &'a ParameterSet,
+        sets: &'a [Readings],
+    ) -> Result<Problem<'a>, EstimateError> {
+        if sets.iter().all(|s| s.is_empty()) {
+            return Err(EstimateError::NoReadings);
+        }
+        let mut scales = parameters.scales.clone();
+        let mut starts = vec![0.0; parameters.len()];
+        let mut labels = parameters.labels.clone();
+        let mut rotation = parameters.rotation.clone();
+        let (mut nuisance_at, mut row_at, mut rows) = (Vec::new(), Vec::new(), 0);
+        for set in sets {
+            if let Some(name) = set.machine.as_deref().filter(|n| *n != machine.name()) {
+                return Err(EstimateError::OtherMachine {
+                    file: set.source.clone(),
+                    table: name.to_string(),
+                    machine: machine.name().to_string(),
+                });
+            }
+            let planned = set.measured.is_empty();
+            let good = (planned || set.measured.len() == set.sigma.len())
+                && set.measured.iter().all(|v| v.is_finite())
+                && set.sigma.iter().all(|s| s.is_finite() && *s > 0.0);
+            if !good {
+                return Err(EstimateError::BadReadings(set.source.clone()));
+            }
+            nuisance_at.push(scales.len());
+            for q in &set.nuisance {
+                scales.push(if q.translation {
+                    1e-6
+                } else {
+                    1e-6 / super::spec::REFERENCE_LENGTH
+                });
+                starts.push(q.start);
+                labels.push(q.name.clone());
+                rotation.push(!q.translation);
+            }
+            row_at.push(rows);
+            rows += set.len();
+        }
+        // Two tables of one kind name their set-ups alike: number the later ones.
+        for (k, at) in nuisance_at.iter().enumerate() {
+            for j in *at..*at + sets[k].nuisance.len() {
+                if labels[..*at].contains(&labels[j]) {
+                    labels[j] = format!("{} (table {})", labels[j], k + 1);
+                }
+            }
+        }
+        Ok(Problem {
+            machine,
+            parameters,
+            sets,
+            nuisance_at,
+            row_at,
+            rows,
+            scales,
+            starts,
+            labels,
+            rotation,
+        })
+    }
+
+    /// The number of unknowns (coefficients and nuisances).
+    pub fn unknowns(&self) -> usize {
+        self.scales.len()
+    }
+
+    /// The number of readings.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// A label per unknown.
+    pub fn labels(&self) -> &[String] {
+        &self.labels
+    }
+
+    /// SI per solver unit of each unknown.
+    pub fn scales(&self) -> &[Real] {
+        &self.scales
+    }
+
+    /// Whether each unknown is a rotation (µrad in files).
+    pub fn rotation(&self) -> &[bool] {
+        &self.rotation
+    }
+
+    /// The SI value of each unknown at `z`.
+    pub fn si(&self, z: &[Real]) -> Vec<Real> {
+        z.iter()
+            .zip(&self.scales)
+            .zip(&self.starts)
+            .map(|((z, s), x0)| x0 + s * z)
+            .collect()
+    }
+
+    /// The parameters' error model at `z`.
+    pub fn model_at(&self, z: &[Real]) -> ErrorModel {
+        let si = self.si(z);
+        self.parameters.model_with(&si[..self.parameters.len()])
+    }
+
+    /// Every reading predicted at `z` (SI), with the known set-up quantities offset by
+    /// `setup` (one slice per set; empty = as stated).
+    pub fn predict(
+        &self,
+        z: &[Real],
+        setup: &[Vec<Real>],
+        workspace: &mut Workspace,
+        out: &mut [Real],
+    ) {
+        let si = self.si(z);
+        let model = self.parameters.model_with(&si[..self.parameters.len()]);
+        for (k, set) in self.sets.iter().enumerate() {
+            let nuisance = &si[self.nuisance_at[k]..self.nuisance_at[k] + set.nuisance.len()];
+            let zero = vec![0.0; set.setup.len()];
+            let offsets = setup.get(k).filter(|s| !s.is_empty()).unwrap_or(&zero);
+            let rows = &mut out[self.row_at[k]..self.row_at[k] + set.len()];
+            set.model
+                .predict(self.machine, workspace, &model, nuisance, offsets, rows);
+        }
+    }
+
+    /// The weighted residuals `(prediction − measured) / σ` at `z` for the measured values
+    /// `measured` (all sets stacked, SI).
+    pub fn residuals(
+        &self,
+        z: &[Real],
+        measured: &[Real],
+        workspace: &mut Workspace,
+        out: &mut [Real],
+    ) {
+        self.predict(z, &[], workspace, out);
+        for (k, set) in self.sets.iter().enumerate() {
+            let at = self.row_at[k];
+            for (i, sigma) in set.sigma.iter().enumerate() {
+                out[at + i] = (out[at + i] - measured[at + i]) / sigma;
+            }
+        }
+    }
+
+    /// The measured values of every set, stacked (SI); zeros for planned sets.
+    pub fn measured(&self) -> Vec<Real> {
+        let mut out = vec![0.0; self.rows];
+        for (k, set) in self.sets.iter().enumerate() {
+            if !set.measured.is_empty() {
+                out[self.row_at[k]..self.row_at[k] + set.len()].copy_from_slice(&set.measured);
+            }
+        }
+        out
+    }
+
+    /// The weighted design `∂r/∂(B w)` at `z` along the directions `basis` (columns in solver
+    /// units; the identity for the full design), by central or forward differences of the exact
+    /// chain. Columns are computed in parallel; each is independent, so the result does not
+    /// depend on the thread count.
+    pub fn design(&self, z: &[Real], basis: &DMatrix<Real>, central: bool) -> DMatrix<Real> {
+        let rows = self.rows;
+        let base = (!central).then(|| {
+            let mut out = vec![0.0; rows];
+            self.predict(z, &[], &mut Workspace::new(self.machine), &mut out);
+            out
+        });
+        let columns: Vec<Vec<Real>> = (0..basis.ncols())
+            .into_par_iter()
+            .map_init(
+                || Workspace::new(self.machine),
+                |workspace, k| {
+                    let shifted = |sign: Real, workspace: &mut Workspace| {
+                        let z: Vec<Real> = z
+                            .iter()
+                            .enumerate()
+                            .map(|(i, v)| v + sign * STEP * basis[(i, k)])
+                            .collect();
+                        let mut out = vec![0.0; rows];
+                        self.predict(&z, &[], workspace, &mut out);
+                        out
+                    };
+                    let plus = shifted(1.0, workspace);
+                    let (minus, width) = match &base {
+                        Some(base) => (base.clone(), STEP),
+                        None => (shifted(-1.0, workspace), 2.0 * STEP),
+                    };
+                    self.weight(
+                        plus.iter()
+                            .zip(&minus)
+                            .map(|(p, m)| (p - m) / width)
+                            .collect(),
+                    )
+                },
+            )
+            .collect();
+        DMatrix::from_fn(rows, basis.ncols(), |i, k| columns[k][i])
+    }
+
+    /// Divides stacked per-reading values by their σ.
+    fn weight(&self, mut values: Vec<Real>) -> Vec<Real> {
+        for (k, set) in self.sets.iter().enumerate() {
+            let at = self.row_at[k];
+            for (i, sigma) in set.sigma.iter().enumerate() {
+                values[at + i] /= sigma;
+            }
+        }
+        values
+    }
+
+    /// Draws the known set-up quantities' offsets (SI) for one Monte Carlo trial.
+    fn draw_setup(&self, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<Vec<Real>> {
+        self.sets
+            .iter()
+            .map(|set| {
+                set.setup
+                    .iter()
+                    .map(|q| q.uncertainty * standard_normal(rng))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Draws noise on every reading (SI) for one trial.
+    fn draw_noise(&self, rng: &mut rand_chacha::ChaCha8Rng, out: &mut [Real]) {
+        for (k, set) in self.sets.iter().enumerate() {
+            let at = self.row_at[k];
+            for (i, sigma) in set.sigma.iter().enumerate() {
+                out[at + i] += sigma * standard_normal(rng);
+            }
+        }
+    }
+}
+
+/// Options of an estimate.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The rank rule and the flag for weak directions.
+    pub identifiability: identifiability::Options,
+    /// The solver's options.
+    pub solver: lm::Options,
+    /// Monte Carlo trials (0: none).
+    pub trials: usize,
+    /// Seed of the Monte Carlo streams.
+    pub seed: u64,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            identifiability: identifiability::Options::default(),
+            solver: lm::Options::default(),
+            trials: 0,
+            seed: 1,
+        }
+    }
+}
+
+/// The Monte Carlo's result per unknown (solver units).
+#[derive(Clone, Debug)]
+pub struct MonteCarlo {
+    /// Trials run.
+    pub trials: usize,
+    /// Mean of each unknown.
+    pub mean: Vec<Real>,
+    /// Standard deviation of each unknown.
+    pub std: Vec<Real>,
+    /// The probabilistically symmetric 95 % coverage interval of each unknown.
+    pub interval: Vec<(Real, Real)>,
+}
+
+/// An estimate.
+#[derive(Clone, Debug)]
+pub struct Fit {
+    /// The identifiability of the design at the start.
+    pub identifiability: Identifiability,
+    /// The solution (solver units).
+    pub z: Vec<Real>,
+    /// The covariance of `z` (solver units²), zero along unidentified directions.
+    pub covariance: DMatrix<Real>,
+    /// Whether each unknown is identified (gets a number).
+    pub identified: Vec<bool>,
+    /// Σ r² at the solution.
+    pub chi2: Real,
+    /// Degrees of freedom: readings − identified directions.
+    pub dof: usize,
+    /// χ²/dof when the covariance was scaled by it (the residuals exceed the stated
+    /// uncertainties), else `None`.
+    pub birge_scaled: Option<Real>,
+    /// RMS of the unweighted residuals (m) per set.
+    pub residual_rms: Vec<Real>,
+    /// Solver iterations.
+    pub iterations: usize,
+    /// The Monte Carlo, when asked.
+    pub monte_carlo: Option<MonteCarlo>,
+}
+
+impl Fit {
+    /// The standard uncertainty of unknown `j` (solver units), `None` if unidentified.
+    pub fn uncertainty(&self, j: usize) -> Option<Real> {
+        self.identified[j].then(|| self.covariance[(j, j)].max(0.0).sqrt())
+    }
+}
+
+/// The reduced problem `w ↦ r(B w)` for the solver.
+struct Reduced<'p, 'a> {
+    problem: &'p Problem<'a>,
+    basis: &'p DMatrix<Real>,
+    measured: &'p [Real],
+}
+
+impl Reduced<'_, '_> {
+    fn z(&self, w: &[Real]) -> Vec<Real> {
+        (self.basis * DVector::from_column_slice(w))
+            .as_slice()
+            .to_vec()
+    }
+}
+
+impl lm::Problem for Reduced<'_, '_> {
+    fn residual_count(&self) -> usize {
+        self.problem.rows
+    }
+
+    fn parameter_count(&self) -> usize {
+        self.basis.ncols()
+    }
+
+    fn residuals(&self, w: &[Real], out: &mut [Real]) {
+        let mut workspace = Workspace::new(self.problem.machine);
+        self.problem
+            .residuals(&self.z(w), self.measured, &mut workspace, out);
+    }
+
+    fn jacobian(&self, w: &[Real], out: &mut DMatrix<Real>) {
+        *out = self.problem.design(&self.z(w), self.basis, false);
+    }
+}
+
+/// The design at the start (the linearisation; central differences), for identifiability
+/// and test design: needs no measured values.
+pub fn start_design(problem: &Problem<'_>) -> DMatrix<Real> {
+    let n = problem.unknowns();
+    problem.design(&vec![0.0; n], &DMatrix::identity(n, n), true)
+}
+
+/// The design at the start with the set-up unknowns profiled out: the error-coefficient
+/// columns projected onto the complement of the nuisance columns, `(I − P_ν) J_θ`, whose
+/// normal matrix `J_θᵀ (I − P_ν) J_θ` is the information the readings hold on the errors
+/// whatever the set-up. Designs of separate tests profiled this way stack: their nuisances
+/// are their own. (For test design: the candidate tests share the error columns only.)
+pub fn profiled_design(problem: &Problem<'_>) -> DMatrix<Real> {
+    let design = start_design(problem);
+    let k = problem.parameters.len();
+    let theta = design.columns(0, k).into_owned();
+    let nuisance = design.columns(k, design.ncols() - k).into_owned();
+    if nuisance.ncols() == 0 {
+        return theta;
+    }
+    let svd = nalgebra::SVD::new(nuisance, true, false);
+    let u = svd.u.expect("asked for U");
+    let largest = svd.singular_values.max();
+    let kept: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|i| svd.singular_values[*i] > largest * 1e-10)
+        .collect();
+    let q = DMatrix::from_fn(u.nrows(), kept.len(), |i, c| u[(i, kept[c])]);
+    let projection = q.transpose() * &theta;
+    theta - q * projection
+}
+
+/// What the readings of `problem` can identify (its design at the start).
+pub fn identifiability(
+    problem: &Problem<'_>,
+    options: &identifiability::Options,
+) -> Identifiability {
+    identifiability::analyse(&start_design(problem), problem.labels(), options)
+}
+
+/// Estimates the unknowns of `problem` from its measured values.
+pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, EstimateError> {
+    let design = start_design(problem);
+    let report = identifiability::analyse(&design, problem.labels(), &options.identifiability);
+    let basis = identified_basis(&design, report.rank);
+    let errors = problem.parameters.len();
+    if basis.ncols() == 0 || (0..errors).all(|j| report.unidentifiable.contains(&j)) {
+        return Err(EstimateError::NothingIdentifiable);
+    }
+    let measured = problem.measured();
+    let reduced = Reduced {
+        problem,
+        basis: &basis,
+        measured: &measured,
+    };
+    let solution = lm::solve(&reduced, &vec![0.0; basis.ncols()], &options.solver)
+        .map_err(|e| EstimateError::Solver(e.to_string()))?;
+    let z = reduced.z(&solution.x);
+    let jb = problem.design(&z, &basis, true);
+    let precision = jb.transpose() * &jb;
+    let inverse = precision
+        .clone()
+        .try_inverse()
+        .ok_or_else(|| EstimateError::Solver("the identified design became singular".into()))?;
+    let mut covariance = &basis * &inverse * basis.transpose();
+    let mut residuals = vec![0.0; problem.rows];
+    problem.residuals(
+        &z,
+        &measured,
+        &mut Workspace::new(problem.machine),
+        &mut residuals,
+    );
+    let chi2: Real = residuals.iter().map(|r| r * r).sum();
+    let dof = problem.rows.saturating_sub(basis.ncols());
+    let birge_scaled =
+        (dof > 0 && chi2 > chi2_quantile_99(dof as Real)).then(|| chi2 / dof as Real);
+    if let Some(factor) = birge_scaled {
+        covariance *= factor;
+    }
+    let residual_rms = problem
+        .sets
+        .iter()
+        .enumerate()
+        .map(|(k, set)| {
+            let at = problem.row_at[k];
+            let sum: Real = (0..set.len())
+                .map(|i| (residuals[at + i] * set.sigma[i]).powi(2))
+                .sum();
+            (sum / set.len().max(1) as Real).sqrt()
+        })
+        .collect();
+    let identified = (0..problem.unknowns())
+        .map(|j| !report.unidentifiable.contains(&j))
+        .collect();
+    let monte_carlo = (options.trials > 0).then(|| {
+        monte_carlo(
+            problem,
+            &z,
+            &basis,
+            &jb,
+            &inverse,
+            options.trials,
+            options.seed,
+        )
+    });
+    Ok(Fit {
+        identifiability: report,
+        z,
+        covariance,
+        identified,
+        chi2,
+        dof,
+        birge_scaled,
+        residual_rms,
+        iterations: solution.iterations,
+        monte_carlo,
+    })
+}
+
+/// The right singular vectors of the `rank` largest singular values of `design` (n × rank).
+pub fn identified_basis(design: &DMatrix<Real>, rank: usize) -> DMatrix<Real> {
+    let n = design.ncols();
+    // The SVD of the n × n normal matrix has all n right singular vectors, whatever the rows.
+    let normal = design.transpose() * design;
+    let svd = nalgebra::SVD::new(normal, false, true);
+    let v_t = svd.v_t.expect("asked for V");
+    let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+    order.sort_by(|a, b| svd.singular_values[*b].total_cmp(&svd.singular_values[*a]));
+    DMatrix::from_fn(n, rank.min(order.len()), |i, k| v_t[(order[k], i)])
+}
+
+/// The Monte Carlo of the estimate (module doc, step 4).
+fn monte_carlo(
+    problem: &Problem<'_>,
+    z: &[Real],
+    basis: &DMatrix<Real>,
+    jb: &DMatrix<Real>,
+    inverse: &DMatrix<Real>,
+    trials: usize,
+    seed: u64,
+) -> MonteCarlo {
+    let rows = problem.rows;
+    let gain = inverse * jb.transpose(); // r × m
+    let w_hat = basis.transpose() * DVector::from_column_slice(z);
+    let mut at_estimate = vec![0.0; rows];
+    problem.predict(
+        z,
+        &[],
+        &mut Workspace::new(problem.machine),
+        &mut at_estimate,
+    );
+    let samples: Vec<Vec<Real>> = (0..trials)
+        .into_par_iter()
+        .map_init(
+            || {
+                (
+                    Workspace::new(problem.machine),
+                    vec![0.0; rows],
+                    vec![0.0; rows],
+                )
+            },
+            |(workspace, data, residuals), t| {
+                let mut rng = seeded_rng(seed, &format!("monte carlo {t}"));
+                let setup = problem.draw_setup(&mut rng);
+                problem.predict(z, &setup, workspace, data);
+                problem.draw_noise(&mut rng, data);
+                let mut w = w_hat.clone();
+                for step in 0..2 {
+                    if step == 0 {
+                        for (i, r) in residuals.iter_mut().enumerate() {
+                            *r = at_estimate[i] - data[i];
+                        }
+                        let weighted = problem.weight(residuals.clone());
+                        residuals.copy_from_slice(&weighted);
+                    } else {
+                        let zw = basis * &w;
+                        problem.residuals(zw.as_slice(), data, workspace, residuals);
+                    }
+                    w -= &gain * DVector::from_column_slice(residuals);
+                }
+                (basis * w).as_slice().to_vec()
+            },
+        )
+        .collect();
+    let n = z.len();
+    let mut mean = vec![0.0; n];
+    let mut std = vec![0.0; n];
+    let mut interval = vec![(0.0, 0.0); n];
+    for j in 0..n {
+        let mut values: Vec<Real> = samples.iter().map(|s| s[j]).collect();
+        let m = values.iter().sum::<Real>() / trials as Real;
+        let var =
+            values.iter().map(|v| (v - m).powi(2)).sum::<Real>() / (trials.max(2) - 1) as Real;
+        values.sort_by(Real::total_cmp);
+        mean[j] = m;
+        std[j] = var.sqrt();
+        interval[j] = (quantile(&values, 0.025), quantile(&values, 0.975));
+    }
+    MonteCarlo {
+        trials,
+        mean,
+        std,
+        interval,
+    }
+}
+
+/// The `p` quantile of sorted values (linear between order statistics, GUM-S1 §7.7 takes the
+/// order statistics directly; the difference is below the Monte Carlo's own resolution).
+fn quantile(sorted: &[Real], p: Real) -> Real {
+    let at = p * (sorted.len() - 1) as Real;
+    let (low, frac) = (at.floor() as usize, at - at.floor());
+    let high = (low + 1).min(sorted.len() - 1);
+    sorted[low] + frac * (sorted[high] - sorted[low])
+}
+
+/// The 99 % quantile of χ² with `k` degrees of freedom (Wilson–Hilferty, within 0.5 % for
+/// k ≥ 3).
+fn chi2_quantile_99(k: Real) -> Real {
+    let z = 2.326_347_874;
+    let a = 2.0 / (9.0 * k);
+    k * (1.0 - a + z * a.sqrt()).powi(3)
+}

@@ -1,0 +1,319 @@
+//! Test design: which of the candidate tests to run, in which order, to identify every
+//! parameter and then to pin it best within a budget of readings.
+//!
+//! # Criterion
+//! Greedy D-optimality with a weak prior. The information of a design `J` (weighted by 1/σ per
+//! reading, columns in µm-equivalents: see [`identifiability`]) is `M = JᵀJ + p·I`, with the
+//! prior precision `p = 1/largest_uncertainty²` per µm-eq² (1e-6 at the default 1000 µm-eq: each
+//! parameter known beforehand to ±1 mm, the same bound beyond which the rank rule calls a
+//! direction unidentifiable). The prior keeps `log det M` finite before the design identifies
+//! everything, and a direction that a test moves from the prior to a well-seen value gains
+//! `ln(s²/p)`, far more than any improvement of an already identified one, so the first steps
+//! go to identifiability. `log det M = Σ ln(s_i² + p)` over the `n` singular values of `J` (zeros
+//! included), computed from the SVD rather than a Cholesky factor of `M`.
+//!
+//! # Selection
+//! Starting from the base design (or none), each step adds the candidate with the largest gain
+//! of `log det M` per reading among those not chosen yet (each candidate at most once: list a
+//! test twice to allow repeating it) whose readings fit in what remains of the budget; ties go to
+//! the candidate listed first. It stops when no candidate fits or none gains more than
+//! [`MIN_GAIN`]. So it goes on after every parameter is identifiable, while the budget lasts:
+//! [`Plan::identifiable_after`] gives the step at which identifiability was reached, and the steps
+//! up to there are the greedy set for identifiability alone. After each step the predicted
+//! standard uncertainty of every parameter comes from [`identifiability::analyse`] of the
+//! stacked design (no prior), `None` while a parameter is unidentifiable.
+
+use super::identifiability::{self, Options, compress, significant, stack};
+use crate::math::Real;
+use nalgebra::{DMatrix, SVD};
+use serde_json::{Value, json};
+use std::fmt::Write;
+
+/// A candidate must raise `log det M` by more than this (nats, in total) to be chosen.
+pub const MIN_GAIN: Real = 1e-9;
+
+/// One chosen test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// The candidate's name.
+    pub test: String,
+    /// Its number of readings (rows of its design).
+    pub readings: usize,
+    /// `log det(JᵀJ + p·I)` of the design after this step (J in 1/µm-eq, p per µm-eq²).
+    pub log_det: Real,
+    /// The predicted standard uncertainty (µm-eq) of each parameter after this step; `None`
+    /// while unidentifiable.
+    pub uncertainties: Vec<Option<Real>>,
+}
+
+/// The chosen tests in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The chosen tests, in the order chosen.
+    pub steps: Vec<Step>,
+    /// Whether every parameter is identifiable after the last step.
+    pub identifiable: bool,
+    /// The parameters' names.
+    pub labels: Vec<String>,
+    /// The prior precision `p` used (per µm-eq²).
+    pub prior_precision: Real,
+    /// `log det(JᵀJ + p·I)` of the base design (`n·ln p` without one).
+    pub base_log_det: Real,
+    /// The number of steps after which every parameter was identifiable (0: the base alone
+    /// identifies them); `None` when never.
+    pub identifiable_after: Option<usize>,
+    /// The predicted standard uncertainty (µm-eq) of each parameter from the base design alone.
+    pub base_uncertainties: Vec<Option<Real>>,
+    /// The budget of readings.
+    pub budget_readings: usize,
+}
+
+/// The prior precision (per µm-eq²) for `options`: `1/largest_uncertainty²`, or 1e-12 when that
+/// is not a positive finite number.
+pub fn prior_precision(options: &Options) -> Real {
+    let p = 1.0 / (options.largest_uncertainty * options.largest_uncertainty);
+    if p > 0.0 && p.is_finite() { p } else { 1e-12 }
+}
+
+/// `log det(JᵀJ + p·I) = Σ ln(s_i² + p)` over all `n` singular values of `design`.
+pub fn log_det(design: &DMatrix<Real>, prior_precision: Real) -> Real {
+    let n = design.ncols();
+    if design.nrows() == 0 {
+        return n as Real * prior_precision.ln();
+    }
+    let s = SVD::new(design.clone(), false, false).singular_values;
+    let seen: Real = s.iter().map(|s| (s * s + prior_precision).ln()).sum();
+    seen + (n - s.len()) as Real * prior_precision.ln()
+}
+
+/// Chooses tests greedily from `candidates` (name, weighted scaled design with the columns
+/// `labels`) on top of `base`, spending at most `budget_readings` readings (criterion in the
+/// module documentation).
+///
+/// # Panics
+/// When a design's columns differ from `labels`, or a design holds a non-finite value.
+pub fn choose(
+    base: Option<&DMatrix<Real>>,
+    candidates: &[(String, DMatrix<Real>)],
+    labels: &[String],
+    budget_readings: usize,
+    options: &Options,
+) -> Plan {
+    let n = labels.len();
+    let p = prior_precision(options);
+    let mut current = compress(base.cloned().unwrap_or_else(|| DMatrix::zeros(0, n)));
+    assert_eq!(
+        current.ncols(),
+        n,
+        "plan: the base design has {} columns for {n} labels",
+        current.ncols()
+    );
+    for (name, design) in candidates {
+        assert_eq!(
+            design.ncols(),
+            n,
+            "plan: candidate {name} has {} columns for {n} labels",
+            design.ncols()
+        );
+    }
+    let base_log_det = log_det(&current, p);
+    let base_analysis = identifiability::analyse(&current, labels, options);
+    let mut identifiable_after = base_analysis.all_identifiable().then_some(0);
+    let mut current_log_det = base_log_det;
+    let mut remaining = budget_readings;
+    let mut chosen = vec![false; candidates.len()];
+    let mut steps = Vec::new();
+    loop {
+        let mut best: Option<(usize, Real, Real, DMatrix<Real>)> = None;
+        for (i, (_, design)) in candidates.iter().enumerate() {
+            let rows = design.nrows();
+            if chosen[i] || rows == 0 || rows > remaining {
+                continue;
+            }
+            let stacked = stack(&current, design);
+            let new_log_det = log_det(&stacked, p);
+            let gain = new_log_det - current_log_det;
+            if gain <= MIN_GAIN {
+                continue;
+            }
+            let per_reading = gain / rows as Real;
+            if best.as_ref().is_none_or(|b| per_reading > b.1) {
+                best = Some((i, per_reading, new_log_det, stacked));
+            }
+        }
+        let Some((i, _, new_log_det, stacked)) = best else {
+            break;
+        };
+        chosen[i] = true;
+        let (name, design) = &candidates[i];
+        remaining -= design.nrows();
+        current = compress(stacked);
+        current_log_det = new_log_det;
+        let analysis = identifiability::analyse(&current, labels, options);
+        steps.push(Step {
+            test: name.clone(),
+            readings: design.nrows(),
+            log_det: new_log_det,
+            uncertainties: analysis.standard_uncertainty.clone(),
+        });
+        if identifiable_after.is_none() && analysis.all_identifiable() {
+            identifiable_after = Some(steps.len());
+        }
+    }
+    let identifiable = steps
+        .last()
+        .map_or(base_analysis.all_identifiable(), |s: &Step| {
+            s.uncertainties.iter().all(Option::is_some)
+        });
+    Plan {
+        identifiable,
+        steps,
+        labels: labels.to_vec(),
+        prior_precision: p,
+        base_log_det,
+        identifiable_after,
+        base_uncertainties: base_analysis.standard_uncertainty,
+        budget_readings,
+    }
+}
+
+/// Three significant figures for the tables (`—` for none).
+fn figure(x: Option<Real>) -> String {
+    x.map_or_else(|| "—".into(), significant)
+}
+
+/// Left-aligned columns, two spaces apart.
+fn table(rows: &[Vec<String>]) -> String {
+    let columns = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let widths: Vec<usize> = (0..columns)
+        .map(|c| {
+            rows.iter()
+                .filter_map(|r| r.get(c))
+                .map(|s| s.chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut text = String::new();
+    for row in rows {
+        let mut line = String::new();
+        for (c, cell) in row.iter().enumerate() {
+            let pad = widths[c] - cell.chars().count();
+            let _ = write!(line, "{cell}{}  ", " ".repeat(pad));
+        }
+        let _ = writeln!(text, "{}", line.trim_end());
+    }
+    text
+}
+
+impl Plan {
+    /// The readings the chosen tests spend.
+    pub fn readings(&self) -> usize {
+        self.steps.iter().map(|s| s.readings).sum()
+    }
+
+    /// A text for people: the criterion, the chosen tests in order with `log det` and how many
+    /// parameters are identifiable, and the predicted standard uncertainty of each parameter
+    /// after each step (`—`: unidentifiable).
+    pub fn report(&self) -> String {
+        let n = self.labels.len();
+        let mut text = String::new();
+        let _ = writeln!(
+            text,
+            "test plan: greedy D-optimal, log det(JᵀJ + p·I) with p = {} per µm-eq²; {} tests, {} of {} readings",
+            figure(Some(self.prior_precision)),
+            self.steps.len(),
+            self.readings(),
+            self.budget_readings
+        );
+        let _ = writeln!(
+            text,
+            "{}",
+            match self.identifiable_after {
+                Some(0) => "every parameter is identifiable from the base design".to_string(),
+                Some(k) => format!("every parameter identifiable after step {k}"),
+                None => "not every parameter is identifiable with these tests and budget".into(),
+            }
+        );
+        let mut rows = vec![vec![
+            "step".to_string(),
+            "test".into(),
+            "readings".into(),
+            "log det".into(),
+            "identifiable".into(),
+        ]];
+        rows.push(vec![
+            "0".into(),
+            "(base)".into(),
+            "".into(),
+            format!("{:.3}", self.base_log_det),
+            format!(
+                "{} of {n}",
+                self.base_uncertainties.iter().flatten().count()
+            ),
+        ]);
+        for (k, s) in self.steps.iter().enumerate() {
+            rows.push(vec![
+                (k + 1).to_string(),
+                s.test.clone(),
+                s.readings.to_string(),
+                format!("{:.3}", s.log_det),
+                format!("{} of {n}", s.uncertainties.iter().flatten().count()),
+            ]);
+        }
+        text.push_str(&table(&rows));
+        let _ = writeln!(
+            text,
+            "predicted standard uncertainty (µm-eq) after each step:"
+        );
+        let mut rows = vec![
+            std::iter::once("parameter".to_string())
+                .chain((0..=self.steps.len()).map(|k| k.to_string()))
+                .collect::<Vec<_>>(),
+        ];
+        for (j, name) in self.labels.iter().enumerate() {
+            rows.push(
+                std::iter::once(name.clone())
+                    .chain(std::iter::once(figure(self.base_uncertainties[j])))
+                    .chain(self.steps.iter().map(|s| figure(s.uncertainties[j])))
+                    .collect(),
+            );
+        }
+        text.push_str(&table(&rows));
+        text
+    }
+
+    /// The plan with stable keys: `criterion` (`"greedy_d_optimal"`),
+    /// `prior_precision_per_um_eq2`, `budget_readings`, `readings`, `parameters` (names),
+    /// `identifiable`, `identifiable_after_steps` (`null` when never), `base_log_det`,
+    /// `base_standard_uncertainty_um_eq` (per parameter, `null` when unidentifiable), and
+    /// `steps`: per chosen test {`test`, `readings`, `log_det`, `identifiable`,
+    /// `standard_uncertainty_um_eq`}.
+    pub fn to_json(&self) -> Value {
+        let steps: Vec<Value> = self
+            .steps
+            .iter()
+            .map(|s| {
+                json!({
+                    "test": s.test,
+                    "readings": s.readings,
+                    "log_det": s.log_det,
+                    "identifiable": s.uncertainties.iter().all(Option::is_some),
+                    "standard_uncertainty_um_eq": s.uncertainties,
+                })
+            })
+            .collect();
+        json!({
+            "criterion": "greedy_d_optimal",
+            "prior_precision_per_um_eq2": self.prior_precision,
+            "budget_readings": self.budget_readings,
+            "readings": self.readings(),
+            "parameters": self.labels,
+            "identifiable": self.identifiable,
+            "identifiable_after_steps": self.identifiable_after,
+            "base_log_det": self.base_log_det,
+            "base_standard_uncertainty_um_eq": self.base_uncertainties,
+            "steps": steps,
+        })
+    }
+}

@@ -1,0 +1,314 @@
+//! Which error parameters to estimate: `--params SPEC`, in ISO names or presets.
+//!
+//! A SPEC is a comma-separated list of items:
+//!
+//! | item | parameters |
+//! |---|---|
+//! | `location` | the position and orientation of every rotary axis line (`EX0C`, `EY0C`, `EA0C`, `EB0C`; `EY0A`, `EZ0A`, `EB0A`, `EC0A`; …): four per axis |
+//! | `zero` | the zero-position errors of the rotary axes (`EC0C`, `EA0A`, `EB0B`) |
+//! | `squareness` | `EC0Y`, `EB0Z`, `EA0Z` (those the machine's axes allow) |
+//! | `tool` | `EXT`, `EYT`, `EZT` |
+//! | `linear21` or `linear21:N` | the 18 component errors of the linear axes as polynomials of degree N (default 3) plus the 3 squareness errors |
+//! | `EX0C`, `EC0Y`, … | one location, squareness or tool error (a constant) |
+//! | `EXX`, `EXX:N` | one component error, a polynomial of degree N (default 3) |
+//!
+//! Component errors are estimated **without their constant term**: a component error is taken
+//! as zero at the axis zero, as the laser and ball-bar see it (a constant error motion of a
+//! linear axis is a translation of the whole working volume that no relative measurement sees,
+//! and it would only add null directions to the report). Straightness errors are estimated
+//! **without their linear term** too: ISO 230-1 measures straightness from a reference line,
+//! and the reference lines' slopes are the squareness errors. Their coefficients are scaled for the
+//! solver and the identifiability report so that one unit is 1 µm (or, for angular errors,
+//! the rotation moving a point at [`REFERENCE_LENGTH`] by 1 µm) at the end of
+//! the axis travel.
+
+use crate::errors::{ErrorFunction, ErrorModel, ErrorParameter, ParameterName};
+use crate::machine::{Axis, Machine};
+use crate::math::Real;
+
+/// The lever arm that puts rotations and translations on one scale in the solver and in the
+/// identifiability report: a rotation counts as the motion it gives a point this far away,
+/// so 1 µrad counts as 0.1 µm (the distance of an R-test sphere or a probed artefact from the axes, in the literature's
+/// studies; wave2-anchors §1.3).
+pub const REFERENCE_LENGTH: Real = 0.1;
+
+/// Default polynomial degree of a component error.
+pub const DEFAULT_DEGREE: usize = 3;
+
+/// The parameters to estimate, bound to a machine: a template error model (every coefficient
+/// zero), which of its coefficients are free, and their scales.
+#[derive(Clone, Debug)]
+pub struct ParameterSet {
+    /// The template: the estimated parameters, every coefficient zero.
+    pub model: ErrorModel,
+    /// Indices (into [`ErrorModel::coefficients`]) of the free coefficients.
+    pub free: Vec<usize>,
+    /// One label per free coefficient: `EX0C`, `EXX.polynomial[2]`.
+    pub labels: Vec<String>,
+    /// SI per solver unit of each free coefficient: 1 µm, or the rotation moving a point at
+    /// [`REFERENCE_LENGTH`] by 1 µm, and for a polynomial coefficient that much at the end of
+    /// the travel.
+    pub scales: Vec<Real>,
+    /// Whether each free coefficient is a rotation (µrad in files) rather than a translation.
+    pub rotation: Vec<bool>,
+    /// The parameter (index into [`ErrorModel::parameters`]) each free coefficient belongs to.
+    pub owner: Vec<usize>,
+    /// The polynomial degree of each free coefficient (0 for a constant).
+    pub degree: Vec<usize>,
+}
+
+/// Why a SPEC cannot be used with a machine.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("--params {spec}: {message}")]
+pub struct SpecError {
+    /// The SPEC as given.
+    pub spec: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl ParameterSet {
+    /// Parses `spec` for `machine`.
+    pub fn parse(spec: &str, machine: &Machine) -> Result<ParameterSet, SpecError> {
+        let fail = |message: String| SpecError {
+            spec: spec.to_string(),
+            message,
+        };
+        let mut wanted: Vec<(ParameterName, Option<usize>)> = Vec::new();
+        let mut push = |name: ParameterName, degree: Option<usize>| {
+            if !wanted.iter().any(|(n, _)| *n == name) {
+                wanted.push((name, degree));
+            }
+        };
+        let rotary: Vec<Axis> = machine.rotary_axes().map(|i| i.axis).collect();
+        let linear: Vec<Axis> = [Axis::X, Axis::Y, Axis::Z]
+            .into_iter()
+            .filter(|a| machine.has_axis(*a))
+            .collect();
+        let squareness = || {
+            [("EC0Y", Axis::Y), ("EB0Z", Axis::Z), ("EA0Z", Axis::Z)]
+                .into_iter()
+                .filter(|(_, a)| machine.has_axis(*a))
+                .map(|(n, _)| n.parse::<ParameterName>().expect("a valid name"))
+                .collect::<Vec<_>>()
+        };
+        for item in spec.split(',').map(str::trim) {
+            let (head, degree) = match item.split_once(':') {
+                Some((head, degree)) => {
+                    let degree: usize = degree.trim().parse().map_err(|_| {
+                        fail(format!(
+                            "\"{item}\": the degree after ':' must be a whole number from 1 to 9"
+                        ))
+                    })?;
+                    if !(1..=9).contains(&degree) {
+                        return Err(fail(format!(
+                            "\"{item}\": the degree after ':' must be from 1 to 9"
+                        )));
+                    }
+                    (head.trim(), Some(degree))
+                }
+                None => (item, None),
+            };
+            match head {
+                "" => {
+                    return Err(fail(
+                        "an empty item; expected names or presets separated by commas".into(),
+                    ));
+                }
+                "location" | "zero" => {
+                    if rotary.is_empty() {
+                        return Err(fail(format!(
+                            "\"{head}\": machine \"{}\" has no rotary axis",
+                            machine.name()
+                        )));
+                    }
+                    for axis in &rotary {
+                        for name in ParameterName::all() {
+                            if let ParameterName::Location { motion, axis: a } = name
+                                && a == *axis
+                            {
+                                let zero = motion.index() == axis.coordinate() + 3;
+                                if zero == (head == "zero") {
+                                    push(name, None);
+                                }
+                            }
+                        }
+                    }
+                }
+                "squareness" => squareness().into_iter().for_each(|n| push(n, None)),
+                "tool" => ["EXT", "EYT", "EZT"]
+                    .into_iter()
+                    .for_each(|n| push(n.parse().expect("a valid name"), None)),
+                "linear21" => {
+                    if linear.len() < 3 {
+                        return Err(fail(format!(
+                            "\"linear21\": machine \"{}\" does not have the three linear axes X, Y, Z",
+                            machine.name()
+                        )));
+                    }
+                    for axis in &linear {
+                        for motion in "XYZABC".chars() {
+                            let name = format!("E{motion}{axis}").parse().expect("a valid name");
+                            push(name, Some(degree.unwrap_or(DEFAULT_DEGREE)));
+                        }
+                    }
+                    squareness().into_iter().for_each(|n| push(n, None));
+                }
+                text => {
+                    let name: ParameterName = text.parse().map_err(|m: String| {
+                        fail(format!(
+                            "\"{text}\": {m}; or a preset: location, zero, squareness, tool, linear21"
+                        ))
+                    })?;
+                    if let Some(axis) = name.axis().filter(|a| !machine.has_axis(*a)) {
+                        return Err(fail(format!(
+                            "{name}: machine \"{}\" has no axis {axis}",
+                            machine.name()
+                        )));
+                    }
+                    let component = matches!(name, ParameterName::Component { .. });
+                    if degree.is_some() && !component {
+                        return Err(fail(format!(
+                            "{name}: location, squareness and tool errors are constants; a degree is for component errors (EXX:3)"
+                        )));
+                    }
+                    if component && name.axis().is_some_and(|a| !a.is_linear()) {
+                        return Err(fail(format!(
+                            "{name}: component errors of rotary axes are not estimated yet (only those of linear axes, as polynomials)"
+                        )));
+                    }
+                    push(name, component.then(|| degree.unwrap_or(DEFAULT_DEGREE)));
+                }
+            }
+        }
+        let parameters = wanted
+            .iter()
+            .map(|(name, degree)| ErrorParameter {
+                name: *name,
+                function: match degree {
+                    Some(d) => ErrorFunction::Polynomial(vec![0.0; d + 1]),
+                    None => ErrorFunction::Constant(0.0),
+                },
+            })
+            .collect();
+        let model = ErrorModel::new(machine, parameters).map_err(|e| fail(e.to_string()))?;
+        Ok(ParameterSet::from_model(model, machine))
+    }
+
+    /// The free coefficients of a template `model` (polynomials without their constant term).
+    fn from_model(model: ErrorModel, machine: &Machine) -> ParameterSet {
+        let mut set = ParameterSet {
+            model,
+            free: Vec::new(),
+            labels: Vec::new(),
+            scales: Vec::new(),
+            rotation: Vec::new(),
+            owner: Vec::new(),
+            degree: Vec::new(),
+        };
+        let mut index = 0;
+        let parameters = set.model.parameters().to_vec();
+        for (owner, parameter) in parameters.iter().enumerate() {
+            let rotation = !parameter.name.motion().is_translation();
+            match &parameter.function {
+                ErrorFunction::Polynomial(c) => {
+                    let travel = travel_of(machine, parameter.name);
+                    for k in first_degree(parameter.name)..c.len() {
+                        set.push(
+                            index + k,
+                            format!("{}.polynomial[{k}]", parameter.name),
+                            scale(rotation) / travel.powi(k as i32),
+                            rotation,
+                            owner,
+                        );
+                        set.degree.push(k);
+                    }
+                    index += c.len();
+                }
+                _ => {
+                    set.push(
+                        index,
+                        parameter.name.to_string(),
+                        scale(rotation),
+                        rotation,
+                        owner,
+                    );
+                    set.degree.push(0);
+                    index += 1;
+                }
+            }
+        }
+        set
+    }
+
+    fn push(&mut self, index: usize, label: String, scale: Real, rotation: bool, owner: usize) {
+        self.free.push(index);
+        self.labels.push(label);
+        self.scales.push(scale);
+        self.rotation.push(rotation);
+        self.owner.push(owner);
+    }
+
+    /// The number of free coefficients.
+    pub fn len(&self) -> usize {
+        self.free.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.free.is_empty()
+    }
+
+    /// The error model with the free coefficients set to `values` (SI), the others zero.
+    pub fn model_with(&self, values: &[Real]) -> ErrorModel {
+        let mut model = self.model.clone();
+        self.write(&mut model, values);
+        model
+    }
+
+    /// Sets the free coefficients of `model` (a clone of the template) to `values` (SI).
+    pub fn write(&self, model: &mut ErrorModel, values: &[Real]) {
+        let mut all = vec![0.0; model.coefficient_count()];
+        for (&i, &v) in self.free.iter().zip(values) {
+            all[i] = v;
+        }
+        model.set_coefficients(&all);
+    }
+}
+
+/// The lowest free degree of a component error's polynomial: 1 (zero at the axis zero), but 2
+/// for a straightness error (EYX, EZX, EXY, EZY, EXZ, EYZ): ISO 230-1 measures straightness
+/// from a reference line, whose slope is the squareness error, so a linear term would be the
+/// squareness twice over (the two cannot be told apart by any measurement).
+fn first_degree(name: ParameterName) -> usize {
+    match name {
+        ParameterName::Component { motion, axis }
+            if axis.is_linear()
+                && motion.is_translation()
+                && motion.index() != axis.coordinate() =>
+        {
+            2
+        }
+        _ => 1,
+    }
+}
+
+/// SI per solver unit of a constant: 1 µm, or the rotation that moves a point at the
+/// reference length by 1 µm (10 µrad).
+fn scale(rotation: bool) -> Real {
+    if rotation {
+        1e-6 / REFERENCE_LENGTH
+    } else {
+        1e-6
+    }
+}
+
+/// The travel of the axis a component error belongs to (m or rad; 1 when unbounded).
+fn travel_of(machine: &Machine, name: ParameterName) -> Real {
+    name.axis()
+        .and_then(|a| machine.axis(a))
+        .and_then(|info| info.limits)
+        .map(|(lower, upper)| lower.abs().max(upper.abs()))
+        .filter(|t| *t > 0.0)
+        .unwrap_or(1.0)
+}

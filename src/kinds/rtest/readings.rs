@@ -1,0 +1,367 @@
+//! The R-test table as readings for the estimators ([`crate::estimate`]): the model of each
+//! reading is the twin's own chain, as the nest and its software read it ([`super::run`]).
+//!
+//! A row holds the sphere's displacement `(dx, dy, dz)` seen from the tool, in machine axes,
+//! since the test's first pose: the software zeroes the probes there. With `s_i` the sphere
+//! centre in the actual nest frame at pose `i` and `R_i` the nominal orientation of the tool
+//! in machine axes,
+//!
+//! ```text
+//! reading_i = −R_i · (s_i − c),    c = s_0 + ε_0
+//! ```
+//!
+//! where `c` is the nest-frame reading at the pose where the software zeroed, noise `ε_0`
+//! included. `c` is a nuisance of each test (three per test), or of the whole table when the
+//! table says `zero = first_pose` (one datum for the sequence), and the zeroing row (reading 0 = prediction
+//! `−R_0 (s_0 − c)`) is kept as an observation of it: this is exactly the generalised least
+//! squares of the zeroed rows, whose noise is correlated through `ε_0`, with independent rows.
+//!
+//! Simplifications, stated: the conversion of the probe readings is taken as exact (flat tips,
+//! calibrated nest): the six-point calibration's gain and direction errors (1e-4–1e-3 of the
+//! reading) and the point tips' cross-talk are left in the residuals; a dynamic test's rows
+//! are modelled at their commanded poses (the servo lag is not in the model).
+
+use super::program::follow;
+use super::table::RtestTable;
+use crate::errors::ErrorModel;
+use crate::estimate::{Quantity, ReadingModel, Readings, ReadingsError};
+use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
+use crate::math::{M_PER_MM, Real, Rotation, Vector, rigid_inverse};
+
+/// Default standard uncertainty of each displacement component: 0.2 µm, the nest noise of
+/// the bundled scenarios and of contact R-tests (wave2-anchors §1.4).
+pub const DEFAULT_SIGMA: Real = 0.2e-6;
+
+/// Default standard uncertainty of the sphere position the operator centres the nest on at
+/// the first pose (the preset): 0.5 µm in each direction, for the Monte Carlo.
+pub const DEFAULT_SETUP_UNCERTAINTY: Real = 0.5e-6;
+
+/// How the set-up enters the estimate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setup {
+    /// Standard uncertainty of each reading component (m).
+    pub sigma: Real,
+    /// Standard uncertainty of the sphere position (m) as a known set-up quantity.
+    pub sphere_uncertainty: Real,
+    /// The sphere position is unknown and estimated (ISO's protocol without a preset; the
+    /// literature's P1): then it is a nuisance rather than a known set-up quantity.
+    pub free_sphere: bool,
+}
+
+impl Default for Setup {
+    fn default() -> Setup {
+        Setup {
+            sigma: DEFAULT_SIGMA,
+            sphere_uncertainty: DEFAULT_SETUP_UNCERTAINTY,
+            free_sphere: false,
+        }
+    }
+}
+
+/// One pose of the model.
+#[derive(Clone, Debug)]
+struct Row {
+    state: MachineState,
+    /// Nominal tool orientation in machine axes.
+    world_from_tool: Rotation,
+    /// Index of its test.
+    test: usize,
+}
+
+/// The model of an R-test table.
+#[derive(Clone, Debug)]
+struct RtestModel {
+    sphere: Vector,
+    rows: Vec<Row>,
+    tests: usize,
+    free_sphere: bool,
+}
+
+impl ReadingModel for RtestModel {
+    fn predict(
+        &self,
+        machine: &Machine,
+        workspace: &mut Workspace,
+        errors: &ErrorModel,
+        nuisance: &[Real],
+        setup: &[Real],
+        out: &mut [Real],
+    ) {
+        let (offsets, rest) = nuisance.split_at(3 * self.tests);
+        let mut sphere = self.sphere;
+        let shift = if self.free_sphere { rest } else { setup };
+        if shift.len() == 3 {
+            sphere += Vector::new(shift[0], shift[1], shift[2]);
+        }
+        for (i, row) in self.rows.iter().enumerate() {
+            let actual = errors.workpiece_from_tool(machine, workspace, &row.state);
+            let s = rigid_inverse(&actual).transform_point3(sphere);
+            let c = &offsets[3 * row.test..3 * row.test + 3];
+            let d = -(row.world_from_tool * (s - Vector::new(c[0], c[1], c[2])));
+            out[3 * i..3 * i + 3].copy_from_slice(&d.to_array());
+        }
+    }
+}
+
+/// The readings of an R-test table measured on `machine` (`file` names it in messages).
+pub fn readings(
+    table: &RtestTable,
+    file: &str,
+    machine: &Machine,
+    setup: Setup,
+) -> Result<Readings, ReadingsError> {
+    let fail = |message: String| ReadingsError::new(file, message);
+    let sphere = sphere_of(table, file)?;
+    let mut workspace = Workspace::new(machine);
+    let shared =
+        table.conditions.get("zero").map(|(z, _)| z) == Some(super::Zero::FirstPose.name());
+    let names: Vec<&str> = if shared {
+        vec!["datum"]
+    } else {
+        table.tests().iter().map(|(name, _)| *name).collect()
+    };
+    let mut rows = Vec::with_capacity(table.rows.len());
+    let mut measured = Vec::with_capacity(3 * table.rows.len());
+    for (line, row) in table.rows.iter().enumerate() {
+        let mut angles = AxisValues::ZERO;
+        for axis in [Axis::A, Axis::B, Axis::C] {
+            if let Some(angle) = row.angle(axis) {
+                if !machine.has_axis(axis) {
+                    return Err(fail(format!(
+                        "row {}: an angle of {axis}, which machine \"{}\" does not have",
+                        line + 1,
+                        machine.name()
+                    )));
+                }
+                angles[axis] = angle;
+            }
+        }
+        let command = match row.linear {
+            Some(linear) => {
+                let mut command = angles;
+                command[Axis::X] = linear.x;
+                command[Axis::Y] = linear.y;
+                command[Axis::Z] = linear.z;
+                command
+            }
+            None => follow(machine, &mut workspace, &angles, sphere)
+                .map_err(|e| fail(format!("row {}: {e}", line + 1)))?,
+        };
+        workspace.workpiece_from_tool(machine, &command, None);
+        let world_from_tool = workspace.world_from_ends().0.matrix3;
+        rows.push(Row {
+            state: MachineState::at(command),
+            world_from_tool,
+            test: if shared {
+                0
+            } else {
+                names
+                    .iter()
+                    .position(|n| *n == row.test)
+                    .expect("every row's test is listed")
+            },
+        });
+        measured.extend_from_slice(&row.deviation.to_array());
+    }
+    if rows.is_empty() {
+        return Err(fail("no rows".into()));
+    }
+    let mut nuisance = Vec::new();
+    for name in &names {
+        for c in ["x", "y", "z"] {
+            nuisance.push(Quantity {
+                name: format!("{name}.zero.{c}"),
+                translation: true,
+                start: 0.0,
+                uncertainty: 0.0,
+            });
+        }
+    }
+    let sphere_quantities = ["x", "y", "z"].map(|c| Quantity {
+        name: format!("sphere.{c}"),
+        translation: true,
+        start: 0.0,
+        uncertainty: if setup.free_sphere {
+            0.0
+        } else {
+            setup.sphere_uncertainty
+        },
+    });
+    let (setup_quantities, nuisance) = if setup.free_sphere {
+        nuisance.extend(sphere_quantities);
+        (Vec::new(), nuisance)
+    } else {
+        (sphere_quantities.to_vec(), nuisance)
+    };
+    let tests = names.len();
+    Ok(Readings {
+        source: file.to_string(),
+        kind: "rtest",
+        machine: table.conditions.get("machine").map(|(m, _)| m.to_string()),
+        sigma: vec![setup.sigma; measured.len()],
+        measured,
+        nuisance,
+        setup: setup_quantities,
+        model: Box::new(RtestModel {
+            sphere,
+            rows,
+            tests,
+            free_sphere: setup.free_sphere,
+        }),
+    })
+}
+
+/// A planned R-test (no measurements): the poses of `tests` on `machine` with the sphere at
+/// `sphere` (workpiece frame, m), zeroed as `zero` says, for identifiability and test design.
+pub fn planned(
+    machine: &Machine,
+    tests: &[super::KTest],
+    sphere: Vector,
+    zero: super::Zero,
+    setup: Setup,
+) -> Result<Readings, super::program::FollowError> {
+    let mut workspace = Workspace::new(machine);
+    let mut table = RtestTable {
+        rows: Vec::new(),
+        conditions: crate::io::Conditions::from_pairs([
+            (
+                "sphere_mm",
+                format!(
+                    "{} {} {}",
+                    sphere.x / M_PER_MM,
+                    sphere.y / M_PER_MM,
+                    sphere.z / M_PER_MM
+                ),
+            ),
+            ("zero", zero.name().to_string()),
+        ]),
+    };
+    for test in tests {
+        let poses = super::program::static_poses(machine, &mut workspace, test, sphere, 0.0)?;
+        for (index, pose) in poses.iter().enumerate() {
+            let mut angles = [None; 3];
+            for info in machine.rotary_axes() {
+                angles[info.axis.coordinate()] = Some(pose.command[info.axis]);
+            }
+            table.rows.push(super::RtestRow {
+                test: test.name.clone(),
+                point: Some(index),
+                time: None,
+                angles,
+                linear: Some(Vector::new(
+                    pose.command[Axis::X],
+                    pose.command[Axis::Y],
+                    pose.command[Axis::Z],
+                )),
+                deviation: Vector::ZERO,
+                probes: Vec::new(),
+            });
+        }
+    }
+    let mut readings = readings(&table, "planned R-test", machine, setup)
+        .expect("a planned table names its sphere and the machine's axes");
+    readings.measured.clear();
+    Ok(readings)
+}
+
+/// The sphere position the table's preamble states (`sphere_mm = x y z`, workpiece frame).
+pub fn sphere_of(table: &RtestTable, file: &str) -> Result<Vector, ReadingsError> {
+    let Some((text, line)) = table.conditions.get("sphere_mm") else {
+        return Err(ReadingsError::new(
+            file,
+            "the preamble does not state the sphere position (`# sphere_mm = x y z`, workpiece frame): the model of the readings needs it",
+        ));
+    };
+    let values: Vec<Real> = text
+        .split_whitespace()
+        .map(|v| v.parse::<Real>())
+        .collect::<Result<_, _>>()
+        .ok()
+        .filter(|v: &Vec<Real>| v.len() == 3 && v.iter().all(|x| x.is_finite()))
+        .ok_or_else(|| {
+            ReadingsError::new(
+                file,
+                format!("line {line}: sphere_mm = {text}: expected three numbers (mm)"),
+            )
+        })?;
+    Ok(Vector::new(values[0], values[1], values[2]) * M_PER_MM)
+}
+
+/// Candidate K-tests for test design on `machine` (static, 13 poses each): for each angle of
+/// the tilting axis (A or B) from −90° to 90° in 15° steps within its travel, a full turn of
+/// the turning axis (C); and sweeps of the tilting axis over its travel (at most ±90°) at the
+/// turning axis at 0°, 90°, 180° and 270° (and over narrower spans, ±60°, ±45°, ±30°, in case
+/// the linear axes cannot follow to the ends). With one rotary axis: a full turn of it. The
+/// caller drops those the linear axes cannot follow ([`planned`] refuses them).
+pub fn candidates(machine: &Machine) -> Vec<super::KTest> {
+    let rotary: Vec<&crate::machine::AxisInfo> = machine.rotary_axes().collect();
+    let turning = rotary
+        .iter()
+        .find(|i| i.is_continuous() || i.axis == Axis::C)
+        .or(rotary.last())
+        .map(|i| i.axis);
+    let tilting = rotary
+        .iter()
+        .find(|i| Some(i.axis) != turning)
+        .map(|i| (i.axis, i.limits));
+    let mut out = Vec::new();
+    let test = |name: String, from: &[(Axis, Real)], to: &[(Axis, Real)]| {
+        let mut a = AxisValues::ZERO;
+        for (axis, deg) in from {
+            a[*axis] = deg.to_radians();
+        }
+        let mut b = a;
+        for (axis, deg) in to {
+            b[*axis] = deg.to_radians();
+        }
+        super::KTest {
+            name,
+            from: a,
+            to: b,
+            points: 13,
+        }
+    };
+    let Some(turning) = turning else {
+        return out;
+    };
+    let Some((tilt, limits)) = tilting else {
+        out.push(test(
+            format!("{turning} turn"),
+            &[(turning, 0.0)],
+            &[(turning, 360.0)],
+        ));
+        return out;
+    };
+    let (lower, upper) = limits.map_or((-90.0, 90.0), |(l, u)| {
+        (l.to_degrees().max(-90.0), u.to_degrees().min(90.0))
+    });
+    for step in -6..=6 {
+        let angle = 15.0 * step as Real;
+        if angle >= lower - 1e-9 && angle <= upper + 1e-9 {
+            out.push(test(
+                format!("{turning} turn at {tilt} = {angle}°"),
+                &[(tilt, angle), (turning, 0.0)],
+                &[(turning, 360.0)],
+            ));
+        }
+    }
+    // Sweeps over the travel and over narrower spans (the linear axes may not follow the
+    // sphere to the ends of the travel).
+    for c in [0.0, 90.0, 180.0, 270.0] {
+        let mut spans: Vec<(Real, Real)> = Vec::new();
+        for half in [90.0, 60.0, 45.0, 30.0] {
+            let span = (lower.max(-half), upper.min(half));
+            if span.1 - span.0 >= 30.0 && !spans.contains(&span) {
+                spans.push(span);
+            }
+        }
+        for (from, to) in spans {
+            out.push(test(
+                format!("{tilt} sweep {from}°..{to}° at {turning} = {c}°"),
+                &[(tilt, from), (turning, c)],
+                &[(tilt, to)],
+            ));
+        }
+    }
+    out
+}

@@ -1,0 +1,238 @@
+//! `mtwin identify`, `score` and `plan` end to end: simulate → identify → score → compensate →
+//! simulate again, and bad inputs refused with the file and what is wrong, non-zero exit, no
+//! files written.
+
+use serde_json::Value;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn mtwin<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mtwin"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn root(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+fn ok(output: &Output) -> String {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn failed(output: &Output) -> String {
+    assert!(!output.status.success(), "expected a failure");
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// The largest R-test range (µm) of a table, from `mtwin analyze rtest --json`.
+fn largest_range(table: &Path) -> f64 {
+    let json: Value = serde_json::from_str(&ok(&mtwin(&[
+        "analyze".as_ref(),
+        "rtest".as_ref(),
+        table.as_os_str(),
+        "--json".as_ref(),
+    ])))
+    .unwrap();
+    json["tests"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|t| {
+            t["range_um"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The whole loop on the bundled R-test. The compensated machine's R-test ranges must fall
+/// below a tenth of the uncompensated ones (the estimate is within 1 µm and 1 µrad of errors of
+/// 6–25 µm and µrad, whose ranges are 20–33 µm), and the score must show the volumetric
+/// deviation falling likewise.
+#[test]
+fn simulate_identify_score_compensate_simulate_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = root("scenarios/trunnion5_rtest.toml");
+    let run = dir.path().join("run");
+    ok(&mtwin(&[
+        "run".as_ref(),
+        scenario.as_os_str(),
+        "--out".as_ref(),
+        run.as_os_str(),
+    ]));
+    let id = dir.path().join("id");
+    let text = ok(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        root("models/trunnion5.urdf").as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        run.join("rtest.csv").as_os_str(),
+        "--scenario".as_ref(),
+        scenario.as_os_str(),
+        "--monte-carlo".as_ref(),
+        "100".as_ref(),
+        "--out".as_ref(),
+        id.as_os_str(),
+    ]));
+    assert!(text.contains("rank 20 of 20"), "{text}");
+    let estimate: Value =
+        serde_json::from_slice(&std::fs::read(id.join("estimate.json")).unwrap()).unwrap();
+    assert_eq!(estimate["mtwin"], "estimate");
+    assert_eq!(estimate["errors"].as_object().unwrap().len(), 8);
+    assert!(estimate["errors"]["EX0C"]["terms"]["constant_um"].is_f64());
+    assert!(estimate["errors"]["EX0C"]["interval_95"]["constant_um"].is_array());
+    assert!(id.join("trunnion5_identified.urdf").exists());
+    let check = ok(&mtwin(&[
+        "check".as_ref(),
+        id.join("trunnion5_identified.urdf").as_os_str(),
+    ]));
+    assert!(check.contains("ok, machine \"trunnion5\""), "{check}");
+
+    let score: Value = serde_json::from_str(&ok(&mtwin(&[
+        "score".as_ref(),
+        id.join("estimate.json").as_os_str(),
+        run.join("truth.json").as_os_str(),
+        "--json".as_ref(),
+    ])))
+    .unwrap();
+    let volumetric = &score["volumetric"];
+    let before = volumetric["uncompensated_rms_um"].as_f64().unwrap();
+    let after = volumetric["compensated_rms_um"].as_f64().unwrap();
+    assert!(after < 0.1 * before, "{volumetric}");
+
+    let compensated = dir.path().join("compensated");
+    ok(&mtwin(&[
+        "run".as_ref(),
+        id.join("compensated.toml").as_os_str(),
+        "--out".as_ref(),
+        compensated.as_os_str(),
+    ]));
+    let (before, after) = (
+        largest_range(&run.join("rtest.csv")),
+        largest_range(&compensated.join("rtest.csv")),
+    );
+    assert!(
+        after < 0.1 * before,
+        "R-test ranges {before} µm → {after} µm"
+    );
+}
+
+/// A table measured on another machine is refused, naming both, and nothing is written.
+#[test]
+fn a_table_from_another_machine_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    ok(&mtwin(&[
+        "run".as_ref(),
+        root("scenarios/headtable5_rtest.toml").as_os_str(),
+        "--out".as_ref(),
+        run.as_os_str(),
+    ]));
+    let out = dir.path().join("id");
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        root("models/trunnion5.urdf").as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        run.join("rtest.csv").as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]));
+    assert!(message.contains("rtest.csv"), "{message}");
+    assert!(
+        message.contains("headtable5") && message.contains("trunnion5"),
+        "{message}"
+    );
+    assert!(!out.join("estimate.json").exists());
+}
+
+/// Bad parameters, a table of no known kind, and parameters no table can see.
+#[test]
+fn bad_inputs_are_refused_with_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    ok(&mtwin(&[
+        "run".as_ref(),
+        root("scenarios/trunnion5_rtest.toml").as_os_str(),
+        "--out".as_ref(),
+        run.as_os_str(),
+    ]));
+    let table = run.join("rtest.csv");
+    let identify = |params: &str, table: &OsStr| {
+        mtwin(&[
+            "identify".as_ref(),
+            "--machine".as_ref(),
+            root("models/trunnion5.urdf").as_os_str(),
+            "--params".as_ref(),
+            params.as_ref(),
+            table,
+        ])
+    };
+    let message = failed(&identify("ECOY", table.as_os_str()));
+    assert!(message.contains("did you mean EC0Y"), "{message}");
+    let message = failed(&identify("EX0B", table.as_os_str()));
+    assert!(message.contains("no axis B"), "{message}");
+    let message = failed(&identify("location", run.join("truth.json").as_os_str()));
+    assert!(
+        message.contains("rtest:") && message.contains("truth.json"),
+        "{message}"
+    );
+    // Nothing an R-test reads depends on the tool's offset across its axis and its length at
+    // once with the zeros free: all three unseen.
+    let message = failed(&identify("EXT,EYT,EZT", table.as_os_str()));
+    assert!(message.contains("see none of the parameters"), "{message}");
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        root("models/trunnion5.urdf").as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        "--sigma-um".as_ref(),
+        "rtest=-1".as_ref(),
+        table.as_os_str(),
+    ]));
+    assert!(message.contains("--sigma-um rtest=-1"), "{message}");
+}
+
+/// The plan for trunnion5's eight location errors: identifiable after exactly two tests, one
+/// turning C and one sweeping A. By hand: no single test is enough, because a test zeroed at
+/// its start at a fixed A removes what A's line position does there (a constant), so a C turn
+/// leaves EY0A and EZ0A unseen, and an A sweep at fixed C sees A's four errors only in pairs
+/// (the lever to the sphere is fixed) and none of C's; a C turn at a tilt plus an A sweep
+/// see all eight.
+#[test]
+fn plan_chooses_tests_that_identify_the_location_errors() {
+    let plan: Value = serde_json::from_str(&ok(&mtwin(&[
+        "plan",
+        "--machine",
+        root("models/trunnion5.urdf").to_str().unwrap(),
+        "--params",
+        "location",
+        "--sphere-mm",
+        "100,0,250",
+        "--json",
+    ])))
+    .unwrap();
+    assert_eq!(plan["identifiable"], true, "{plan:#}");
+    assert_eq!(plan["identifiable_after_steps"], 2, "{plan:#}");
+    let mut two: Vec<&str> = (0..2)
+        .map(|i| plan["steps"][i]["test"].as_str().unwrap())
+        .collect();
+    two.sort();
+    assert!(
+        two[0].contains("A sweep") && two[1].contains("C turn at A = -"),
+        "{two:?}"
+    );
+}

@@ -1,0 +1,361 @@
+//! Identifiability of a design and greedy test planning, against hand derivations: equal and
+//! zero columns, the noise-tied rank rule on a pair whose singular values are set exactly, the
+//! observability indices on a diagonal design, a closed-form correlation, the remedies of a
+//! confounded pair and a three-candidate plan.
+
+use mtwin::estimate::identifiability::*;
+use mtwin::estimate::plan;
+use nalgebra::DMatrix;
+
+fn labels(names: &[&str]) -> Vec<String> {
+    names.iter().map(|s| s.to_string()).collect()
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + b.abs())
+}
+
+/// Column `j` of an orthogonal design with given column vectors.
+fn from_columns(columns: &[&[f64]]) -> DMatrix<f64> {
+    let m = columns[0].len();
+    DMatrix::from_fn(m, columns.len(), |i, j| columns[j][i])
+}
+
+#[test]
+fn equal_columns_are_one_null_combination() {
+    // EX0C and sphere1.x enter every reading alike; EY0C and EA0C are seen on their own rows.
+    // Column norms: EY0C √(3² + 4²) = 5, EA0C √(0.5² + 0.5²) = 1/√2.
+    let names = labels(&["EX0C", "EY0C", "sphere1.x", "EA0C"]);
+    let j = from_columns(&[
+        &[1.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        &[0.0, 0.0, 3.0, 4.0, 0.0, 0.0],
+        &[1.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        &[0.0, 0.0, 0.0, 0.0, 0.5, -0.5],
+    ]);
+    let a = analyse(&j, &names, &Options::default());
+    assert_eq!(a.rank, 3);
+    assert_eq!(a.unidentifiable, vec![0, 2]);
+    assert_eq!(a.null_combinations.len(), 1);
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let null = &a.null_combinations[0];
+    assert_eq!(null.terms.len(), 2);
+    assert_eq!((null.terms[0].0, null.terms[1].0), (0, 2));
+    assert!(close(null.terms[0].1, h, 1e-12) && close(null.terms[1].1, -h, 1e-12));
+    assert_eq!(null.describe(&names), "EX0C − sphere1.x");
+    assert_eq!(a.seen_combinations.len(), 1);
+    let seen = &a.seen_combinations[0];
+    assert!(close(seen.terms[0].1, h, 1e-12) && close(seen.terms[1].1, h, 1e-12));
+    assert_eq!(seen.describe(&names), "EX0C + sphere1.x");
+    // The sum is read twice with unit weight: u(EX0C + sphere1.x) = 1/√2.
+    assert!(close(a.uncertainty(seen).unwrap(), h, 1e-12));
+    assert_eq!(a.uncertainty(null), None);
+    // Orthogonal columns: u_j = 1/‖column j‖.
+    assert_eq!(a.standard_uncertainty[0], None);
+    assert_eq!(a.standard_uncertainty[2], None);
+    assert!(close(a.standard_uncertainty[1].unwrap(), 0.2, 1e-12));
+    assert!(close(
+        a.standard_uncertainty[3].unwrap(),
+        2f64.sqrt(),
+        1e-12
+    ));
+    // Orthogonal ⇒ uncorrelated; the unidentifiable rows are NaN.
+    assert!(a.correlation[(1, 3)].abs() < 1e-12 && a.correlation[(1, 1)] == 1.0);
+    assert!(a.correlation[(0, 1)].is_nan() && a.correlation[(2, 2)].is_nan());
+    // Singular values 5, 2 (the pair: ‖(1,1)‖·√2), 1/√2 → κ = 5/(1/√2).
+    assert!(close(a.condition_number, 5.0 * 2f64.sqrt(), 1e-12));
+    let report = a.report();
+    assert!(report.contains("rank 3 of 4"), "{report}");
+    assert!(
+        report.contains("cannot be told apart: EX0C − sphere1.x"),
+        "{report}"
+    );
+    assert!(report.contains("only EX0C + sphere1.x is seen"), "{report}");
+    let json = a.to_json();
+    assert_eq!(json["rank"], 3);
+    assert_eq!(json["unidentifiable"][1], "sphere1.x");
+    assert_eq!(
+        json["null_combinations"][0]["description"],
+        "EX0C − sphere1.x"
+    );
+    let coefficient = json["null_combinations"][0]["terms"][1]["coefficient"].as_f64();
+    assert!(close(coefficient.unwrap(), -1.0, 1e-12));
+    assert!(json["parameters"][0]["standard_uncertainty_um_eq"].is_null());
+    assert!(json["correlation"][0][1].is_null());
+}
+
+#[test]
+fn a_zero_column_alone_is_unidentifiable() {
+    let names = labels(&["a", "b", "c"]);
+    let j = from_columns(&[&[2.0, 0.0, 1.0], &[0.0, 0.0, 0.0], &[0.0, 3.0, 0.0]]);
+    let a = analyse(&j, &names, &Options::default());
+    assert_eq!(a.rank, 2);
+    assert_eq!(a.unidentifiable, vec![1]);
+    assert_eq!(a.null_combinations.len(), 1);
+    assert_eq!(a.null_combinations[0].terms, vec![(1, 1.0)]);
+    assert!(a.seen_combinations.is_empty());
+    assert!(close(
+        a.standard_uncertainty[0].unwrap(),
+        1.0 / 5f64.sqrt(),
+        1e-12
+    ));
+    assert!(close(a.standard_uncertainty[2].unwrap(), 1.0 / 3.0, 1e-12));
+    assert!(a.report().contains("not seen at all: b"));
+}
+
+#[test]
+fn fewer_readings_than_parameters_leave_the_rest_null() {
+    // One reading of a + b over three parameters: null space of dimension 2.
+    let names = labels(&["a", "b", "c"]);
+    let j = DMatrix::from_row_slice(1, 3, &[1.0, 1.0, 0.0]);
+    let a = analyse(&j, &names, &Options::default());
+    assert_eq!(a.rank, 1);
+    assert_eq!(a.singular_values.len(), 3);
+    assert_eq!(a.unidentifiable, vec![0, 1, 2]);
+    let described: Vec<String> = a
+        .null_combinations
+        .iter()
+        .map(|c| c.describe(&names))
+        .collect();
+    assert_eq!(described, vec!["a − b", "c"]);
+    assert_eq!(a.seen_combinations.len(), 1);
+    assert_eq!(a.seen_combinations[0].describe(&names), "a + b");
+    assert!(close(
+        a.uncertainty(&a.seen_combinations[0]).unwrap(),
+        1.0,
+        1e-12
+    ));
+}
+
+/// J = e1·s1·v1ᵀ + e2·s2·v2ᵀ with v1 = (1, 1)/√2, v2 = (1, −1)/√2: singular values s1, s2.
+fn pair(s1: f64, s2: f64) -> DMatrix<f64> {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    DMatrix::from_row_slice(2, 2, &[s1 * h, s1 * h, s2 * h, -s2 * h])
+}
+
+#[test]
+fn the_rank_rule_follows_the_largest_uncertainty() {
+    let names = labels(&["EX0C", "EY0C"]);
+    let options = Options::default(); // 1000 µm-eq
+    // 1/s2 = 900 µm-eq: identified, but weak.
+    let a = analyse(&pair(1.0, 1.0 / 900.0), &names, &options);
+    assert_eq!(a.rank, 2);
+    assert!(a.unidentifiable.is_empty());
+    assert!(close(a.tolerance, 1e-3, 1e-15));
+    // Σ = V diag(1, 900²) Vᵀ ⇒ u² = (1 + 900²)/2 for each, correlation (1 − 900²)/(1 + 900²).
+    let u = ((1.0 + 810_000.0) / 2.0f64).sqrt();
+    assert!(close(a.standard_uncertainty[0].unwrap(), u, 1e-9));
+    assert!(close(a.standard_uncertainty[1].unwrap(), u, 1e-9));
+    assert!(close(
+        a.correlation[(0, 1)],
+        (1.0 - 810_000.0) / (1.0 + 810_000.0),
+        1e-9
+    ));
+    assert_eq!(a.weak.len(), 1);
+    let w = &a.weak[0];
+    assert_eq!(w.combination.describe(&names), "EX0C − EY0C");
+    assert!(close(w.singular_value, 1.0 / 900.0, 1e-9));
+    // The described combination is √2 times the unit one: u = 900·√2.
+    assert!(close(w.uncertainty, 900.0 * 2f64.sqrt(), 1e-9));
+    assert!(close(
+        a.uncertainty(&w.combination).unwrap(),
+        w.uncertainty,
+        1e-9
+    ));
+    assert!(close(a.condition_number, 900.0, 1e-9));
+
+    // 1/s2 = 1100 µm-eq: beyond the bound, the difference is a null combination.
+    let b = analyse(&pair(1.0, 1.0 / 1100.0), &names, &options);
+    assert_eq!(b.rank, 1);
+    assert_eq!(b.unidentifiable, vec![0, 1]);
+    assert_eq!(b.null_combinations[0].describe(&names), "EX0C − EY0C");
+    assert_eq!(b.seen_combinations[0].describe(&names), "EX0C + EY0C");
+    assert!(b.weak.is_empty());
+    // A looser bound takes it back.
+    let loose = Options {
+        largest_uncertainty: 2000.0,
+        ..Options::default()
+    };
+    assert_eq!(analyse(&pair(1.0, 1.0 / 1100.0), &names, &loose).rank, 2);
+}
+
+#[test]
+fn the_numerical_zero_holds_whatever_the_bound() {
+    let names = labels(&["a", "b"]);
+    let options = Options {
+        largest_uncertainty: f64::INFINITY,
+        ..Options::default()
+    };
+    // s2/s1 = 1e-11 < 1e-10: a numerical zero even with no noise bound.
+    let a = analyse(&pair(1.0, 1e-11), &names, &options);
+    assert_eq!(a.rank, 1);
+    assert!(close(a.tolerance, 1e-10, 1e-12));
+    let b = analyse(&pair(1.0, 1e-9), &names, &options);
+    assert_eq!(b.rank, 2);
+}
+
+#[test]
+fn observability_indices_on_a_diagonal_design() {
+    // Singular values 8, 4, 2 (1/µm-eq) over m = 4 readings (a row of zeros).
+    let j = DMatrix::from_row_slice(
+        4,
+        3,
+        &[2.0, 0.0, 0.0, 0.0, 8.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0],
+    );
+    let a = analyse(&j, &labels(&["a", "b", "c"]), &Options::default());
+    assert_eq!(a.singular_values, vec![8.0, 4.0, 2.0]);
+    let o = a.observability;
+    assert!(close(o.o1, 64f64.cbrt() / 2.0, 1e-12)); // (8·4·2)^(1/3)/√4 = 2
+    assert!(close(o.o1, 2.0, 1e-12));
+    assert!(close(o.o2, 0.25, 1e-12));
+    assert!(close(o.o3, 2.0, 1e-12));
+    assert!(close(o.o4, 0.5, 1e-12));
+    assert!(close(o.o5, 8.0 / 7.0, 1e-12)); // 1/(1/8 + 1/4 + 1/2)
+    assert!(close(a.condition_number, 4.0, 1e-12));
+    assert!(a.weak.is_empty());
+    assert!(a.report().contains("O5 = 1.14"));
+}
+
+#[test]
+fn correlation_of_a_straight_line_fit() {
+    // Columns (1, 1, 1) and (1, 2, 3): JᵀJ = [[3, 6], [6, 14]], det 6,
+    // (JᵀJ)⁻¹ = [[14, −6], [−6, 3]]/6 ⇒ u = √(7/3), √(1/2), ρ = −6/√(14·3) = −√(6/7).
+    let j = from_columns(&[&[1.0, 1.0, 1.0], &[1.0, 2.0, 3.0]]);
+    let a = analyse(&j, &labels(&["offset", "slope"]), &Options::default());
+    assert_eq!(a.rank, 2);
+    assert!(close(
+        a.standard_uncertainty[0].unwrap(),
+        (7.0f64 / 3.0).sqrt(),
+        1e-12
+    ));
+    assert!(close(
+        a.standard_uncertainty[1].unwrap(),
+        0.5f64.sqrt(),
+        1e-12
+    ));
+    assert!(close(a.correlation[(0, 1)], -(6.0f64 / 7.0).sqrt(), 1e-12));
+    assert!(close(a.correlation[(1, 0)], -(6.0f64 / 7.0).sqrt(), 1e-12));
+}
+
+#[test]
+fn remedies_name_the_test_that_separates_a_pair() {
+    // EA0A and EA0C enter two readings alike (unit weight); EX0C is seen alone.
+    let names = labels(&["EA0A", "EA0C", "EX0C"]);
+    let base = from_columns(&[&[1.0, 1.0, 0.0], &[1.0, 1.0, 0.0], &[0.0, 0.0, 2.0]]);
+    let a = analyse(&base, &names, &Options::default());
+    assert_eq!(a.null_combinations.len(), 1);
+    assert_eq!(a.null_combinations[0].describe(&names), "EA0A − EA0C");
+    let candidates = vec![
+        // A level on the A axis: EA0A alone, σ = 2 µm-eq.
+        (
+            "level".to_string(),
+            DMatrix::from_row_slice(1, 3, &[0.5, 0.0, 0.0]),
+        ),
+        // Another reading of the sum: no help.
+        (
+            "repeat".to_string(),
+            DMatrix::from_row_slice(1, 3, &[1.0, 1.0, 0.0]),
+        ),
+        // EX0C again: no help.
+        (
+            "x".to_string(),
+            DMatrix::from_row_slice(1, 3, &[0.0, 0.0, 1.0]),
+        ),
+        // EA0C alone, σ = 1 µm-eq.
+        (
+            "xr20".to_string(),
+            DMatrix::from_row_slice(1, 3, &[0.0, 1.0, 0.0]),
+        ),
+    ];
+    let found = remedies(
+        &base,
+        &a.null_combinations,
+        &candidates,
+        &Options::default(),
+    );
+    assert_eq!(found.len(), 1);
+    let list = &found[0];
+    assert_eq!(list.len(), 2, "{list:?}");
+    // var(a + c) = 1/2 from the two readings. xr20: var(c) = 1, a − c = (a + c) − 2c ⇒ 1/2 + 4.
+    // level: var(a) = 4, a − c = 2a − (a + c) ⇒ 16 + 1/2.
+    assert_eq!(list[0].0, "xr20");
+    assert!(close(list[0].1, 4.5f64.sqrt(), 1e-12));
+    assert_eq!(list[1].0, "level");
+    assert!(close(list[1].1, 16.5f64.sqrt(), 1e-12));
+}
+
+#[test]
+fn plan_chooses_the_tests_that_see_something_new() {
+    let names = labels(&["p1", "p2"]);
+    let a = DMatrix::from_row_slice(1, 2, &[2.0, 0.0]);
+    let b = DMatrix::from_row_slice(1, 2, &[0.0, 3.0]);
+    let candidates = vec![
+        ("A".to_string(), a.clone()),
+        ("B".to_string(), b),
+        ("C".to_string(), a),
+    ];
+    let options = Options::default();
+    let p = 1e-6; // 1/1000²
+    // Gains per reading from the prior p·I: A ln((4 + p)/p), B ln((9 + p)/p): B first, then A
+    // (C ties with A and comes later in the list).
+    let plan = plan::choose(None, &candidates, &names, 2, &options);
+    let chosen: Vec<&str> = plan.steps.iter().map(|s| s.test.as_str()).collect();
+    assert_eq!(chosen, vec!["B", "A"]);
+    assert!(plan.identifiable);
+    assert_eq!(plan.identifiable_after, Some(2));
+    assert!(close(plan.prior_precision, p, 1e-15));
+    assert!(close(plan.base_log_det, 2.0 * p.ln(), 1e-12));
+    assert!(close(plan.steps[0].log_det, (p * (9.0 + p)).ln(), 1e-12));
+    assert!(close(
+        plan.steps[1].log_det,
+        ((4.0 + p) * (9.0 + p)).ln(),
+        1e-12
+    ));
+    assert_eq!(plan.steps[0].uncertainties[0], None);
+    assert!(close(
+        plan.steps[0].uncertainties[1].unwrap(),
+        1.0 / 3.0,
+        1e-12
+    ));
+    assert!(close(plan.steps[1].uncertainties[0].unwrap(), 0.5, 1e-12));
+    let report = plan.report();
+    assert!(report.contains("identifiable after step 2"), "{report}");
+    let json = plan.to_json();
+    assert_eq!(json["steps"][1]["test"], "A");
+    assert_eq!(json["identifiable_after_steps"], 2);
+
+    // With readings to spare the duplicate still halves the variance of p1: it comes third.
+    let more = plan::choose(None, &candidates, &names, 10, &options);
+    let chosen: Vec<&str> = more.steps.iter().map(|s| s.test.as_str()).collect();
+    assert_eq!(chosen, vec!["B", "A", "C"]);
+    assert_eq!(more.identifiable_after, Some(2));
+    assert!(close(
+        more.steps[2].log_det,
+        ((8.0 + p) * (9.0 + p)).ln(),
+        1e-12
+    ));
+    assert!(close(
+        more.steps[2].uncertainties[0].unwrap(),
+        8f64.sqrt().recip(),
+        1e-12
+    ));
+
+    // A budget of one reading: B only, not identifiable.
+    let short = plan::choose(None, &candidates, &names, 1, &options);
+    assert_eq!(short.steps.len(), 1);
+    assert!(!short.identifiable && short.identifiable_after.is_none());
+}
+
+#[test]
+fn plan_on_a_base_that_already_identifies_only_improves() {
+    let names = labels(&["p1", "p2"]);
+    let base = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 1.0]);
+    let candidates = vec![("zero".to_string(), DMatrix::zeros(3, 2))];
+    let plan = plan::choose(Some(&base), &candidates, &names, 100, &Options::default());
+    assert!(
+        plan.steps.is_empty(),
+        "a test that sees nothing gains nothing"
+    );
+    assert!(plan.identifiable);
+    assert_eq!(plan.identifiable_after, Some(0));
+    assert!(close(plan.base_log_det, 2.0 * (1.0f64 + 1e-6).ln(), 1e-12));
+}
