@@ -25,6 +25,10 @@ fn say_raw(text: &str) {
     let _ = std::io::stdout().write_all(text.as_bytes());
 }
 
+/// The fewest Monte Carlo trials `identify` runs (a 95 % interval's tails need several
+/// trials each beyond them).
+const MIN_TRIALS: usize = 200;
+
 /// A digital twin of a machine tool for metrology.
 #[derive(Parser)]
 #[command(version, about, long_about = None)]
@@ -84,6 +88,15 @@ enum Command {
         /// default 0.5), a set-up input of the Monte Carlo.
         #[arg(long, value_name = "UM")]
         sphere_setup_um: Option<f64>,
+        /// The R-test sphere centre in the workpiece frame (mm), for an R-test export whose
+        /// preamble does not state it.
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            value_delimiter = ',',
+            allow_negative_numbers = true
+        )]
+        rtest_sphere_mm: Option<Vec<f64>>,
         /// Monte Carlo trials (GUM Supplement 1) propagating the instruments' noise and the
         /// set-up uncertainties through the twin; 0 for none.
         #[arg(long, value_name = "N", default_value_t = 0)]
@@ -300,6 +313,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             sigma_um,
             free_setup,
             sphere_setup_um,
+            rtest_sphere_mm,
             monte_carlo,
             seed,
             scenario,
@@ -311,6 +325,13 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             {
                 bail!("--sphere-setup-um {u}: expected a number of µm, 0 or more");
             }
+            let rtest_sphere = match &rtest_sphere_mm {
+                Some(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => {
+                    Some(mtwin::math::Vector::new(v[0], v[1], v[2]) * 1e-3)
+                }
+                Some(_) => bail!("--rtest-sphere-mm: expected three numbers X,Y,Z (mm)"),
+                None => None,
+            };
             let mut sigma = std::collections::BTreeMap::new();
             for item in &sigma_um {
                 let parsed = item
@@ -327,10 +348,10 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 };
                 sigma.insert(kind.to_string(), value * 1e-6);
             }
-            if let Some(dir) = &out {
-                std::fs::create_dir_all(dir).map_err(|e| {
-                    anyhow::anyhow!("{}: cannot create the folder: {e}", dir.display())
-                })?;
+            if monte_carlo > 0 && monte_carlo < MIN_TRIALS {
+                bail!(
+                    "--monte-carlo {monte_carlo}: at least {MIN_TRIALS} trials are needed to place a 95 % interval's 2.5 % tails (GUM Supplement 1 §7.2 asks M ≫ 1/(1 − p) = 20)"
+                );
             }
             let request = mtwin::app::identify::Request {
                 machine,
@@ -339,6 +360,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 sigma,
                 free_setup,
                 sphere_setup: sphere_setup_um.map(|u| u * 1e-6),
+                rtest_sphere,
                 trials: monte_carlo,
                 seed,
                 scenario,
@@ -350,6 +372,9 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 say_raw(&identified.text);
             }
             if let Some(dir) = &out {
+                std::fs::create_dir_all(dir).map_err(|e| {
+                    anyhow::anyhow!("{}: cannot create the folder: {e}", dir.display())
+                })?;
                 mtwin::io::write_files(&identified.files, dir)?;
                 for (name, bytes) in &identified.files {
                     eprintln!("{}  ({} bytes)", dir.join(name).display(), bytes.len());

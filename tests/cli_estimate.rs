@@ -81,7 +81,7 @@ fn simulate_identify_score_compensate_simulate_again() {
         "--scenario".as_ref(),
         scenario.as_os_str(),
         "--monte-carlo".as_ref(),
-        "100".as_ref(),
+        "200".as_ref(),
         "--out".as_ref(),
         id.as_os_str(),
     ]));
@@ -204,6 +204,19 @@ fn bad_inputs_are_refused_with_what_is_wrong() {
         table.as_os_str(),
     ]));
     assert!(message.contains("--sigma-um rtest=-1"), "{message}");
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        root("models/trunnion5.urdf").as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        "--monte-carlo".as_ref(),
+        "5".as_ref(),
+        table.as_os_str(),
+    ]));
+    assert!(message.contains("--monte-carlo 5"), "{message}");
+    let message = failed(&identify("EYX:1", table.as_os_str()));
+    assert!(message.contains("starts at degree 2"), "{message}");
 }
 
 /// The plan for trunnion5's eight location errors: identifiable after exactly two tests, one
@@ -232,7 +245,11 @@ fn plan_chooses_tests_that_identify_the_location_errors() {
         .collect();
     two.sort();
     assert!(
-        two[0].contains("A sweep") && two[1].contains("C turn at A = -"),
+        two[0].contains("A sweep") && two[1].contains("C turn at A = "),
         "{two:?}"
+    );
+    assert!(
+        !two[1].contains("A = 0°"),
+        "a turn at A = 0 sees none of A: {two:?}"
     );
 }

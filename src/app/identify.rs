@@ -60,6 +60,8 @@ pub struct Request {
     pub free_setup: bool,
     /// Standard uncertainty of the R-test sphere position (m), overriding the default.
     pub sphere_setup: Option<Real>,
+    /// The R-test sphere centre (workpiece frame, m) for tables that do not state it.
+    pub rtest_sphere: Option<crate::math::Vector>,
     /// Monte Carlo trials.
     pub trials: usize,
     /// Monte Carlo seed.
@@ -89,7 +91,11 @@ fn kind_of(argument: &str) -> Result<(String, PathBuf), IdentifyError> {
     let path = PathBuf::from(argument);
     let text = std::fs::read_to_string(&path)
         .map_err(|e| IdentifyError::Input(format!("{argument}: cannot read: {e}")))?;
-    let first = text.lines().next().unwrap_or("");
+    let first = text
+        .lines()
+        .next()
+        .unwrap_or("")
+        .trim_start_matches('\u{feff}');
     TABLE_KINDS
         .iter()
         .find(|k| first.starts_with(&format!("# mtwin {k} table")))
@@ -139,6 +145,7 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Vec<Reading
                 if let Some(u) = request.sphere_setup {
                     setup.sphere_uncertainty = u;
                 }
+                setup.sphere = request.rtest_sphere;
                 sets.push(rtest::readings::readings(&table, &file, machine, setup)?);
             }
             "spheres" => {
@@ -193,15 +200,28 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         ..Default::default()
     };
     let fit = fit::estimate(&problem, &options)?;
-    let machine_file = request.machine.display().to_string();
+    let machine_file = std::path::absolute(&request.machine)
+        .unwrap_or_else(|_| request.machine.clone())
+        .display()
+        .to_string();
     let json = report::to_json(&set, &problem, &fit, &machine, &machine_file, &sources);
     let mut text = report::text(&set, &problem, &fit, &sources);
     let mut json = json;
     if !fit.identifiability.null_combinations.is_empty()
         && let Some(table) = sets.iter().position(|s| s.kind == "rtest")
     {
-        let sphere = rtest_sphere(&request.tables[table])?;
-        let found = remedies(&machine, &set, &problem, sphere, sets[table].sigma[0]);
+        let sphere = match request.rtest_sphere {
+            Some(sphere) => sphere,
+            None => rtest_sphere(&request.tables[table])?,
+        };
+        let found = remedies(
+            &machine,
+            &set,
+            &problem,
+            sphere,
+            sets[table].sigma[0],
+            request.free_setup,
+        );
         text += &remedies_text(&found);
         json["remedies"] = found
             .iter()
@@ -245,12 +265,14 @@ fn compensated_scenario(scenario: &Path, identified: &ErrorModel) -> Result<Stri
     let mut out = format!(
         "# The machine of {} compensated with the identified errors (written by mtwin identify):\n\
          # each estimated parameter's truth minus its estimate.\n\
-         schema = 1\nextends = {:?}\ndescription = \"compensated with mtwin identify\"\n",
+         schema = 1\nextends = {}\ndescription = \"compensated with mtwin identify\"\n",
         scenario.display(),
-        std::path::absolute(scenario)
-            .unwrap_or_else(|_| scenario.to_path_buf())
-            .display()
-            .to_string()
+        toml::Value::String(
+            std::path::absolute(scenario)
+                .unwrap_or_else(|_| scenario.to_path_buf())
+                .display()
+                .to_string()
+        )
     );
     for parameter in identified.parameters() {
         let truth = base.twin.errors.parameter(parameter.name);
@@ -297,9 +319,11 @@ pub fn candidate_designs(
     set: &ParameterSet,
     sphere: crate::math::Vector,
     sigma: Real,
+    free_sphere: bool,
 ) -> Vec<(String, nalgebra::DMatrix<Real>)> {
     let setup = rtest::readings::Setup {
         sigma,
+        free_sphere,
         ..Default::default()
     };
     rtest::readings::candidates(machine)
@@ -332,6 +356,7 @@ fn remedies(
     problem: &Problem<'_>,
     sphere: crate::math::Vector,
     sigma: Real,
+    free_sphere: bool,
 ) -> Vec<(String, Vec<(String, Real)>)> {
     let options = crate::estimate::identifiability::Options::default();
     let base = fit::profiled_design(problem);
@@ -339,7 +364,7 @@ fn remedies(
     if report.null_combinations.is_empty() {
         return Vec::new();
     }
-    let candidates = candidate_designs(machine, set, sphere, sigma);
+    let candidates = candidate_designs(machine, set, sphere, sigma, free_sphere);
     let found = crate::estimate::identifiability::remedies(
         &base,
         &report.null_combinations,
@@ -392,7 +417,7 @@ pub fn plan(
 ) -> Result<crate::estimate::plan::Plan, IdentifyError> {
     let machine = Machine::from_urdf_file(machine_file)?;
     let set = ParameterSet::parse(params, &machine)?;
-    let candidates = candidate_designs(&machine, &set, sphere, sigma);
+    let candidates = candidate_designs(&machine, &set, sphere, sigma, false);
     if candidates.is_empty() {
         return Err(IdentifyError::Input(format!(
             "{}: no R-test can be planned on machine \"{}\" with the sphere there (the linear axes cannot follow it, or the machine has no rotary axis)",

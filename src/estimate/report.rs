@@ -7,7 +7,7 @@
 //! | `mtwin`, `schema` | `"estimate"`, 1 |
 //! | `machine`, `machine_file` | the machine's name and the URDF given |
 //! | `errors` | per identified parameter, as in `truth.json`: `axis`, `kind`, `unit`, `terms` (file units), plus `standard_uncertainty` and `interval_95` mirroring `terms` key by key (`interval_95` from the Monte Carlo when it ran, else ± 1.96 u) |
-//! | `unidentifiable` | the parameters the tables cannot identify: no number is given for them |
+//! | `unidentifiable` | the parameters the tables cannot identify: no number is given for them (a polynomial with any unidentified coefficient is listed whole; `coefficients` has the others) |
 //! | `null_combinations` | what cannot be told apart (each a text in ISO names) |
 //! | `seen_combinations` | what the tables do see among the unidentifiable parameters: `combination`, `value_um`, `standard_uncertainty_um` (solver units: µm, a rotation as its motion at 100 mm, a polynomial coefficient at the end of travel) |
 //! | `nuisance` | the set-up unknowns: `name`, `value_um` or `value_urad`, `standard_uncertainty_…` |
@@ -49,7 +49,7 @@ fn parameters(
     let mut missing = Vec::new();
     for (owner, parameter) in set.model.parameters().iter().enumerate() {
         let free: Vec<usize> = (0..set.len()).filter(|j| set.owner[*j] == owner).collect();
-        if free.iter().any(|j| !fit.identified[*j]) {
+        if free.is_empty() || free.iter().any(|j| !fit.identified[*j]) {
             missing.push(parameter.name);
             continue;
         }

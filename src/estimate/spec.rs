@@ -75,10 +75,14 @@ impl ParameterSet {
             message,
         };
         let mut wanted: Vec<(ParameterName, Option<usize>)> = Vec::new();
-        let mut push = |name: ParameterName, degree: Option<usize>| {
-            if !wanted.iter().any(|(n, _)| *n == name) {
-                wanted.push((name, degree));
-            }
+        let mut twice: Option<ParameterName> = None;
+        let mut push = |name: ParameterName, degree: Option<usize>| match wanted
+            .iter()
+            .find(|(n, _)| *n == name)
+        {
+            None => wanted.push((name, degree)),
+            Some((_, d)) if *d != degree => twice = Some(name),
+            Some(_) => {}
         };
         let rotary: Vec<Axis> = machine.rotary_axes().map(|i| i.axis).collect();
         let linear: Vec<Axis> = [Axis::X, Axis::Y, Axis::Z]
@@ -109,6 +113,17 @@ impl ParameterSet {
                 }
                 None => (item, None),
             };
+            let straightness_degree = |name: &str, degree: Option<usize>| match degree {
+                Some(1) => Err(fail(format!(
+                    "\"{name}:1\": a straightness error starts at degree 2 (its linear term is the squareness error); give 2 or more"
+                ))),
+                _ => Ok(()),
+            };
+            if degree.is_some() && ["location", "zero", "squareness", "tool"].contains(&head) {
+                return Err(fail(format!(
+                    "\"{item}\": {head} errors are constants; a degree is for component errors (EXX:3, linear21:3)"
+                )));
+            }
             match head {
                 "" => {
                     return Err(fail(
@@ -140,6 +155,7 @@ impl ParameterSet {
                     .into_iter()
                     .for_each(|n| push(n.parse().expect("a valid name"), None)),
                 "linear21" => {
+                    straightness_degree("linear21", degree)?;
                     if linear.len() < 3 {
                         return Err(fail(format!(
                             "\"linear21\": machine \"{}\" does not have the three linear axes X, Y, Z",
@@ -177,9 +193,17 @@ impl ParameterSet {
                             "{name}: component errors of rotary axes are not estimated yet (only those of linear axes, as polynomials)"
                         )));
                     }
+                    if first_degree(name) == 2 {
+                        straightness_degree(text, degree)?;
+                    }
                     push(name, component.then(|| degree.unwrap_or(DEFAULT_DEGREE)));
                 }
             }
+        }
+        if let Some(name) = twice {
+            return Err(fail(format!(
+                "{name} is asked for twice with different degrees"
+            )));
         }
         let parameters = wanted
             .iter()

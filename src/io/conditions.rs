@@ -102,6 +102,26 @@ impl Conditions {
         }
     }
 
+    /// The three numbers under `key` (`x y z`, separated by spaces), if given; anything else
+    /// is an error naming the file, line and key.
+    pub fn triple(&self, key: &str, file: &str) -> Result<Option<[f64; 3]>, TableError> {
+        let Some((text, line)) = self.get(key) else {
+            return Ok(None);
+        };
+        let values: Option<Vec<f64>> = text
+            .split_whitespace()
+            .map(|v| v.parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect();
+        match values.as_deref() {
+            Some(&[x, y, z]) => Ok(Some([x, y, z])),
+            _ => Err(TableError::new(
+                file,
+                Some(line),
+                format!("{key} = {text}: expected three numbers separated by spaces"),
+            )),
+        }
+    }
+
     /// The preamble as text: a title line, then one `# key = value` line per condition.
     pub fn to_preamble(&self, title: &str) -> String {
         let mut text = format!("# {title}\n");

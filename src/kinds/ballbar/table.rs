@@ -131,23 +131,9 @@ impl TestConditions {
                 }
             }),
         };
-        let centre = match c.get("centre_mm") {
+        let centre = match c.triple("centre_mm", file)? {
             None => None,
-            Some((text, line)) => {
-                let values: Vec<Real> = text
-                    .split_whitespace()
-                    .map(|v| v.parse::<Real>().ok().filter(|v| v.is_finite()))
-                    .collect::<Option<_>>()
-                    .filter(|v: &Vec<Real>| v.len() == 3)
-                    .ok_or_else(|| {
-                        TableError::new(
-                            file,
-                            Some(line),
-                            format!(
-                                "centre_mm = {text}: expected three numbers (mm) separated by spaces"
-                            ),
-                        )
-                    })?;
+            Some(values) => {
                 let mut centre = AxisValues::ZERO;
                 for (axis, value) in [Axis::X, Axis::Y, Axis::Z].into_iter().zip(values) {
                     centre[axis] = value * M_PER_MM;

@@ -167,25 +167,9 @@ impl PositioningConditions {
                 axes.push((axis, value * axis_unit_to_si(axis)));
             }
         }
-        let beam_offset = match c.get("beam_offset_mm") {
-            None => None,
-            Some((text, line)) => {
-                let values: Vec<Real> = text
-                    .split_whitespace()
-                    .map(|v| v.parse::<Real>().ok().filter(|v| v.is_finite()))
-                    .collect::<Option<_>>()
-                    .filter(|v: &Vec<Real>| v.len() == 3)
-                    .ok_or_else(|| {
-                        wrong(
-                            "beam_offset_mm",
-                            text,
-                            line,
-                            "three numbers (mm) separated by spaces",
-                        )
-                    })?;
-                Some(Vector::new(values[0], values[1], values[2]) * M_PER_MM)
-            }
-        };
+        let beam_offset = c
+            .triple("beam_offset_mm", file)?
+            .map(|[x, y, z]| Vector::new(x, y, z) * M_PER_MM);
         let mounting = match c.get("interferometer_on") {
             None => None,
             Some(("workpiece", _)) => Some(Mounting::InterferometerOnWorkpiece),
@@ -441,7 +425,7 @@ mod tests {
             ),
             (
                 "# beam_offset_mm = 0 60",
-                "beam_offset_mm = 0 60: expected three numbers (mm) separated by spaces",
+                "beam_offset_mm = 0 60: expected three numbers separated by spaces",
             ),
             (
                 "# interferometer_on = bed",

@@ -7,7 +7,8 @@
 //! `actual_tip(q, angles) = p`. The model solves it on the twin's chain by fixed-point steps
 //! through the nominal linear frame ([`super::LinearFrame`]), which converge by a factor of
 //! the errors' size (1e-4) per step. The sphere centre `p` (workpiece frame) is a nuisance of
-//! each cycle, started where the nominal chain puts the first feature's centre: a sphere probed
+//! each cycle (`sphereN.offset.x…`: its offset from where the nominal chain puts the first
+//! feature's centre, the start): a sphere probed
 //! at the rotary axes' zero pins it, because every location error vanishes there.
 //!
 //! Simplifications, stated: the fitted centre is taken as the point the probe's stylus centre
@@ -130,7 +131,7 @@ pub fn readings(
         .iter()
         .flat_map(|c| {
             ["x", "y", "z"].map(|axis| Quantity {
-                name: format!("sphere{c}.{axis}"),
+                name: format!("sphere{c}.offset.{axis}"),
                 translation: true,
                 start: 0.0,
                 uncertainty: 0.0,

@@ -46,6 +46,9 @@ pub struct Setup {
     /// The sphere position is unknown and estimated (ISO's protocol without a preset; the
     /// literature's P1): then it is a nuisance rather than a known set-up quantity.
     pub free_sphere: bool,
+    /// The sphere centre (workpiece frame, m) for a table whose preamble does not state it (a
+    /// foreign export); when both do, they must agree.
+    pub sphere: Option<Vector>,
 }
 
 impl Default for Setup {
@@ -54,6 +57,7 @@ impl Default for Setup {
             sigma: DEFAULT_SIGMA,
             sphere_uncertainty: DEFAULT_SETUP_UNCERTAINTY,
             free_sphere: false,
+            sphere: None,
         }
     }
 }
@@ -111,7 +115,22 @@ pub fn readings(
     setup: Setup,
 ) -> Result<Readings, ReadingsError> {
     let fail = |message: String| ReadingsError::new(file, message);
-    let sphere = sphere_of(table, file)?;
+    let stated = table.conditions.get("sphere_mm").is_some();
+    let sphere = match (stated, setup.sphere) {
+        (false, Some(given)) => given,
+        (true, Some(given)) => {
+            let stated = sphere_of(table, file)?;
+            if (stated - given).length() > 1e-9 {
+                return Err(fail(format!(
+                    "the preamble puts the sphere at {:?} mm, --rtest-sphere-mm at {:?} mm",
+                    (stated / M_PER_MM).to_array(),
+                    (given / M_PER_MM).to_array()
+                )));
+            }
+            stated
+        }
+        _ => sphere_of(table, file)?,
+    };
     let mut workspace = Workspace::new(machine);
     let shared =
         table.conditions.get("zero").map(|(z, _)| z) == Some(super::Zero::FirstPose.name());
@@ -178,7 +197,7 @@ pub fn readings(
         }
     }
     let sphere_quantities = ["x", "y", "z"].map(|c| Quantity {
-        name: format!("sphere.{c}"),
+        name: format!("sphere.offset.{c}"),
         translation: true,
         start: 0.0,
         uncertainty: if setup.free_sphere {
@@ -266,25 +285,14 @@ pub fn planned(
 
 /// The sphere position the table's preamble states (`sphere_mm = x y z`, workpiece frame).
 pub fn sphere_of(table: &RtestTable, file: &str) -> Result<Vector, ReadingsError> {
-    let Some((text, line)) = table.conditions.get("sphere_mm") else {
-        return Err(ReadingsError::new(
+    match table.conditions.triple("sphere_mm", file) {
+        Ok(Some(mm)) => Ok(Vector::from_array(mm) * M_PER_MM),
+        Ok(None) => Err(ReadingsError::new(
             file,
-            "the preamble does not state the sphere position (`# sphere_mm = x y z`, workpiece frame): the model of the readings needs it",
-        ));
-    };
-    let values: Vec<Real> = text
-        .split_whitespace()
-        .map(|v| v.parse::<Real>())
-        .collect::<Result<_, _>>()
-        .ok()
-        .filter(|v: &Vec<Real>| v.len() == 3 && v.iter().all(|x| x.is_finite()))
-        .ok_or_else(|| {
-            ReadingsError::new(
-                file,
-                format!("line {line}: sphere_mm = {text}: expected three numbers (mm)"),
-            )
-        })?;
-    Ok(Vector::new(values[0], values[1], values[2]) * M_PER_MM)
+            "the preamble does not state the sphere position (`# sphere_mm = x y z`, workpiece frame): the model of the readings needs it (give it with --rtest-sphere-mm X,Y,Z)",
+        )),
+        Err(e) => Err(ReadingsError::new(file, e.to_string())),
+    }
 }
 
 /// Candidate K-tests for test design on `machine` (static, 13 poses each): for each angle of
