@@ -904,3 +904,34 @@ fn sphere_probing_on_headtable5_recovers_what_it_identifies() {
         }
     }
 }
+
+/// A reading that is not a number, or an uncertainty that is not positive, is refused naming
+/// the table and the reading.
+#[test]
+fn bad_readings_are_refused_with_the_reading() {
+    let (scenario, mut readings) = simulated(
+        &trunnion_rtest(1, 0.2, "[100.0, 0.0, 250.0]", &TWO_CIRCLES),
+        Setup::default(),
+    );
+    let machine = &scenario.twin.machine;
+    let set = ParameterSet::parse("location", machine).unwrap();
+    readings.measured[4] = Real::NAN;
+    let sets = [readings];
+    let message = Problem::new(machine, &set, &sets)
+        .err()
+        .unwrap()
+        .to_string();
+    assert_eq!(message, "simulated: reading 5 is not a finite number");
+    let [mut readings] = sets;
+    readings.measured[4] = 0.0;
+    readings.sigma[7] = 0.0;
+    let sets = [readings];
+    let message = Problem::new(machine, &set, &sets)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        message.starts_with("simulated: the uncertainty of reading 8 is 0e0 m"),
+        "{message}"
+    );
+}

@@ -66,10 +66,9 @@ pub enum EstimateError {
         /// The machine given.
         machine: String,
     },
-    /// Measured values and uncertainties do not match.
-    #[error(
-        "{0}: a measured value or an uncertainty is missing, not finite, or an uncertainty is not positive"
-    )]
+    /// A measured value or an uncertainty is missing, not finite, or too small: the table
+    /// and the reading.
+    #[error("{0}")]
     BadReadings(String),
     /// The tables identify none of the error parameters.
     #[error(
@@ -126,12 +125,27 @@ impl<'a> Problem<'a> {
                 });
             }
             let planned = set.measured.is_empty();
-            let good = (planned || set.measured.len() == set.sigma.len())
-                && set.sigma.iter().all(|s| *s >= 1e-12)
-                && set.measured.iter().all(|v| v.is_finite())
-                && set.sigma.iter().all(|s| s.is_finite() && *s > 0.0);
-            if !good {
-                return Err(EstimateError::BadReadings(set.source.clone()));
+            let bad = |what: String| EstimateError::BadReadings(format!("{}: {what}", set.source));
+            if !planned && set.measured.len() != set.sigma.len() {
+                return Err(bad(format!(
+                    "{} measured values for {} uncertainties",
+                    set.measured.len(),
+                    set.sigma.len()
+                )));
+            }
+            if let Some(i) = set.measured.iter().position(|v| !v.is_finite()) {
+                return Err(bad(format!("reading {} is not a finite number", i + 1)));
+            }
+            if let Some(i) = set
+                .sigma
+                .iter()
+                .position(|s| !(s.is_finite() && *s >= 1e-12))
+            {
+                return Err(bad(format!(
+                    "the uncertainty of reading {} is {:e} m: expected at least 1 pm",
+                    i + 1,
+                    set.sigma[i]
+                )));
             }
             nuisance_at.push(scales.len());
             for q in &set.nuisance {
@@ -486,7 +500,7 @@ pub fn identifiability(
 pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, EstimateError> {
     if problem.sets.iter().any(|s| s.measured.is_empty()) {
         return Err(EstimateError::BadReadings(
-            "a planned test (no measured values)".into(),
+            "a planned test (no measured values) cannot be estimated from".into(),
         ));
     }
     let design = start_design(problem);
@@ -586,9 +600,13 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
 /// The right singular vectors of the `rank` largest singular values of `design` (n × rank).
 pub fn identified_basis(design: &DMatrix<Real>, rank: usize) -> DMatrix<Real> {
     let n = design.ncols();
-    // The SVD of the n × n normal matrix has all n right singular vectors, whatever the rows.
-    let normal = design.transpose() * design;
-    let svd = nalgebra::SVD::new(normal, false, true);
+    // With at least as many rows as columns the SVD of the design itself has all n right
+    // singular vectors (the rank analysis's own); with fewer, the normal matrix's SVD does.
+    let svd = if design.nrows() >= n {
+        nalgebra::SVD::new(design.clone(), false, true)
+    } else {
+        nalgebra::SVD::new(design.transpose() * design, false, true)
+    };
     let v_t = svd.v_t.expect("asked for V");
     let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
     order.sort_by(|a, b| svd.singular_values[*b].total_cmp(&svd.singular_values[*a]));

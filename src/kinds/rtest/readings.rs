@@ -238,7 +238,15 @@ pub fn planned(
     sphere: Vector,
     zero: super::Zero,
     setup: Setup,
-) -> Result<Readings, super::program::FollowError> {
+) -> Result<Readings, ReadingsError> {
+    let fail = |message: String| ReadingsError::new("planned R-test", message);
+    if tests.is_empty() {
+        return Err(fail("no test".into()));
+    }
+    let setup = Setup {
+        sphere: None,
+        ..setup
+    };
     let mut workspace = Workspace::new(machine);
     let mut table = RtestTable {
         rows: Vec::new(),
@@ -256,7 +264,8 @@ pub fn planned(
         ]),
     };
     for test in tests {
-        let poses = super::program::static_poses(machine, &mut workspace, test, sphere, 0.0)?;
+        let poses = super::program::static_poses(machine, &mut workspace, test, sphere, 0.0)
+            .map_err(|e| fail(format!("{}: {e}", test.name)))?;
         for (index, pose) in poses.iter().enumerate() {
             let mut angles = [None; 3];
             for info in machine.rotary_axes() {
@@ -277,8 +286,7 @@ pub fn planned(
             });
         }
     }
-    let mut readings = readings(&table, "planned R-test", machine, setup)
-        .expect("a planned table names its sphere and the machine's axes");
+    let mut readings = readings(&table, "planned R-test", machine, setup)?;
     readings.measured.clear();
     Ok(readings)
 }
