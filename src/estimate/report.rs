@@ -247,6 +247,13 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
         problem.unknowns() - set.len()
     );
     out += &fit.identifiability.report();
+    let shows_u =
+        !fit.identifiability.seen_combinations.is_empty() || !fit.identifiability.weak.is_empty();
+    if let Some(b) = fit.birge_scaled.filter(|_| shows_u) {
+        out += &format!(
+            "(the uncertainties above are the design's at the stated reading uncertainties; the table below scales them by √{b:.2}, the residuals being larger)\n"
+        );
+    }
     out += "\n";
     let si = problem.si(&fit.z);
     let scales = problem.scales();
@@ -299,7 +306,9 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
         fit.chi2 / fit.dof.max(1) as Real,
         fit.iterations
     );
-    if let Some(b) = fit.birge_scaled {
+    let shows_u =
+        !fit.identifiability.seen_combinations.is_empty() || !fit.identifiability.weak.is_empty();
+    if let Some(b) = fit.birge_scaled.filter(|_| shows_u) {
         out += &format!(
             "; the residuals exceed the stated uncertainties: uncertainties scaled by √{b:.2}"
         );
