@@ -32,6 +32,18 @@ fn failed(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
+/// `mtwin run SCENARIO --out DIR/NAME`: the output folder.
+fn run_into(scenario: &Path, dir: &Path, name: &str) -> PathBuf {
+    let out = dir.join(name);
+    ok(&mtwin(&[
+        "run".as_ref(),
+        scenario.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]));
+    out
+}
+
 /// The largest R-test range (µm) of a table, from `mtwin analyze rtest --json`.
 fn largest_range(table: &Path) -> f64 {
     let json: Value = serde_json::from_str(&ok(&mtwin(&[
@@ -63,13 +75,7 @@ fn largest_range(table: &Path) -> f64 {
 fn simulate_identify_score_compensate_simulate_again() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = root("scenarios/trunnion5_rtest.toml");
-    let run = dir.path().join("run");
-    ok(&mtwin(&[
-        "run".as_ref(),
-        scenario.as_os_str(),
-        "--out".as_ref(),
-        run.as_os_str(),
-    ]));
+    let run = run_into(&scenario, dir.path(), "run");
     let id = dir.path().join("id");
     let text = ok(&mtwin(&[
         "identify".as_ref(),
@@ -111,13 +117,7 @@ fn simulate_identify_score_compensate_simulate_again() {
     let after = volumetric["compensated_rms_um"].as_f64().unwrap();
     assert!(after < 0.1 * before, "{volumetric}");
 
-    let compensated = dir.path().join("compensated");
-    ok(&mtwin(&[
-        "run".as_ref(),
-        id.join("compensated.toml").as_os_str(),
-        "--out".as_ref(),
-        compensated.as_os_str(),
-    ]));
+    let compensated = run_into(&id.join("compensated.toml"), dir.path(), "compensated");
     let (before, after) = (
         largest_range(&run.join("rtest.csv")),
         largest_range(&compensated.join("rtest.csv")),
@@ -132,13 +132,7 @@ fn simulate_identify_score_compensate_simulate_again() {
 #[test]
 fn a_table_from_another_machine_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let run = dir.path().join("run");
-    ok(&mtwin(&[
-        "run".as_ref(),
-        root("scenarios/headtable5_rtest.toml").as_os_str(),
-        "--out".as_ref(),
-        run.as_os_str(),
-    ]));
+    let run = run_into(&root("scenarios/headtable5_rtest.toml"), dir.path(), "run");
     let out = dir.path().join("id");
     let message = failed(&mtwin(&[
         "identify".as_ref(),
@@ -162,13 +156,7 @@ fn a_table_from_another_machine_is_refused() {
 #[test]
 fn bad_inputs_are_refused_with_what_is_wrong() {
     let dir = tempfile::tempdir().unwrap();
-    let run = dir.path().join("run");
-    ok(&mtwin(&[
-        "run".as_ref(),
-        root("scenarios/trunnion5_rtest.toml").as_os_str(),
-        "--out".as_ref(),
-        run.as_os_str(),
-    ]));
+    let run = run_into(&root("scenarios/trunnion5_rtest.toml"), dir.path(), "run");
     let table = run.join("rtest.csv");
     let identify = |params: &str, table: &OsStr| {
         mtwin(&[

@@ -73,6 +73,44 @@ fn truth_of(scenario: &Scenario, label: &str) -> Real {
     })
 }
 
+/// Which error coefficients [`assert_within_four_u`] checks.
+#[derive(Clone, Copy, PartialEq)]
+enum Numbered {
+    /// Every one must have a number.
+    All,
+    /// Those that have one (the test asserts the others separately).
+    Identified,
+}
+
+/// Every error coefficient of `fit` (the first `count` unknowns) within 4 standard
+/// uncertainties of `truth(label)` (SI); `what` says where, in the message.
+fn assert_within_four_u(
+    (fit, scales, labels): (&Fit, &[Real], &[String]),
+    count: usize,
+    numbered: Numbered,
+    truth: impl Fn(&str) -> Real,
+    what: &str,
+) {
+    for j in 0..count {
+        let Some(u) = fit.uncertainty(j) else {
+            assert!(
+                numbered == Numbered::Identified,
+                "{what}, {} unidentified: {}",
+                labels[j],
+                fit.identifiability.report()
+            );
+            continue;
+        };
+        let (value, u) = (fit.z[j] * scales[j], u * scales[j]);
+        let truth = truth(&labels[j]);
+        assert!(
+            (value - truth).abs() <= 4.0 * u,
+            "{what}, {}: estimate {value:e}, truth {truth:e}, u {u:e}",
+            labels[j]
+        );
+    }
+}
+
 fn estimate(
     machine: &Machine,
     spec: &str,
@@ -108,15 +146,17 @@ fn rtest_recovers_trunnion5_location_errors_within_four_u() {
             "{:?}",
             fit.identifiability.null_combinations.len()
         );
+        let what = format!("seed {seed}");
+        let truth = |label: &str| truth_of(&scenario, label);
+        assert_within_four_u(
+            (&fit, &scales, &labels),
+            set.len(),
+            Numbered::All,
+            truth,
+            &what,
+        );
         for j in 0..set.len() {
-            let value = fit.z[j] * scales[j];
             let u = fit.uncertainty(j).unwrap() * scales[j];
-            let truth = truth_of(&scenario, &labels[j]);
-            assert!(
-                (value - truth).abs() <= 4.0 * u,
-                "seed {seed}, {}: estimate {value:e}, truth {truth:e}, u {u:e}",
-                labels[j]
-            );
             assert!(u < 2e-6, "{}: u = {u:e}", labels[j]);
         }
     }
@@ -501,18 +541,15 @@ fn rtest_on_headtable5_recovers_every_location_error_but_not_the_tool_length() {
                 .all(|(_, c)| (c.abs() - first).abs() < 1e-6 * first),
             "{report}"
         );
-        for j in 0..set.len() {
-            let Some(u) = fit.uncertainty(j) else {
-                continue;
-            };
-            let (value, u) = (fit.z[j] * scales[j], u * scales[j]);
-            let truth = truth_of(&scenario, &labels[j]);
-            assert!(
-                (value - truth).abs() <= 4.0 * u,
-                "seed {seed}, {}: {value:e} vs {truth:e}, u {u:e}",
-                labels[j]
-            );
-        }
+        let truth = |label: &str| truth_of(&scenario, label);
+        let what = format!("seed {seed}");
+        assert_within_four_u(
+            (&fit, &scales, &labels),
+            set.len(),
+            Numbered::Identified,
+            truth,
+            &what,
+        );
     }
 }
 
@@ -524,22 +561,15 @@ fn rtest_on_headtable5_recovers_every_location_error_but_not_the_tool_length() {
 fn sphere_probing_recovers_trunnion5_location_errors() {
     for seed in 1..=3 {
         let (scenario, fit, scales, labels, set_len) = probed(seed, 0.0);
-        for j in 0..set_len {
-            let u = fit.uncertainty(j).unwrap_or_else(|| {
-                panic!(
-                    "{} unidentified: {}",
-                    labels[j],
-                    fit.identifiability.report()
-                )
-            }) * scales[j];
-            let value = fit.z[j] * scales[j];
-            let truth = truth_of(&scenario, &labels[j]);
-            assert!(
-                (value - truth).abs() <= 4.0 * u,
-                "seed {seed}, {}: {value:e} vs {truth:e}, u {u:e}",
-                labels[j]
-            );
-        }
+        let truth = |label: &str| truth_of(&scenario, label);
+        let what = format!("seed {seed}");
+        assert_within_four_u(
+            (&fit, &scales, &labels),
+            set_len,
+            Numbered::All,
+            truth,
+            &what,
+        );
     }
 }
 
@@ -584,15 +614,15 @@ fn probed_with(
 fn a_lobed_probe_needs_its_lobing_in_the_stated_uncertainty() {
     for seed in 1..=3 {
         let (scenario, fit, scales, labels, set_len) = probed_with(seed, 0.5, 0.6e-6);
-        for j in 0..set_len {
-            let u = fit.uncertainty(j).unwrap() * scales[j];
-            let error = fit.z[j] * scales[j] - truth_of(&scenario, &labels[j]);
-            assert!(
-                error.abs() <= 4.0 * u,
-                "seed {seed}, {}: error {error:e}, u {u:e}",
-                labels[j]
-            );
-        }
+        let truth = |label: &str| truth_of(&scenario, label);
+        let what = format!("seed {seed}");
+        assert_within_four_u(
+            (&fit, &scales, &labels),
+            set_len,
+            Numbered::All,
+            truth,
+            &what,
+        );
     }
 }
 
@@ -702,18 +732,19 @@ mod laser_and_ballbar {
                     );
                     continue;
                 }
-                let Some(u) = fit.uncertainty(j) else {
+                if fit.uncertainty(j).is_none() {
                     assert!(!labels[j].contains('0'), "{}: {report}", labels[j]);
-                    continue;
-                };
-                let u = u * scales[j];
-                let error = fit.z[j] * scales[j] - coefficient(&truth, &labels[j]);
-                assert!(
-                    error.abs() <= 4.0 * u,
-                    "seed {seed}, {}: error {error:e}, u {u:e}",
-                    labels[j]
-                );
+                }
             }
+            let coefficient = |label: &str| coefficient(&truth, label);
+            let what = format!("seed {seed}");
+            assert_within_four_u(
+                (&fit, &scales, &labels),
+                set.len(),
+                Numbered::Identified,
+                coefficient,
+                &what,
+            );
             let null = &fit.identifiability.null_combinations;
             assert_eq!(null.len(), 1, "{report}");
             let names: Vec<&str> = null[0]
@@ -743,18 +774,15 @@ mod laser_and_ballbar {
                 laser(seed, "Z", "x_mm = 380.0\ny_mm = 205.0", 500.0),
             ];
             let (set, fit, scales, labels) = estimate(&machine, "EXX:2,EYY:2,EZZ:2", &sets, 0);
-            for j in 0..set.len() {
-                let u = fit
-                    .uncertainty(j)
-                    .unwrap_or_else(|| panic!("{}: {}", labels[j], fit.identifiability.report()))
-                    * scales[j];
-                let error = fit.z[j] * scales[j] - coefficient(&truth, &labels[j]);
-                assert!(
-                    error.abs() <= 4.0 * u,
-                    "seed {seed}, {}: error {error:e}, u {u:e}",
-                    labels[j]
-                );
-            }
+            let coefficient = |label: &str| coefficient(&truth, label);
+            let what = format!("seed {seed}");
+            assert_within_four_u(
+                (&fit, &scales, &labels),
+                set.len(),
+                Numbered::All,
+                coefficient,
+                &what,
+            );
         }
     }
 
@@ -828,15 +856,8 @@ fn a_foreign_r_test_export_gives_the_planted_c_line() {
         "EY0C" => -10e-6,
         _ => 0.0,
     };
-    for j in 0..set.len() {
-        let u = fit.uncertainty(j).unwrap() * scales[j];
-        let error = fit.z[j] * scales[j] - planted(&labels[j]);
-        assert!(
-            error.abs() <= 4.0 * u,
-            "{}: error {error:e}, u {u:e}",
-            labels[j]
-        );
-    }
+    let fitted = (&fit, scales.as_slice(), labels.as_slice());
+    assert_within_four_u(fitted, set.len(), Numbered::All, planted, "foreign_ck1.csv");
     assert!(
         fit.birge_scaled.is_none(),
         "χ²/dof = {}",
@@ -890,18 +911,15 @@ fn sphere_probing_on_headtable5_recovers_what_it_identifies() {
         assert_eq!(null.len(), 1, "{report}");
         let (a, c) = (null[0].terms[0].1, null[0].terms[1].1);
         assert!((c / a - 15f64.to_radians().tan()).abs() < 1e-3, "{report}");
-        for j in 0..set.len() {
-            let Some(u) = fit.uncertainty(j) else {
-                continue;
-            };
-            let u = u * scales[j];
-            let error = fit.z[j] * scales[j] - truth_of(&scenario, &labels[j]);
-            assert!(
-                error.abs() <= 4.0 * u,
-                "seed {seed}, {}: error {error:e}, u {u:e}",
-                labels[j]
-            );
-        }
+        let truth = |label: &str| truth_of(&scenario, label);
+        let what = format!("seed {seed}");
+        assert_within_four_u(
+            (&fit, &scales, &labels),
+            set.len(),
+            Numbered::Identified,
+            truth,
+            &what,
+        );
     }
 }
 

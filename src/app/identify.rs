@@ -234,7 +234,10 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
             .collect();
     }
     let identified = report::identified_model(&set, &problem, &fit, &machine);
-    let mut files = vec![("estimate.json".to_string(), to_bytes(&json))];
+    let mut files = vec![(
+        "estimate.json".to_string(),
+        super::run::to_json_bytes(&json),
+    )];
     let urdf_text = std::fs::read_to_string(&request.machine)
         .map_err(|e| IdentifyError::Input(format!("{machine_file}: cannot read: {e}")))?;
     let corrected = compensate::corrected_urdf(&urdf_text, &machine, &identified)
@@ -303,12 +306,6 @@ fn negate(function: &ErrorFunction) -> ErrorFunction {
     coefficients.iter_mut().for_each(|c| *c = -*c);
     out.set_coefficients(&coefficients);
     out
-}
-
-fn to_bytes(value: &Value) -> Vec<u8> {
-    let mut bytes = serde_json::to_vec_pretty(value).expect("JSON values serialise");
-    bytes.push(b'\n');
-    bytes
 }
 
 /// Candidate R-tests on `machine` with the sphere at `sphere` (m), each as its design on the

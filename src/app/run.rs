@@ -329,7 +329,8 @@ fn round_numbers(value: &mut Value) {
     }
 }
 
-fn to_json_bytes(value: &Value) -> Vec<u8> {
+/// A JSON file's bytes: pretty-printed, one newline at the end.
+pub(super) fn to_json_bytes(value: &Value) -> Vec<u8> {
     let mut bytes = serde_json::to_vec_pretty(value).expect("JSON values serialise");
     bytes.push(b'\n');
     bytes

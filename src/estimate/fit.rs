@@ -37,7 +37,6 @@ use super::Readings;
 use super::identifiability::{self, Identifiability};
 use super::lm;
 use super::spec::ParameterSet;
-use crate::errors::ErrorModel;
 use crate::machine::{Machine, Workspace};
 use crate::math::{Real, seeded_rng, standard_normal};
 use nalgebra::{DMatrix, DVector};
@@ -217,12 +216,6 @@ impl<'a> Problem<'a> {
             .collect()
     }
 
-    /// The parameters' error model at `z`.
-    pub fn model_at(&self, z: &[Real]) -> ErrorModel {
-        let si = self.si(z);
-        self.parameters.model_with(&si[..self.parameters.len()])
-    }
-
     /// Every reading predicted at `z` (SI), with the known set-up quantities offset by
     /// `setup` (one slice per set; empty = as stated).
     pub fn predict(
@@ -254,12 +247,10 @@ impl<'a> Problem<'a> {
         out: &mut [Real],
     ) {
         self.predict(z, &[], workspace, out);
-        for (k, set) in self.sets.iter().enumerate() {
-            let at = self.row_at[k];
-            for (i, sigma) in set.sigma.iter().enumerate() {
-                out[at + i] = (out[at + i] - measured[at + i]) / sigma;
-            }
+        for (r, m) in out.iter_mut().zip(measured) {
+            *r -= m;
         }
+        self.weigh(out);
     }
 
     /// The measured values of every set, stacked (SI); zeros for planned sets.
@@ -274,57 +265,44 @@ impl<'a> Problem<'a> {
     }
 
     /// The weighted design `∂r/∂(B w)` at `z` along the directions `basis` (columns in solver
-    /// units; the identity for the full design), by central or forward differences of the exact
-    /// chain. Columns are computed in parallel; each is independent, so the result does not
-    /// depend on the thread count.
-    pub fn design(&self, z: &[Real], basis: &DMatrix<Real>, central: bool) -> DMatrix<Real> {
+    /// units; the identity for the full design), by forward differences of the exact chain
+    /// (step [`STEP`]). Columns are computed in parallel; each is independent, so the result
+    /// does not depend on the thread count.
+    pub fn design(&self, z: &[Real], basis: &DMatrix<Real>) -> DMatrix<Real> {
         let rows = self.rows;
-        let base = (!central).then(|| {
-            let mut out = vec![0.0; rows];
-            self.predict(z, &[], &mut Workspace::new(self.machine), &mut out);
-            out
-        });
+        let mut base = vec![0.0; rows];
+        self.predict(z, &[], &mut Workspace::new(self.machine), &mut base);
         let columns: Vec<Vec<Real>> = (0..basis.ncols())
             .into_par_iter()
             .map_init(
                 || Workspace::new(self.machine),
                 |workspace, k| {
-                    let shifted = |sign: Real, workspace: &mut Workspace| {
-                        let z: Vec<Real> = z
-                            .iter()
-                            .enumerate()
-                            .map(|(i, v)| v + sign * STEP * basis[(i, k)])
-                            .collect();
-                        let mut out = vec![0.0; rows];
-                        self.predict(&z, &[], workspace, &mut out);
-                        out
-                    };
-                    let plus = shifted(1.0, workspace);
-                    let (minus, width) = match &base {
-                        Some(base) => (base.clone(), STEP),
-                        None => (shifted(-1.0, workspace), 2.0 * STEP),
-                    };
-                    self.weight(
-                        plus.iter()
-                            .zip(&minus)
-                            .map(|(p, m)| (p - m) / width)
-                            .collect(),
-                    )
+                    let shifted: Vec<Real> = z
+                        .iter()
+                        .enumerate()
+                        .map(|(i, v)| v + STEP * basis[(i, k)])
+                        .collect();
+                    let mut column = vec![0.0; rows];
+                    self.predict(&shifted, &[], workspace, &mut column);
+                    for (c, b) in column.iter_mut().zip(&base) {
+                        *c = (*c - b) / STEP;
+                    }
+                    self.weigh(&mut column);
+                    column
                 },
             )
             .collect();
         DMatrix::from_fn(rows, basis.ncols(), |i, k| columns[k][i])
     }
 
-    /// Divides stacked per-reading values by their σ.
-    fn weight(&self, mut values: Vec<Real>) -> Vec<Real> {
+    /// Divides stacked per-reading values by their σ, in place.
+    fn weigh(&self, values: &mut [Real]) {
         for (k, set) in self.sets.iter().enumerate() {
             let at = self.row_at[k];
-            for (i, sigma) in set.sigma.iter().enumerate() {
-                values[at + i] /= sigma;
+            for (value, sigma) in values[at..at + set.len()].iter_mut().zip(&set.sigma) {
+                *value /= sigma;
             }
         }
-        values
     }
 
     /// Draws the known set-up quantities' offsets (SI) for one Monte Carlo trial.
@@ -457,11 +435,11 @@ impl lm::Problem for Reduced<'_, '_> {
     }
 }
 
-/// The design at the start (the linearisation; central differences), for identifiability
+/// The design at the start (the linearisation; forward differences), for identifiability
 /// and test design: needs no measured values.
 pub fn start_design(problem: &Problem<'_>) -> DMatrix<Real> {
     let n = problem.unknowns();
-    problem.design(&vec![0.0; n], &DMatrix::identity(n, n), false)
+    problem.design(&vec![0.0; n], &DMatrix::identity(n, n))
 }
 
 /// The design at the start with the set-up unknowns profiled out: the error-coefficient
@@ -536,7 +514,6 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
     let jb = reduced.jacobian;
     let precision = jb.transpose() * &jb;
     let inverse = precision
-        .clone()
         .try_inverse()
         .ok_or_else(|| EstimateError::Solver("the identified design became singular".into()))?;
     let mut covariance = &basis * &inverse * basis.transpose();
@@ -651,20 +628,15 @@ fn monte_carlo(
                 let setup = problem.draw_setup(&mut rng);
                 problem.predict(z, &setup, workspace, data);
                 problem.draw_noise(&mut rng, noise, data);
-                let mut w = w_hat.clone();
-                for step in 0..2 {
-                    if step == 0 {
-                        for (i, r) in residuals.iter_mut().enumerate() {
-                            *r = at_estimate[i] - data[i];
-                        }
-                        let weighted = problem.weight(residuals.clone());
-                        residuals.copy_from_slice(&weighted);
-                    } else {
-                        let zw = basis * &w;
-                        problem.residuals(zw.as_slice(), data, workspace, residuals);
-                    }
-                    w -= &gain * DVector::from_column_slice(residuals);
+                // Two Gauss–Newton steps from the estimate: the first from the predictions
+                // there (computed once for all trials), the second on the exact chain.
+                for ((r, p), d) in residuals.iter_mut().zip(&at_estimate).zip(data.iter()) {
+                    *r = p - d;
                 }
+                problem.weigh(residuals);
+                let mut w = &w_hat - &gain * DVector::from_column_slice(residuals);
+                problem.residuals((basis * &w).as_slice(), data, workspace, residuals);
+                w -= &gain * DVector::from_column_slice(residuals);
                 (basis * w).as_slice().to_vec()
             },
         )

@@ -27,6 +27,29 @@ use serde_json::{Value, json};
 /// Coverage factor of the linearised 95 % interval (normal distribution).
 pub const COVERAGE_FACTOR: Real = 1.96;
 
+/// The standard uncertainty (SI) of unknown `j`, 0 when unidentified.
+fn uncertainty_si(problem: &Problem<'_>, fit: &Fit, j: usize) -> Real {
+    fit.uncertainty(j).unwrap_or(0.0) * problem.scales()[j]
+}
+
+/// The 95 % interval (SI) of unknown `j`: the Monte Carlo's when it ran, else ± 1.96 u.
+fn interval_si(problem: &Problem<'_>, fit: &Fit, si: &[Real], j: usize) -> (Real, Real) {
+    let scale = problem.scales()[j];
+    match &fit.monte_carlo {
+        Some(mc) => {
+            let (lo, hi) = mc.interval[j];
+            (
+                si[j] + (lo - fit.z[j]) * scale,
+                si[j] + (hi - fit.z[j]) * scale,
+            )
+        }
+        None => {
+            let u = uncertainty_si(problem, fit, j);
+            (si[j] - COVERAGE_FACTOR * u, si[j] + COVERAGE_FACTOR * u)
+        }
+    }
+}
+
 /// The identified value, uncertainty and interval of one parameter (SI functions).
 struct Identified {
     name: ParameterName,
@@ -44,52 +67,32 @@ fn parameters(
     fit: &Fit,
 ) -> (Vec<Identified>, Vec<ParameterName>) {
     let si = problem.si(&fit.z);
-    let scales = problem.scales();
+    // Each quantity of every free coefficient written into the parameters' functions.
+    let model = |value: &dyn Fn(usize) -> Real| {
+        set.model_with(&(0..set.len()).map(value).collect::<Vec<_>>())
+    };
+    let values = model(&|j| si[j]);
+    let uncertainties = model(&|j| uncertainty_si(problem, fit, j));
+    let lows = model(&|j| interval_si(problem, fit, &si, j).0);
+    let highs = model(&|j| interval_si(problem, fit, &si, j).1);
     let mut identified = Vec::new();
     let mut missing = Vec::new();
     for (owner, parameter) in set.model.parameters().iter().enumerate() {
-        let free: Vec<usize> = (0..set.len()).filter(|j| set.owner[*j] == owner).collect();
-        if free.is_empty() || free.iter().any(|j| !fit.identified[*j]) {
+        let mut free = (0..set.len()).filter(|j| set.owner[*j] == owner).peekable();
+        if free.peek().is_none() || free.any(|j| !fit.identified[j]) {
             missing.push(parameter.name);
             continue;
         }
-        let with = |values: &dyn Fn(usize) -> Real| {
-            let mut function = parameter.function.clone();
-            let mut coefficients = Vec::new();
-            function.coefficients(&mut coefficients);
-            coefficients.iter_mut().for_each(|c| *c = 0.0);
-            for &j in &free {
-                coefficients[set.free[j] - free_offset(set, owner)] = values(j);
-            }
-            function.set_coefficients(&coefficients);
-            function
-        };
-        let u = |j: usize| fit.uncertainty(j).unwrap_or(0.0) * scales[j];
-        let interval = |j: usize, side: usize| match &fit.monte_carlo {
-            Some(mc) => {
-                let (lo, hi) = mc.interval[j];
-                si[j] - fit.z[j] * scales[j] + [lo, hi][side] * scales[j]
-            }
-            None => si[j] + [-1.0, 1.0][side] * COVERAGE_FACTOR * u(j),
-        };
+        let function = |m: &crate::errors::ErrorModel| m.parameters()[owner].function.clone();
         identified.push(Identified {
             name: parameter.name,
-            value: with(&|j| si[j]),
-            uncertainty: with(&u),
-            low: with(&|j| interval(j, 0)),
-            high: with(&|j| interval(j, 1)),
+            value: function(&values),
+            uncertainty: function(&uncertainties),
+            low: function(&lows),
+            high: function(&highs),
         });
     }
     (identified, missing)
-}
-
-/// Index in [`crate::errors::ErrorModel::coefficients`] of the first coefficient of parameter
-/// `owner`.
-fn free_offset(set: &ParameterSet, owner: usize) -> usize {
-    set.model.parameters()[..owner]
-        .iter()
-        .map(|p| p.function.coefficient_count())
-        .sum()
 }
 
 /// The identified parameters as an error model's functions (SI), for compensation and
@@ -256,7 +259,6 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
     }
     out += "\n";
     let si = problem.si(&fit.z);
-    let scales = problem.scales();
     out += &format!(
         "{:<22} {:>12} {:>10} {:>25}  unit\n",
         "parameter", "estimate", "u (k=1)", "95 % interval"
@@ -279,17 +281,8 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
             out += &format!("{:<22} {:>12}\n", problem.labels()[j], "unidentifiable");
             continue;
         }
-        let u = fit.uncertainty(j).unwrap_or(0.0) * scales[j];
-        let (lo, hi) = match &fit.monte_carlo {
-            Some(mc) => {
-                let (lo, hi) = mc.interval[j];
-                (
-                    si[j] + (lo - fit.z[j]) * scales[j],
-                    si[j] + (hi - fit.z[j]) * scales[j],
-                )
-            }
-            None => (si[j] - COVERAGE_FACTOR * u, si[j] + COVERAGE_FACTOR * u),
-        };
+        let u = uncertainty_si(problem, fit, j);
+        let (lo, hi) = interval_si(problem, fit, &si, j);
         out += &format!(
             "{:<22} {:>12.4} {:>10.4} {:>12.4} … {:<10.4}  {unit}\n",
             problem.labels()[j],
@@ -306,9 +299,7 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
         fit.chi2 / fit.dof.max(1) as Real,
         fit.iterations
     );
-    let shows_u =
-        !fit.identifiability.seen_combinations.is_empty() || !fit.identifiability.weak.is_empty();
-    if let Some(b) = fit.birge_scaled.filter(|_| shows_u) {
+    if let Some(b) = fit.birge_scaled {
         out += &format!(
             "; the residuals exceed the stated uncertainties: uncertainties scaled by √{b:.2}"
         );

@@ -242,10 +242,8 @@ impl ParameterSet {
                             index + k,
                             format!("{}.polynomial[{k}]", parameter.name),
                             scale(rotation) / travel.powi(k as i32),
-                            rotation,
-                            owner,
+                            (rotation, owner, k),
                         );
-                        set.degree.push(k);
                     }
                     index += c.len();
                 }
@@ -254,10 +252,8 @@ impl ParameterSet {
                         index,
                         parameter.name.to_string(),
                         scale(rotation),
-                        rotation,
-                        owner,
+                        (rotation, owner, 0),
                     );
-                    set.degree.push(0);
                     index += 1;
                 }
             }
@@ -265,12 +261,20 @@ impl ParameterSet {
         set
     }
 
-    fn push(&mut self, index: usize, label: String, scale: Real, rotation: bool, owner: usize) {
+    /// Adds free coefficient `index` with its label, scale, and (rotation, owner, degree).
+    fn push(
+        &mut self,
+        index: usize,
+        label: String,
+        scale: Real,
+        (rotation, owner, degree): (bool, usize, usize),
+    ) {
         self.free.push(index);
         self.labels.push(label);
         self.scales.push(scale);
         self.rotation.push(rotation);
         self.owner.push(owner);
+        self.degree.push(degree);
     }
 
     /// The number of free coefficients.
