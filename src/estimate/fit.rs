@@ -266,7 +266,7 @@ impl<'a> Problem<'a> {
 
     /// The weighted design `∂r/∂(B w)` at `z` along the directions `basis` (columns in solver
     /// units; the identity for the full design), by forward differences of the exact chain
-    /// (step [`STEP`]). Columns are computed in parallel; each is independent, so the result
+    /// (step 0.01 µm). Columns are computed in parallel; each is independent, so the result
     /// does not depend on the thread count.
     pub fn design(&self, z: &[Real], basis: &DMatrix<Real>) -> DMatrix<Real> {
         let rows = self.rows;
