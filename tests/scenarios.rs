@@ -31,8 +31,11 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // headtable5, 73 + 19 in the lesson. The probe: a touch per point and a fit per sphere:
     // 8 rotary positions × 5 points on trunnion5 and headtable5; a 4 × 5 ball plate at 3
     // placements, 5 points a ball; a ring of 36 points and 3 mesh points (no sphere); the
-    // probe lesson 4 C positions × 5 points.
-    let expected: [(&str, &[(&str, usize)]); 21] = [
+    // probe lesson 4 C positions × 5 points. The spindle analysers: set-ups × speeds ×
+    // revolutions × samples per revolution (vmc3 1 × 3 × 20 × 1024; the reversal 2 × 1 × 20 ×
+    // 1024; the multi-probe layout 1 × 1 × 20 × 1024; trunnion5's C 1 × 2 × 20 × 720); the
+    // ISO 230-3 spindle thermal test reads every minute for 240 + 60 min: 301 rows.
+    let expected: [(&str, &[(&str, usize)]); 26] = [
         (
             "trunnion5_probe_sphere.toml",
             &[("probe.csv", 8 * 5), ("spheres.csv", 8)],
@@ -75,6 +78,17 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
         ("vmc3_warmup_laser.toml", &[("positioning.csv", 16 * 2 * 7)]),
         ("vmc3_iso230_3_linear.toml", &[("positioning.csv", 2 * 240)]),
         ("vmc3_iso230_3_etve.toml", &[("drift.csv", 480 + 1)]),
+        ("vmc3_iso230_3_spindle.toml", &[("drift.csv", 300 + 1)]),
+        ("vmc3_spindle.toml", &[("spindle.csv", 3 * 20 * 1024)]),
+        (
+            "vmc3_spindle_reversal.toml",
+            &[("spindle.csv", 2 * 20 * 1024)],
+        ),
+        (
+            "vmc3_spindle_multiprobe.toml",
+            &[("spindle.csv", 20 * 1024)],
+        ),
+        ("trunnion5_c_axis.toml", &[("spindle.csv", 2 * 20 * 720)]),
         ("vmc3_ballbar_xy.toml", &[("ballbar_xy.csv", full_150)]),
         (
             "vmc3_ballbar_3planes.toml",

@@ -4,10 +4,11 @@
 use super::scenario::Scenario;
 use crate::errors::{Lu2012Error, ParameterName};
 use crate::kinds::ballbar::{self, BallbarTable};
-use crate::kinds::drift::{self, EtveRun};
+use crate::kinds::drift::{self, EtveRun, SpindleThermalRun};
 use crate::kinds::positioning::{self, LaserRun};
 use crate::kinds::probe::{self, ProbeRun};
 use crate::kinds::rtest::{self, RtestRunError, RtestTable};
+use crate::kinds::spindle::{self, run::SpindleRunError, table::SpindleTable};
 use crate::kinds::volumetric::{VolumetricMap, VolumetricRow, volumetric_map};
 use crate::machine::Side;
 use crate::math::sha256_hex;
@@ -34,6 +35,9 @@ pub enum RunError {
     /// The probing cycles could not be simulated.
     #[error(transparent)]
     Probe(#[from] probe::run::ProbeRunError),
+    /// The spindle test could not be simulated.
+    #[error(transparent)]
+    Spindle(#[from] SpindleRunError),
     /// An output could not be written.
     #[error(transparent)]
     Write(#[from] crate::io::WriteError),
@@ -58,10 +62,14 @@ pub struct Simulation {
     pub ballbar: Vec<BallbarTable>,
     /// The ETVE test, if asked for.
     pub etve: Option<EtveRun>,
+    /// The ISO 230-3 §6 spindle thermal test, if asked for.
+    pub spindle_thermal: Option<SpindleThermalRun>,
     /// The R-test table, if asked for.
     pub rtest: Option<RtestTable>,
     /// The touch-probe run, if asked for.
     pub probe: Option<ProbeRun>,
+    /// The spindle error analyser's table, if asked for.
+    pub spindle: Option<SpindleTable>,
 }
 
 /// Simulates everything `scenario` asks for. Nothing here depends on the clock, the thread
@@ -103,6 +111,12 @@ pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
             .expect("an ETVE test has a thermal model (checked when the scenario was loaded)");
         drift::run::simulate(&scenario.twin, test, setup, scenario.seed)
     });
+    let spindle_thermal = scenario.spindle_thermal_test.as_ref().map(|test| {
+        let setup = scenario.thermal.as_ref().expect(
+            "a spindle thermal test has a thermal model (checked when the scenario was loaded)",
+        );
+        drift::spindle_test::simulate(&scenario.twin, test, setup, scenario.seed)
+    });
     let rtest = scenario
         .rtest
         .as_ref()
@@ -113,13 +127,20 @@ pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
         .as_ref()
         .map(|test| probe::run::simulate(&scenario.twin, test, scenario.seed))
         .transpose()?;
+    let spindle = scenario
+        .spindle_test
+        .as_ref()
+        .map(|test| spindle::run::simulate(&scenario.twin, test, scenario.seed))
+        .transpose()?;
     Ok(Simulation {
         volumetric,
         laser,
         ballbar,
         etve,
+        spindle_thermal,
         rtest,
         probe,
+        spindle,
     })
 }
 
@@ -137,13 +158,19 @@ impl Simulation {
         parts.extend(self.laser.as_ref().map(LaserRun::summary));
         parts.extend(self.ballbar.iter().map(ballbar::run::summary));
         parts.extend(self.etve.as_ref().map(EtveRun::summary));
+        parts.extend(
+            self.spindle_thermal
+                .as_ref()
+                .map(SpindleThermalRun::summary),
+        );
         parts.extend(self.rtest.as_ref().map(rtest::run::summary));
         parts.extend(self.probe.as_ref().map(probe::run::summary));
+        parts.extend(self.spindle.as_ref().map(spindle::run::summary));
         parts
     }
 
     /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv`,
-    /// `drift.csv` (as the scenario asks), `truth.json` and `manifest.json`.
+    /// `drift.csv`, `rtest.csv`, `probe.csv`, `spheres.csv`, `spindle.csv` (as the scenario asks), `truth.json` and `manifest.json`.
     pub fn output(&self, scenario: &Scenario) -> RunOutput {
         let mut files: Vec<(String, Vec<u8>)> = Vec::new();
         if let Some(map) = &self.volumetric {
@@ -174,6 +201,13 @@ impl Simulation {
                 .expect("writing to memory cannot fail");
             files.push(("drift.csv".into(), bytes));
         }
+        if let Some(run) = &self.spindle_thermal {
+            let mut bytes = Vec::new();
+            run.table
+                .write_csv(&mut bytes)
+                .expect("writing to memory cannot fail");
+            files.push(("drift.csv".into(), bytes));
+        }
         if let Some(table) = &self.rtest {
             let rotary: Vec<_> = scenario
                 .twin
@@ -195,19 +229,32 @@ impl Simulation {
                 .expect("writing to memory cannot fail");
             files.push(("spheres.csv".into(), bytes));
         }
+        if let Some(table) = &self.spindle {
+            files.push((
+                "spindle.csv".into(),
+                spindle::table::write_csv(table).into_bytes(),
+            ));
+        }
         let records = (self.laser.as_ref())
             .and_then(|run| run.thermal.as_ref())
-            .or(self.etve.as_ref().map(|run| &run.records));
+            .or(self.etve.as_ref().map(|run| &run.records))
+            .or(self.spindle_thermal.as_ref().map(|run| &run.records));
         let thermal_truth = records.and_then(|r| Some(scenario.thermal.as_ref()?.states(r)));
         let mut truth = truth(scenario);
         if let (Some(test), Some(run)) = (&scenario.etve_test, &self.etve) {
             truth["etve_test"] = drift::run::truth(test, run);
+        }
+        if let (Some(test), Some(run)) = (&scenario.spindle_thermal_test, &self.spindle_thermal) {
+            truth["spindle_thermal_test"] = drift::spindle_test::truth(test, run);
         }
         if let Some(test) = &scenario.rtest {
             truth["rtest"] = rtest::run::truth(test);
         }
         if let Some(test) = &scenario.probe_test {
             truth["probe_test"] = probe::run::truth(test);
+        }
+        if let Some(test) = &scenario.spindle_test {
+            truth["spindle_test"] = spindle::run::truth(&scenario.twin, test);
         }
         if let Some(states) = thermal_truth {
             truth["thermal_states"] = states;

@@ -2,10 +2,11 @@
 //! together (see [`crate::scenario`] for the file format and the shared sections).
 
 use crate::kinds::ballbar::{self, BallbarTest};
-use crate::kinds::drift::{self, EtveTest};
+use crate::kinds::drift::{self, EtveTest, SpindleThermalTest};
 use crate::kinds::positioning::{self, LaserTest};
 use crate::kinds::probe::{self, ProbeTest};
 use crate::kinds::rtest::{self, RTest};
+use crate::kinds::spindle::{self, scenario::SpindleTest};
 use crate::kinds::volumetric::{self, VolumetricSpec};
 use crate::machine::Machine;
 use crate::math::sha256_hex;
@@ -67,10 +68,12 @@ struct RawScenario {
     laser: Option<Spanned<positioning::scenario::RawLaser>>,
     thermal: Option<Spanned<RawThermal>>,
     iso230_3_etve: Option<Spanned<drift::scenario::RawEtve>>,
+    iso230_3_spindle: Option<Spanned<drift::spindle_test::RawSpindleTest>>,
     ballbar: Option<Spanned<ballbar::scenario::RawBallbar>>,
     servo: Option<Spanned<ballbar::scenario::RawServo>>,
     rtest: Option<Spanned<rtest::scenario::RawRtest>>,
     probe: Option<Spanned<probe::scenario::RawProbe>>,
+    spindle: Option<Spanned<spindle::scenario::RawSpindle>>,
     lesson: Option<Spanned<RawLesson>>,
 }
 
@@ -102,12 +105,16 @@ pub struct Scenario {
     pub thermal: Option<ThermalSetup>,
     /// The ISO 230-3 ETVE test to simulate, if asked for.
     pub etve_test: Option<EtveTest>,
+    /// The ISO 230-3 §6 spindle thermal test to simulate, if asked for.
+    pub spindle_thermal_test: Option<SpindleThermalTest>,
     /// The ball-bar circular tests to simulate, if asked for.
     pub ballbar_test: Option<BallbarTest>,
     /// The R-test to simulate, if asked for.
     pub rtest: Option<RTest>,
     /// The touch-probe cycles to simulate, if asked for.
     pub probe_test: Option<ProbeTest>,
+    /// The spindle error analyser's test of an axis of rotation (ISO 230-7), if asked for.
+    pub spindle_test: Option<SpindleTest>,
     /// The explanation a teaching recording carries, if the scenario is a lesson.
     pub lesson: Option<Lesson>,
 }
@@ -219,7 +226,7 @@ impl Scenario {
         let machine = Machine::from_urdf_str(machine_source, &machine_file.display().to_string())
             .map_err(|e| machine_error(e.to_string()))?;
 
-        let (errors, error_specs) = error_model(&context, &machine, &raw.errors, Vec::new())?;
+        let (errors, error_specs) = error_model(&context, &machine, &raw.errors, None, raw.seed)?;
 
         let volumetric = raw
             .volumetric
@@ -257,11 +264,28 @@ impl Scenario {
                 "iso230_3_etve: one thermal experiment per scenario: the ETVE test holds the machine still while a laser test moves it; give them a scenario each",
             ));
         }
-        if let (Some(section), None, None) = (&raw.thermal, &laser_test, &etve_test) {
+        let spindle_thermal_test = drift::spindle_test::sections(
+            &context,
+            &machine,
+            raw.iso230_3_spindle.as_ref(),
+            thermal_with_span(),
+        )?;
+        if let Some(section) = &raw.iso230_3_spindle
+            && (laser_test.is_some() || etve_test.is_some())
+        {
+            return Err(context.error(
+                Some(section.span()),
+                ScenarioErrorKind::Value,
+                "iso230_3_spindle: one thermal experiment per scenario: the spindle test heats the machine with its spindle while a laser or ETVE test runs through the same thermal model; give them a scenario each",
+            ));
+        }
+        if let (Some(section), None, None, None) =
+            (&raw.thermal, &laser_test, &etve_test, &spindle_thermal_test)
+        {
             return Err(context.error(
                 Some(section.span()),
                 ScenarioErrorKind::Nothing,
-                "thermal: nothing in this scenario uses the thermal model; add a laser test ([iso230_2], [warmup] or [iso230_3_linear]) or an [iso230_3_etve] test",
+                "thermal: nothing in this scenario uses the thermal model; add a laser test ([iso230_2], [warmup] or [iso230_3_linear]), an [iso230_3_etve] or an [iso230_3_spindle] test",
             ));
         }
         let ballbar_test = ballbar::scenario::sections(
@@ -281,6 +305,11 @@ impl Scenario {
             .as_ref()
             .map(|section| probe::scenario::probe_test(&context, &machine, section, scenario_dir))
             .transpose()?;
+        let spindle_test = raw
+            .spindle
+            .as_ref()
+            .map(|section| spindle::scenario::spindle_test(&context, &machine, section))
+            .transpose()?;
         let lesson = raw
             .lesson
             .as_ref()
@@ -290,13 +319,15 @@ impl Scenario {
             && laser_test.is_none()
             && ballbar_test.is_none()
             && etve_test.is_none()
+            && spindle_thermal_test.is_none()
             && rtest.is_none()
             && probe_test.is_none()
+            && spindle_test.is_none()
         {
             return Err(context.error(
                 None,
                 ScenarioErrorKind::Nothing,
-                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve], [ballbar], [rtest] or [probe] section",
+                "nothing to compute: add a [volumetric], [iso230_2], [warmup], [iso230_3_linear], [iso230_3_etve], [iso230_3_spindle], [ballbar], [rtest], [probe] or [spindle] section",
             ));
         }
 
@@ -313,9 +344,11 @@ impl Scenario {
             laser_test,
             thermal,
             etve_test,
+            spindle_thermal_test,
             ballbar_test,
             rtest,
             probe_test,
+            spindle_test,
             lesson,
         })
     }
@@ -344,8 +377,13 @@ impl Scenario {
         let base = Scenario::load_at(&base_path, depth + 1).map_err(|e| {
             context.error(Some(raw.extends.span()), e.kind(), format!("extends: {e}"))
         })?;
-        let inherited = base.twin.errors.parameters().to_vec();
-        let (errors, specs) = error_model(context, &base.twin.machine, &raw.errors, inherited)?;
+        let (errors, specs) = error_model(
+            context,
+            &base.twin.machine,
+            &raw.errors,
+            Some(&base.twin.errors),
+            base.seed,
+        )?;
         let mut error_specs = base.error_specs;
         error_specs.extend(specs);
         Ok(Scenario {
@@ -370,10 +408,16 @@ impl Scenario {
         lines.extend(self.volumetric.as_ref().map(VolumetricSpec::describe));
         lines.extend(self.laser_test.as_ref().map(LaserTest::describe));
         lines.extend(self.etve_test.as_ref().map(EtveTest::describe));
+        lines.extend(
+            self.spindle_thermal_test
+                .as_ref()
+                .map(SpindleThermalTest::describe),
+        );
         lines.extend(self.thermal.as_ref().map(ThermalSetup::describe));
         lines.extend(self.ballbar_test.iter().flat_map(BallbarTest::describe));
         lines.extend(self.rtest.iter().flat_map(RTest::describe));
         lines.extend(self.probe_test.iter().flat_map(ProbeTest::describe));
+        lines.extend(self.spindle_test.iter().flat_map(SpindleTest::describe));
         lines
     }
 }

@@ -138,7 +138,8 @@ impl Table {
         (h * h / 6.0 * (s * s * s - s), h * h / 6.0 * (t * t * t - t))
     }
 
-    fn value(&self, q: Real) -> Real {
+    /// The interpolated value at `q` (SI); end values held outside the knots.
+    pub fn value(&self, q: Real) -> Real {
         let (k, t) = self.locate(q);
         let mut value = (1.0 - t) * self.values[k] + t * self.values[k + 1];
         if self.interpolation == Interpolation::Cubic {

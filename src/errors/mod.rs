@@ -58,9 +58,11 @@
 //! It is applied as is on the tool branch and inverted on the workpiece branch. The tool slot
 //! sits at the `tool` frame, after the whole tool branch.
 
+mod dynamics;
 mod function;
 mod lu2012;
 
+pub use dynamics::{Dynamics, Frequency, ParameterDynamics, RandomMotion, Sinusoid};
 pub use function::{ErrorFunction, Interpolation, Table, TableError};
 pub use lu2012::{Lu2012Error, lu2012_deviation};
 
@@ -438,6 +440,20 @@ pub struct ErrorModel {
     slot_count: usize,
     /// The axes (and their sides) of the machine it was bound to, slot by slot.
     machine_axes: Vec<(Axis, Side)>,
+    /// Time- and speed-dependent content, by parameter name.
+    dynamics: Vec<ParameterDynamics>,
+    /// Where each entry of `dynamics` acts.
+    dynamic_bindings: Vec<DynamicBinding>,
+}
+
+/// Where a parameter's [`Dynamics`] act: its axis's slot and twist component, and the
+/// parameter whose synchronous function the speed factor scales.
+#[derive(Clone, Copy, Debug)]
+struct DynamicBinding {
+    slot: usize,
+    component: usize,
+    axis: Axis,
+    parameter: Option<usize>,
 }
 
 impl ErrorModel {
@@ -502,6 +518,8 @@ impl ErrorModel {
             bindings,
             slot_count: machine.slot_count(),
             machine_axes: axes_of(machine),
+            dynamics: Vec::new(),
+            dynamic_bindings: Vec::new(),
         })
     }
 
@@ -512,7 +530,62 @@ impl ErrorModel {
             bindings: Vec::new(),
             slot_count: machine.slot_count(),
             machine_axes: axes_of(machine),
+            dynamics: Vec::new(),
+            dynamic_bindings: Vec::new(),
         }
+    }
+
+    /// The model with time- and speed-dependent content (see [`Dynamics`]) added to component
+    /// errors, replacing any content the model had. Each name must be a component error of an
+    /// axis of `machine`, named once; content given per revolution needs a rotary axis. A
+    /// parameter may have dynamics without a synchronous function.
+    pub fn with_dynamics(
+        mut self,
+        machine: &Machine,
+        mut dynamics: Vec<ParameterDynamics>,
+    ) -> Result<ErrorModel, ErrorModelError> {
+        self.assert_bound_to(machine);
+        dynamics.retain(|d| !d.dynamics.is_empty());
+        dynamics.sort_by_cached_key(|d| d.name.to_string());
+        for pair in dynamics.windows(2) {
+            if pair[0].name == pair[1].name {
+                return Err(ErrorModelError::Duplicate(pair[0].name));
+            }
+        }
+        let mut bindings = Vec::with_capacity(dynamics.len());
+        for entry in &dynamics {
+            let name = entry.name;
+            let ParameterName::Component { motion, axis } = name else {
+                return Err(ErrorModelError::InvalidName(
+                    name,
+                    "only component errors (error motions) vary with time and speed".to_string(),
+                ));
+            };
+            let info = machine
+                .axis(axis)
+                .ok_or(ErrorModelError::MissingAxis { name, axis })?;
+            if axis.is_linear() && entry.dynamics.has_per_revolution() {
+                return Err(ErrorModelError::InvalidName(
+                    name,
+                    "a frequency per revolution needs an axis of rotation; give it in Hz"
+                        .to_string(),
+                ));
+            }
+            bindings.push(DynamicBinding {
+                slot: info.slot,
+                component: motion.index(),
+                axis,
+                parameter: self.parameters.iter().position(|p| p.name == name),
+            });
+        }
+        self.dynamics = dynamics;
+        self.dynamic_bindings = bindings;
+        Ok(self)
+    }
+
+    /// The time- and speed-dependent content, sorted by parameter name.
+    pub fn dynamics(&self) -> &[ParameterDynamics] {
+        &self.dynamics
     }
 
     /// Panics when `machine` is not the machine this model was bound to (other axes or sides).
@@ -544,7 +617,9 @@ impl ErrorModel {
     /// Sums the parameters acting at each slot (SI): `relative[slot]`, the twist
     /// `(δx, δy, δz, εx, εy, εz)` of the tool relative to the workpiece from component, tool and
     /// zero-position errors; `line[slot]`, the location of the axis line (translation and
-    /// rotation for a rotary axis, rotation only for a linear one).
+    /// rotation for a rotary axis, rotation only for a linear one). Component errors with
+    /// [`Dynamics`] add their asynchronous content at `state.time` and the axis's unwrapped
+    /// position, and scale by their speed factor at `state.velocity`.
     pub fn slot_twists(
         &self,
         state: &MachineState,
@@ -573,6 +648,19 @@ impl ErrorModel {
                     line[binding.slot][component] += constant(&parameter.function);
                 }
             }
+        }
+        for (entry, binding) in self.dynamics.iter().zip(&self.dynamic_bindings) {
+            let q = state.position[binding.axis];
+            let factor = entry.dynamics.factor(state.velocity[binding.axis]);
+            let mut value = factor * entry.dynamics.asynchronous(state.time, q);
+            if let Some(index) = binding.parameter.filter(|_| factor != 1.0) {
+                value += (factor - 1.0)
+                    * self.parameters[index].function.value(
+                        self.bindings[index].argument(q),
+                        state.direction(binding.axis),
+                    );
+            }
+            relative[binding.slot][binding.component] += value;
         }
     }
 

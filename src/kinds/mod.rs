@@ -8,6 +8,7 @@
 //! | volumetric map | [`volumetric`] | `[volumetric]` | `volumetric.csv` | — |
 //! | R-test (ISO 10791-6) | [`rtest`] | `[rtest]` | `rtest.csv` | `analyze` |
 //! | touch probe on artefacts | [`probe`] | `[probe]` | `probe.csv`, `spheres.csv` | `analyze` |
+//! | axes of rotation (ISO 230-7) | [`spindle`] | `[spindle]` | `spindle.csv` | `analyze` |
 //!
 //! A kind's folder holds, each in its own file: its scenario sections (`scenario.rs`: the
 //! raw TOML structs and their checks, errors located by [`crate::scenario::Context`]), its
@@ -56,6 +57,7 @@ pub mod drift;
 pub mod positioning;
 pub mod probe;
 pub mod rtest;
+pub mod spindle;
 pub mod volumetric;
 
 /// A test kind as the command line sees it.
@@ -96,4 +98,5 @@ pub const KINDS: &[Kind] = &[
     volumetric::KIND,
     rtest::cli::KIND,
     probe::cli::KIND,
+    spindle::cli::KIND,
 ];

@@ -128,6 +128,12 @@ impl AxisValues {
     /// All axes at zero.
     pub const ZERO: AxisValues = AxisValues([0.0; 7]);
 
+    /// These values with `axis` set to `value`.
+    pub fn with(mut self, axis: Axis, value: Real) -> AxisValues {
+        self[axis] = value;
+        self
+    }
+
     /// Linear axes from millimetres, rotary axes from degrees.
     pub fn from_file_units(values: &[(Axis, Real)]) -> AxisValues {
         let mut out = AxisValues::ZERO;
@@ -189,15 +195,40 @@ pub struct MachineState {
     pub position: AxisValues,
     /// Direction of travel per axis, indexed like [`AxisValues`].
     pub direction: [Direction; 7],
+    /// Commanded axis velocities (m/s, rad/s): the spindle speed is `velocity[Axis::S]`.
+    pub velocity: AxisValues,
+    /// Time since the start of the programme (s).
+    pub time: Real,
 }
 
 impl MachineState {
-    /// A state at these positions, every axis having last moved in the positive direction.
+    /// A state at these positions, at rest at time zero, every axis having last moved in the
+    /// positive direction.
     pub fn at(position: AxisValues) -> MachineState {
         MachineState {
             position,
             direction: [Direction::Positive; 7],
+            velocity: AxisValues::ZERO,
+            time: 0.0,
         }
+    }
+
+    /// The same state at time `time` (s).
+    pub fn at_time(mut self, time: Real) -> MachineState {
+        self.time = time;
+        self
+    }
+
+    /// The same state with `axis` moving at `velocity` (m/s or rad/s); its direction of travel
+    /// follows the sign (unchanged at zero).
+    pub fn with_velocity(mut self, axis: Axis, velocity: Real) -> MachineState {
+        self.velocity[axis] = velocity;
+        if velocity > 0.0 {
+            self.direction[axis.index()] = Direction::Positive;
+        } else if velocity < 0.0 {
+            self.direction[axis.index()] = Direction::Negative;
+        }
+        self
     }
 
     /// The direction of travel of one axis.

@@ -219,10 +219,15 @@ impl Program {
                     }
                 }
                 Step::Spindle(speed) => spindle = *speed,
+                // Measured at rest, the spindle turning at its commanded speed.
                 Step::Measure(point) => events.push(Event::Measure(Visit {
                     point: *point,
                     time,
-                    state,
+                    state: MachineState {
+                        time,
+                        velocity: AxisValues::ZERO.with(Axis::S, spindle),
+                        ..state
+                    },
                 })),
             }
         }

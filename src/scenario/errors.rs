@@ -3,8 +3,8 @@
 
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::errors::{
-    ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Interpolation, ParameterName,
-    Table, TableError,
+    Dynamics, ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Frequency, Interpolation,
+    ParameterDynamics, ParameterName, RandomMotion, Sinusoid, Table, TableError,
 };
 use crate::machine::{Axis, Machine, axis_unit_to_si};
 use crate::math::{RAD_PER_URAD, Real};
@@ -44,6 +44,70 @@ pub struct ErrorSpec {
     /// A measured map.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub table: Option<TableSpec>,
+    /// Asynchronous sinusoids: time-dependent content (see [`crate::errors::Dynamics`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub asynchronous: Vec<SinusoidSpec>,
+    /// Band-limited random motion.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub random: Option<RandomSpec>,
+    /// A factor on the whole parameter against the speed of its axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed: Option<SpeedSpec>,
+}
+
+/// `amplitude · sin(2π · frequency_hz · t + phase)` or `amplitude · sin(per_revolution · q +
+/// phase)` with `q` the axis's unwrapped angle.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SinusoidSpec {
+    /// Amplitude (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_um: Option<Real>,
+    /// Amplitude (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_urad: Option<Real>,
+    /// Frequency in Hz.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency_hz: Option<Real>,
+    /// Frequency in cycles per revolution of the axis (axes of rotation).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_revolution: Option<Real>,
+    /// Phase at time zero (angle zero).
+    #[serde(default)]
+    pub phase_deg: Real,
+}
+
+/// Band-limited random motion of a given RMS, flat in its band.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomSpec {
+    /// RMS (translations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_um: Option<Real>,
+    /// RMS (rotations).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_urad: Option<Real>,
+    /// The band in Hz, `[low, high]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub band_hz: Option<[Real; 2]>,
+    /// The band in cycles per revolution of the axis, `[low, high]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub band_per_revolution: Option<[Real; 2]>,
+}
+
+/// A factor on the whole parameter at knots of the axis speed (magnitude), interpolated
+/// linearly, end values held.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedSpec {
+    /// Speeds of an axis of rotation (min⁻¹).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rpm: Option<Vec<Real>>,
+    /// Speeds of a linear axis (mm/min).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mm_per_min: Option<Vec<Real>>,
+    /// The factor at each speed.
+    pub factor: Vec<Real>,
 }
 
 /// `amplitude · sin(360° · q / period + phase)`.
@@ -101,15 +165,18 @@ pub enum InterpolationSpec {
 }
 
 /// Builds the error model of `machine` from the `[errors.*]` sections of one file (messages
-/// name it through `context`), on top of `inherited` parameters (an extended scenario's), which
-/// the sections replace by name. Returns the model and the specs as written.
+/// name it through `context`), on top of `inherited` parameters and dynamics (an extended
+/// scenario's model), which the sections replace by name. Random motion is realised from
+/// `seed`. Returns the model and the specs as written.
 pub(crate) fn error_model(
     context: &Context<'_>,
     machine: &Machine,
     errors_raw: &BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
-    inherited: Vec<ErrorParameter>,
+    inherited: Option<&ErrorModel>,
+    seed: u64,
 ) -> Result<(ErrorModel, BTreeMap<String, ErrorSpec>), ScenarioError> {
     let mut parameters = Vec::new();
+    let mut dynamics = Vec::new();
     let mut error_specs = BTreeMap::new();
     for (name, spec) in errors_raw {
         let at = Some(name.span());
@@ -140,7 +207,8 @@ pub(crate) fn error_model(
                 ScenarioErrorKind::Value,
                 format!(
                     "errors.{parameter}: no term given; expected one or more of constant_{unit}, \
-                     polynomial_{unit}, reversal_{unit}, harmonic, table"
+                     polynomial_{unit}, reversal_{unit}, harmonic, table, asynchronous, random, \
+                     speed"
                 ),
             ));
         }
@@ -166,31 +234,62 @@ pub(crate) fn error_model(
                 ),
             ));
         }
-        parameters.push(ErrorParameter {
-            name: parameter,
-            function,
-        });
+        let content = spec_to_dynamics(spec.get_ref(), parameter, seed)
+            .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
+        if !content.is_empty() {
+            if argument.is_none() {
+                return Err(key_error(
+                    ScenarioErrorKind::Value,
+                    dynamic_key(spec.get_ref()),
+                    "only component errors (error motions) vary with time and speed".to_string(),
+                ));
+            }
+            dynamics.push(ParameterDynamics {
+                name: parameter,
+                dynamics: content,
+            });
+        }
+        if !(function == ErrorFunction::Sum(Vec::new())
+            && dynamics.last().is_some_and(|d| d.name == parameter))
+        {
+            parameters.push(ErrorParameter {
+                name: parameter,
+                function,
+            });
+        }
         error_specs.insert(parameter.to_string(), spec.get_ref().clone());
     }
+    let replaced = |name: ParameterName| error_specs.contains_key(&name.to_string());
     let mut all: Vec<ErrorParameter> = inherited
+        .map(|model| model.parameters().to_vec())
+        .unwrap_or_default()
         .into_iter()
-        .filter(|p| !error_specs.contains_key(&p.name.to_string()))
+        .filter(|p| !replaced(p.name))
         .collect();
     all.extend(parameters);
-    let errors = ErrorModel::new(machine, all).map_err(|e| {
-        let name = e.parameter().to_string();
-        let span = errors_raw
-            .iter()
-            .find(|(key, _)| *key.get_ref() == name)
-            .map(|(_, spec)| spec.span());
-        let kind = match e {
-            ErrorModelError::NotPeriodic { .. } | ErrorModelError::NotConstant(_) => {
-                ScenarioErrorKind::Value
-            }
-            _ => ScenarioErrorKind::Parameter,
-        };
-        context.error(span, kind, format!("errors.{e}"))
-    })?;
+    let mut all_dynamics: Vec<ParameterDynamics> = inherited
+        .map(|model| model.dynamics().to_vec())
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|d| !replaced(d.name))
+        .collect();
+    all_dynamics.extend(dynamics);
+    let errors = ErrorModel::new(machine, all)
+        .and_then(|model| model.with_dynamics(machine, all_dynamics))
+        .map_err(|e| {
+            let name = e.parameter().to_string();
+            let span = errors_raw
+                .iter()
+                .find(|(key, _)| *key.get_ref() == name)
+                .map(|(_, spec)| spec.span());
+            let kind = match e {
+                ErrorModelError::NotPeriodic { .. } | ErrorModelError::NotConstant(_) => {
+                    ScenarioErrorKind::Value
+                }
+                _ => ScenarioErrorKind::Parameter,
+            };
+            context.error(span, kind, format!("errors.{e}"))
+        })?;
     for parameter in errors.parameters() {
         if let Some(message) = implausible(parameter, machine) {
             let spec = errors_raw
@@ -395,6 +494,200 @@ fn spec_to_function(
         1 => Ok(terms.pop().expect("one term")),
         _ => Ok(ErrorFunction::Sum(terms)),
     }
+}
+
+/// The first time- or speed-dependent key of a spec, for messages.
+fn dynamic_key(spec: &ErrorSpec) -> &'static str {
+    if !spec.asynchronous.is_empty() {
+        "asynchronous"
+    } else if spec.random.is_some() {
+        "random"
+    } else {
+        "speed"
+    }
+}
+
+/// Turns the time- and speed-dependent terms of `[errors.NAME]` (`asynchronous`, `random`,
+/// `speed`) into [`Dynamics`] (SI); the random motion is realised from `seed`.
+fn spec_to_dynamics(
+    spec: &ErrorSpec,
+    name: ParameterName,
+    seed: u64,
+) -> Result<Dynamics, SpecError> {
+    use ScenarioErrorKind::{Units, Value};
+    let translation = name.motion().is_translation();
+    let (unit, other_unit) = if translation {
+        ("um", "urad")
+    } else {
+        ("urad", "um")
+    };
+    let rotary = name.axis().is_some_and(|axis| !axis.is_linear());
+    let pick =
+        |um: Option<Real>, urad: Option<Real>| if translation { (um, urad) } else { (urad, um) };
+    let fail = |kind, key: String, message: String| -> SpecError { (kind, key, message) };
+    let finite = |key: &str, v: Real| {
+        if v.is_finite() {
+            Ok(())
+        } else {
+            Err(fail(Value, key.to_string(), "not a finite number".into()))
+        }
+    };
+    let mut dynamics = Dynamics::default();
+    for (i, a) in spec.asynchronous.iter().enumerate() {
+        let key = |field: &str| format!("asynchronous[{i}].{field}");
+        let (amplitude, other) = pick(a.amplitude_um, a.amplitude_urad);
+        if other.is_some() {
+            return Err(fail(
+                Units,
+                key(&format!("amplitude_{other_unit}")),
+                format!("{name} is in {unit}; give amplitude_{unit}"),
+            ));
+        }
+        let amplitude_key = key(&format!("amplitude_{unit}"));
+        let amplitude =
+            amplitude.ok_or_else(|| fail(Value, amplitude_key.clone(), "required".into()))?;
+        finite(&amplitude_key, amplitude)?;
+        finite(&key("phase_deg"), a.phase_deg)?;
+        let frequency = match (a.frequency_hz, a.per_revolution) {
+            (Some(f), None) => {
+                finite(&key("frequency_hz"), f)?;
+                if f <= 0.0 {
+                    return Err(fail(
+                        Value,
+                        key("frequency_hz"),
+                        format!("must be positive, got {f}"),
+                    ));
+                }
+                Frequency::Hz(f)
+            }
+            (None, Some(r)) => {
+                finite(&key("per_revolution"), r)?;
+                if !rotary {
+                    return Err(fail(
+                        Value,
+                        key("per_revolution"),
+                        "a frequency per revolution needs an axis of rotation; give frequency_hz"
+                            .into(),
+                    ));
+                }
+                if r <= 0.0 {
+                    return Err(fail(
+                        Value,
+                        key("per_revolution"),
+                        format!("must be positive, got {r}"),
+                    ));
+                }
+                Frequency::PerRevolution(r)
+            }
+            _ => {
+                return Err(fail(
+                    Value,
+                    key("frequency_hz"),
+                    "give one of frequency_hz or per_revolution".into(),
+                ));
+            }
+        };
+        dynamics.sinusoids.push(Sinusoid {
+            frequency,
+            amplitude: amplitude * RAD_PER_URAD,
+            phase: a.phase_deg * crate::math::RAD_PER_DEG,
+        });
+    }
+    if let Some(r) = &spec.random {
+        let (rms, other) = pick(r.rms_um, r.rms_urad);
+        if other.is_some() {
+            return Err(fail(
+                Units,
+                format!("random.rms_{other_unit}"),
+                format!("{name} is in {unit}; give rms_{unit}"),
+            ));
+        }
+        let rms_key = format!("random.rms_{unit}");
+        let rms = rms.ok_or_else(|| fail(Value, rms_key.clone(), "required".into()))?;
+        finite(&rms_key, rms)?;
+        if rms < 0.0 {
+            return Err(fail(
+                Value,
+                rms_key,
+                format!("must not be negative, got {rms}"),
+            ));
+        }
+        let (band, per_revolution, band_key) = match (r.band_hz, r.band_per_revolution) {
+            (Some(b), None) => (b, false, "random.band_hz"),
+            (None, Some(b)) if rotary => (b, true, "random.band_per_revolution"),
+            (None, Some(_)) => {
+                return Err(fail(
+                    Value,
+                    "random.band_per_revolution".into(),
+                    "a band per revolution needs an axis of rotation; give band_hz".into(),
+                ));
+            }
+            _ => {
+                return Err(fail(
+                    Value,
+                    "random.band_hz".into(),
+                    "give one of band_hz or band_per_revolution".into(),
+                ));
+            }
+        };
+        if !(band[0].is_finite() && band[1].is_finite() && 0.0 <= band[0] && band[0] < band[1]) {
+            return Err(fail(
+                Value,
+                band_key.into(),
+                format!(
+                    "expected [low, high] with 0 <= low < high, got [{}, {}]",
+                    band[0], band[1]
+                ),
+            ));
+        }
+        dynamics.random = Some(RandomMotion::realise(
+            rms * RAD_PER_URAD,
+            (band[0], band[1]),
+            per_revolution,
+            seed,
+            name,
+        ));
+    }
+    if let Some(v) = &spec.speed {
+        let (speeds, key, scale) = match (&v.rpm, &v.mm_per_min, rotary) {
+            (Some(s), None, true) => (s, "speed.rpm", std::f64::consts::TAU / 60.0),
+            (None, Some(s), false) => (s, "speed.mm_per_min", crate::math::M_PER_MM / 60.0),
+            _ => {
+                let expected = if rotary {
+                    "speed.rpm"
+                } else {
+                    "speed.mm_per_min"
+                };
+                return Err(fail(
+                    Units,
+                    expected.into(),
+                    format!(
+                        "the speeds of axis {} are given as {expected}",
+                        name.axis().map_or('?', |a| a.letter())
+                    ),
+                ));
+            }
+        };
+        if let Some(i) = speeds
+            .iter()
+            .chain(&v.factor)
+            .position(|x| !x.is_finite() || *x < 0.0)
+        {
+            return Err(fail(
+                Value,
+                key.into(),
+                format!("value {} is not a finite non-negative number", i + 1),
+            ));
+        }
+        let table = Table::new(
+            speeds.iter().map(|s| s * scale).collect(),
+            v.factor.clone(),
+            Interpolation::Linear,
+        )
+        .map_err(|e| fail(Value, key.into(), e.to_string()))?;
+        dynamics.speed_factor = Some(table);
+    }
+    Ok(dynamics)
 }
 
 /// Why an error parameter is not a plausible machine error, if it is not: its largest value

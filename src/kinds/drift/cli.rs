@@ -13,7 +13,7 @@ use std::path::PathBuf;
 pub const KIND: Kind = Kind {
     name: "drift",
     tables_are: "drift tables",
-    sections: &["iso230_3_etve"],
+    sections: &["iso230_3_etve", "iso230_3_spindle"],
     tables: &["drift.csv"],
     analyze: Some(Verb {
         command: || {

@@ -2,12 +2,13 @@
 //! reads the mandrel and the thermometers read the air and the structure at every sample.
 
 use super::iso230_3::etve;
-use super::scenario::EtveTest;
+use super::scenario::{EtveTest, Nest};
 use super::table::{DriftChannel, DriftConditions, DriftTable};
-use crate::machine::Axis;
+use crate::machine::{Axis, AxisValues};
 use crate::math::{M_PER_MM, Pose, Real, Vector, quantise, seeded_rng, standard_normal, trimmed};
+use crate::program::Program;
 use crate::scenario::ThermalSetup;
-use crate::thermal::TemperatureSensor;
+use crate::thermal::{SensorSpec, TemperatureSensor};
 use crate::twin::{ThermalRecord, Twin};
 use serde_json::{Value, json};
 
@@ -30,8 +31,7 @@ pub struct EtveRun {
 }
 
 /// The points the nest reads, in the tool frame (m): X1/Y1, X2/Y2 and the mandrel's end.
-fn nest_points(test: &EtveTest) -> [Vector; 3] {
-    let nest = &test.nest;
+fn nest_points(nest: &Nest) -> [Vector; 3] {
     [
         Vector::new(0.0, 0.0, nest.first),
         Vector::new(0.0, 0.0, nest.first + nest.spacing),
@@ -41,23 +41,45 @@ fn nest_points(test: &EtveTest) -> [Vector; 3] {
 
 /// The true channel values at `pose` relative to `start` (m): each sensor reads how far the
 /// mandrel's point in front of it has moved along the sensor's axis, in the workpiece frame.
-fn channel_values(test: &EtveTest, start: &Pose, pose: &Pose) -> [Real; 5] {
-    let [first, second, end] = nest_points(test);
+fn channel_values(nest: &Nest, start: &Pose, pose: &Pose) -> [Real; 5] {
+    let [first, second, end] = nest_points(nest);
     let moved = |q: Vector| pose.transform_point3(q) - start.transform_point3(q);
     let (one, two, tip) = (moved(first), moved(second), moved(end));
     [one.x, one.y, two.x, two.y, tip.z]
 }
 
-/// Simulates `test` on `twin` through `setup`, the random streams seeded from `seed`.
-pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -> EtveRun {
-    let records = setup.run(twin, &test.program, seed);
+/// What a nest and the thermometers read while `program` runs on the thermal twin: shared by
+/// the drift tests (ETVE, spindle), which add their conditions to make the table.
+pub(crate) struct NestReadings {
+    /// The thermal twin at each measurement.
+    pub records: Vec<ThermalRecord>,
+    /// The five channels as the nest read them (m), in [`CHANNELS`] order.
+    pub channels: Vec<DriftChannel>,
+    /// The same without noise or resolution: the truth.
+    pub true_channels: Vec<DriftChannel>,
+    /// The ambient thermometer `air`, then `setup`'s sensors (°C).
+    pub temperatures: Vec<(String, Vec<Real>)>,
+}
+
+/// Runs `program` on `twin` through `setup` and reads `nest` (its noise from the stream
+/// `<test> nest`) and the ambient thermometer `air` (stream `<test> air`) at every measurement,
+/// relative to the first; the random streams are seeded from `seed`.
+pub(crate) fn read_nest(
+    twin: &Twin,
+    setup: &ThermalSetup,
+    program: &Program,
+    nest: &Nest,
+    air: &SensorSpec,
+    seed: u64,
+    test: &str,
+) -> NestReadings {
+    let records = setup.run(twin, program, seed);
     let start = records.first().map_or(Pose::IDENTITY, |r| r.pose);
     let truth: Vec<[Real; 5]> = records
         .iter()
-        .map(|r| channel_values(test, &start, &r.pose))
+        .map(|r| channel_values(nest, &start, &r.pose))
         .collect();
-    let mut rng = seeded_rng(seed, "etve nest");
-    let nest = test.nest;
+    let mut rng = seeded_rng(seed, &format!("{test} nest"));
     let channel = |k: usize, values: Vec<Real>| DriftChannel {
         name: CHANNELS[k].to_string(),
         angular: false,
@@ -79,20 +101,36 @@ pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -
             measured[k].push(read(*value));
         }
     }
-    let mut air = TemperatureSensor::new(
-        test.air.clone(),
+    let mut thermometer = TemperatureSensor::new(
+        air.clone(),
         setup.thermal.initial,
-        seeded_rng(seed, "etve air"),
+        seeded_rng(seed, &format!("{test} air")),
     );
     let air_readings: Vec<Real> = records
         .iter()
-        .map(|r| air.read(setup.thermal.ambient.at(r.visit.time)))
+        .map(|r| thermometer.read(setup.thermal.ambient.at(r.visit.time)))
         .collect();
-    let mut temperatures = vec![("air".to_string(), air_readings)];
+    let mut temperatures = vec![(air.name.clone(), air_readings)];
     for (k, (_, spec)) in setup.sensors.iter().enumerate() {
         let values = records.iter().map(|r| r.readings[k]).collect();
         temperatures.push((spec.name.clone(), values));
     }
+    NestReadings {
+        channels: measured
+            .into_iter()
+            .enumerate()
+            .map(|(k, values)| channel(k, values))
+            .collect(),
+        true_channels: (0..CHANNELS.len())
+            .map(|k| channel(k, truth.iter().map(|row| row[k]).collect()))
+            .collect(),
+        temperatures,
+        records,
+    }
+}
+
+/// Where the linear axes of `twin`'s machine hold, for a table's conditions: `x 380, y 205, z 260`.
+pub(crate) fn hold_condition(twin: &Twin, hold: &AxisValues) -> String {
     let hold: Vec<String> = LINEAR
         .iter()
         .filter(|a| twin.machine.has_axis(**a))
@@ -100,36 +138,43 @@ pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -
             format!(
                 "{} {}",
                 a.letter().to_ascii_lowercase(),
-                trimmed(test.hold[*a] / M_PER_MM, 6)
+                trimmed(hold[*a] / M_PER_MM, 6)
             )
         })
         .collect();
+    hold.join(", ")
+}
+
+/// Simulates `test` on `twin` through `setup`, the random streams seeded from `seed`.
+pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -> EtveRun {
+    let readings = read_nest(
+        twin,
+        setup,
+        &test.program,
+        &test.nest,
+        &test.air,
+        seed,
+        "etve",
+    );
     let table = DriftTable {
-        times: records.iter().map(|r| r.visit.time).collect(),
-        channels: measured
-            .into_iter()
-            .enumerate()
-            .map(|(k, values)| channel(k, values))
-            .collect(),
-        temperatures,
+        times: readings.records.iter().map(|r| r.visit.time).collect(),
+        channels: readings.channels,
+        temperatures: readings.temperatures,
         conditions: DriftConditions {
             test: Some("iso230_3_etve".into()),
             ambient_sensor: Some("air".into()),
             spacing: Some(test.nest.spacing),
             other: vec![
                 ("control".into(), test.control.name().into()),
-                ("hold_mm".into(), hold.join(", ")),
+                ("hold_mm".into(), hold_condition(twin, &test.hold)),
                 ("first_mm".into(), trimmed(test.nest.first / M_PER_MM, 6)),
             ],
         },
     };
-    let true_channels = (0..CHANNELS.len())
-        .map(|k| channel(k, truth.iter().map(|row| row[k]).collect()))
-        .collect();
     EtveRun {
         table,
-        true_channels,
-        records,
+        true_channels: readings.true_channels,
+        records: readings.records,
     }
 }
 

@@ -51,9 +51,10 @@ fn hold() -> String {
     "hold".into()
 }
 
+/// The nest of a drift test as written (shared by the ETVE and the spindle test).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawNest {
+pub(crate) struct RawNest {
     first_mm: Real,
     spacing_mm: Real,
     #[serde(default)]
@@ -62,9 +63,10 @@ struct RawNest {
     resolution_um: Real,
 }
 
+/// The ambient thermometer of a drift test as written (shared by the ETVE and the spindle test).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawAir {
+pub(crate) struct RawAir {
     #[serde(default = "air_noise")]
     noise_degc: Real,
     #[serde(default = "air_resolution")]
@@ -189,37 +191,7 @@ fn etve_test(
             message,
         )
     };
-    let mut hold = AxisValues::ZERO;
-    for (key, value) in &e.hold_mm {
-        let axis = match key.as_str() {
-            "x" => Axis::X,
-            "y" => Axis::Y,
-            "z" => Axis::Z,
-            other => {
-                return Err(fail(format!(
-                    "hold_mm.{other}: expected x, y or z (rotary axes hold at zero)"
-                )));
-            }
-        };
-        let info = machine
-            .axis(axis)
-            .ok_or_else(|| fail(format!("hold_mm.{key}: the machine has no {axis} axis")))?;
-        if !info.within_travel(value * M_PER_MM) {
-            return Err(fail(format!(
-                "hold_mm.{key}: {value} mm is outside the travel of {axis}"
-            )));
-        }
-        hold[axis] = value * M_PER_MM;
-    }
-    for info in machine.axes() {
-        if !info.within_travel(hold[info.axis]) {
-            return Err(fail(format!(
-                "hold_mm: {} cannot hold at 0 (outside its travel); give hold_mm.{}",
-                info.axis,
-                info.axis.letter().to_ascii_lowercase()
-            )));
-        }
-    }
+    let hold = hold_position(machine, &e.hold_mm, &fail)?;
     if !(e.duration_min.is_finite() && e.duration_min > 0.0 && e.duration_min <= 7.0 * 24.0 * 60.0)
     {
         return Err(fail(format!(
@@ -249,33 +221,8 @@ fn etve_test(
             )));
         }
     };
-    let n = &e.nest;
-    let nest_ok = [n.first_mm, n.spacing_mm, n.noise_um, n.resolution_um]
-        .iter()
-        .all(|v| v.is_finite())
-        && n.spacing_mm > 0.0
-        && n.noise_um >= 0.0
-        && n.resolution_um >= 0.0;
-    if !nest_ok {
-        return Err(fail(
-            "nest: finite values, spacing_mm positive, noise_um and resolution_um not negative"
-                .into(),
-        ));
-    }
-    let air_ok = e.air.noise_degc.is_finite()
-        && e.air.resolution_degc.is_finite()
-        && e.air.noise_degc >= 0.0
-        && e.air.resolution_degc >= 0.0;
-    if !air_ok {
-        return Err(fail(
-            "air: noise_degc and resolution_degc finite and not negative".into(),
-        ));
-    }
-    if setup.sensors.iter().any(|(_, s)| s.name == "air") {
-        return Err(fail(
-            "air: a [thermal] sensor is named \"air\", the name of the ETVE's ambient thermometer; rename it".into(),
-        ));
-    }
+    let nest = nest(&e.nest, &fail)?;
+    let air = air_thermometer(&e.air, setup, "the ETVE's", &fail)?;
     let sample = e.sample_min * 60.0;
     let mut steps = vec![Step::Spindle(0.0)];
     for index in 0..=samples {
@@ -293,18 +240,104 @@ fn etve_test(
         hold,
         sample,
         control,
-        nest: Nest {
-            first: n.first_mm * M_PER_MM,
-            spacing: n.spacing_mm * M_PER_MM,
-            noise: n.noise_um * M_PER_UM,
-            resolution: n.resolution_um * M_PER_UM,
-        },
-        air: SensorSpec {
-            name: "air".into(),
-            offset: 0.0,
-            noise: e.air.noise_degc,
-            resolution: e.air.resolution_degc,
-            time_constant: 0.0,
-        },
+        nest,
+        air,
+    })
+}
+
+/// Where the linear axes hold (SI) from `hold_mm` (`x`, `y`, `z` in mm; the others at zero),
+/// each within its travel; `fail` words an error about a key of the section.
+pub(crate) fn hold_position(
+    machine: &Machine,
+    hold_mm: &BTreeMap<String, Real>,
+    fail: &dyn Fn(String) -> ScenarioError,
+) -> Result<AxisValues, ScenarioError> {
+    let mut hold = AxisValues::ZERO;
+    for (key, value) in hold_mm {
+        let axis = match key.as_str() {
+            "x" => Axis::X,
+            "y" => Axis::Y,
+            "z" => Axis::Z,
+            other => {
+                return Err(fail(format!(
+                    "hold_mm.{other}: expected x, y or z (rotary axes hold at zero)"
+                )));
+            }
+        };
+        let info = machine
+            .axis(axis)
+            .ok_or_else(|| fail(format!("hold_mm.{key}: the machine has no {axis} axis")))?;
+        if !info.within_travel(value * M_PER_MM) {
+            return Err(fail(format!(
+                "hold_mm.{key}: {value} mm is outside the travel of {axis}"
+            )));
+        }
+        hold[axis] = value * M_PER_MM;
+    }
+    for info in machine.axes() {
+        if !info.within_travel(hold[info.axis]) {
+            return Err(fail(format!(
+                "hold_mm: {} cannot hold at 0 (outside its travel); give hold_mm.{}",
+                info.axis,
+                info.axis.letter().to_ascii_lowercase()
+            )));
+        }
+    }
+    Ok(hold)
+}
+
+/// The nest (SI) from its section; `fail` words an error about a key of the section.
+pub(crate) fn nest(
+    n: &RawNest,
+    fail: &dyn Fn(String) -> ScenarioError,
+) -> Result<Nest, ScenarioError> {
+    let nest_ok = [n.first_mm, n.spacing_mm, n.noise_um, n.resolution_um]
+        .iter()
+        .all(|v| v.is_finite())
+        && n.spacing_mm > 0.0
+        && n.noise_um >= 0.0
+        && n.resolution_um >= 0.0;
+    if !nest_ok {
+        return Err(fail(
+            "nest: finite values, spacing_mm positive, noise_um and resolution_um not negative"
+                .into(),
+        ));
+    }
+    Ok(Nest {
+        first: n.first_mm * M_PER_MM,
+        spacing: n.spacing_mm * M_PER_MM,
+        noise: n.noise_um * M_PER_UM,
+        resolution: n.resolution_um * M_PER_UM,
+    })
+}
+
+/// The ambient thermometer `air` (no lag) from its section, its name free among `setup`'s
+/// sensors; `whose` names the test in the message (`the ETVE's`).
+pub(crate) fn air_thermometer(
+    raw: &RawAir,
+    setup: &ThermalSetup,
+    whose: &str,
+    fail: &dyn Fn(String) -> ScenarioError,
+) -> Result<SensorSpec, ScenarioError> {
+    let air_ok = raw.noise_degc.is_finite()
+        && raw.resolution_degc.is_finite()
+        && raw.noise_degc >= 0.0
+        && raw.resolution_degc >= 0.0;
+    if !air_ok {
+        return Err(fail(
+            "air: noise_degc and resolution_degc finite and not negative".into(),
+        ));
+    }
+    if setup.sensors.iter().any(|(_, s)| s.name == "air") {
+        return Err(fail(format!(
+            "air: a [thermal] sensor is named \"air\", the name of {whose} ambient thermometer; rename it"
+        )));
+    }
+    Ok(SensorSpec {
+        name: "air".into(),
+        offset: 0.0,
+        noise: raw.noise_degc,
+        resolution: raw.resolution_degc,
+        time_constant: 0.0,
     })
 }

@@ -1,0 +1,530 @@
+//! `mtwin analyze spindle`: the command line of this kind. Like `main.rs`, this is the binary's
+//! layer: errors are `anyhow`'s, with the file named once.
+
+use super::analysis::motion::{Direction, ErrorMotionValues, decompose};
+use super::analysis::polar::Centre;
+use super::evaluate::{Evaluation, Options, Test, compact_list, evaluate};
+use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
+use super::record::Sensing;
+use super::table::{self, SpindleTable};
+use crate::kinds::{Kind, Verb};
+use crate::math::Real;
+use anyhow::{Context, Result};
+use clap::{ArgMatches, Args, FromArgMatches};
+use serde_json::{Value, json};
+use std::f64::consts::TAU;
+use std::path::PathBuf;
+
+/// This kind in the registry.
+pub const KIND: Kind = Kind {
+    name: "spindle",
+    tables_are: "spindle analyser tables",
+    sections: &["spindle"],
+    tables: &["spindle.csv"],
+    analyze: Some(Verb {
+        command: || {
+            SpindleArgs::augment_args(clap::Command::new("spindle"))
+                .about(
+                    "Axis of rotation error motion (ISO 230-7): total, synchronous and \
+                     asynchronous values about each polar-plot centre, per set-up and speed, \
+                     the spectrum, and the artefact form separated by reversal or multi-probe",
+                )
+                .after_long_help(JSON_KEYS)
+        },
+        run: analyze,
+    }),
+    discover: None,
+};
+
+const JSON_KEYS: &str = "\
+Table: revolution, angle_deg and one NAME_um column per probe are required; setup, time_s and
+speed_rpm are read when present. Probe geometry from the preamble (NAME_direction,
+NAME_position_mm, NAME_sensing) or, for foreign exports, from the names x1 y1 x2 y2 z face.
+
+Values (µm; tilt in µrad) are ISO 230-7 error motion values: the difference in radii of two
+concentric circles about the centre, fitted to the synchronous plot (§3.7 Note 1); the
+asynchronous value is the widest band at one angle (§3.8.4). Radial and tilt default to LSC,
+axial and face to PC (Tab 1); the fundamental is removed by LSC, MRS, MIC, MCC and kept by PC.
+
+JSON keys (--json):
+  samples_per_revolution
+  segments[]: setup, speed_rpm, revolutions, tests[]:
+    name, direction (radial|axial|tilt|face), sensing (fixed|rotating), probes[], height_mm,
+    unit (um|urad), values[] (preferred centre first): centre, offset [x, y], total,
+    synchronous, asynchronous, fundamental (2·|1-UPR|), residual, inner, outer;
+    lines[]: per_revolution, hz, amplitude, synchronous (one-sided amplitude, largest first)
+  speeds[]: test, unit, points[]: speed_rpm, synchronous, asynchronous (preferred centre)
+  separations[]: method (reversal|multi-probe), probes[], speed_rpm, form_range_um,
+    form_um[] (outward, on ψ = 360°·m/M), motion_synchronous_um (LSC value of the separated
+    motion along the first probe), blind[] (harmonics the layout cannot see)
+  notes[]";
+
+#[derive(Args)]
+struct SpindleArgs {
+    /// The table (CSV with a header; see below).
+    file: PathBuf,
+    /// Print JSON with stable keys instead of the report for people.
+    #[arg(long)]
+    json: bool,
+    /// Write the polar plots, spectra and value-against-speed charts (SVG) into this folder.
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
+    /// Centres to score about, comma-separated (default: all five; the preferred one of ISO
+    /// 230-7 Tab 1 always comes first).
+    #[arg(long, value_delimiter = ',', value_name = "PC,LSC,MRS,MIC,MCC")]
+    centres: Vec<String>,
+}
+
+fn analyze(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<String> {
+    let args = SpindleArgs::from_arg_matches(matches)?;
+    let table = table::read(&args.file)?;
+    let mut options = Options::default();
+    if !args.centres.is_empty() {
+        options.centres = args
+            .centres
+            .iter()
+            .map(|c| {
+                c.parse::<Centre>()
+                    .map_err(|e| anyhow::anyhow!("--centres: {e}"))
+            })
+            .collect::<Result<_>>()?;
+    }
+    progress(&format!(
+        "evaluating {} samples of {} probes",
+        table.record.len(),
+        table.record.probes.len()
+    ));
+    let evaluation = evaluate(&table.record, table.samples_per_revolution, &options)
+        .with_context(|| format!("{}", args.file.display()))?;
+    if let Some(dir) = &args.plot {
+        let files = plots(&table, &evaluation);
+        crate::io::write_files(&files, dir)?;
+        progress(&format!(
+            "{} plots written to {}",
+            files.len(),
+            dir.display()
+        ));
+    }
+    Ok(if args.json {
+        format!("{}\n", serde_json::to_string_pretty(&to_json(&evaluation))?)
+    } else {
+        to_text(&table, &evaluation)
+    })
+}
+
+/// µm for lengths, µrad for tilts.
+fn unit(direction: Direction) -> (&'static str, Real) {
+    match direction {
+        Direction::Tilt => ("urad", 1e6),
+        _ => ("um", 1e6),
+    }
+}
+
+fn rpm(speed: Real) -> Real {
+    speed * 60.0 / TAU
+}
+
+fn round(value: Real) -> Value {
+    // 1 pm (or 1 prad): the readings' own resolution in the table.
+    json!((value * 1e6).round() / 1e6)
+}
+
+fn values_json(v: &ErrorMotionValues, scale: Real) -> Value {
+    json!({
+        "centre": v.centre.to_string(),
+        "offset": [round(v.offset[0] * scale), round(v.offset[1] * scale)],
+        "total": round(v.total * scale),
+        "synchronous": round(v.synchronous * scale),
+        "asynchronous": round(v.asynchronous * scale),
+        "fundamental": round(v.fundamental * scale),
+        "residual": round(v.residual * scale),
+        "inner": round(v.inner * scale),
+        "outer": round(v.outer * scale),
+    })
+}
+
+fn sensing_name(sensing: Sensing) -> &'static str {
+    match sensing {
+        Sensing::Fixed => "fixed",
+        Sensing::Rotating => "rotating",
+    }
+}
+
+fn test_json(test: &Test, speed: Real) -> Value {
+    let (unit_name, scale) = unit(test.direction);
+    json!({
+        "name": test.name,
+        "direction": test.direction.name(),
+        "sensing": sensing_name(test.sensing),
+        "probes": test.probes,
+        "height_mm": round(test.height * 1e3),
+        "unit": unit_name,
+        "values": test.values.iter().map(|v| values_json(v, scale)).collect::<Vec<_>>(),
+        "lines": test.lines.iter().map(|l| json!({
+            "per_revolution": round(l.per_revolution),
+            "hz": round(l.per_revolution * speed.abs() / TAU),
+            "amplitude": round(l.amplitude * scale),
+            "synchronous": l.synchronous,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// A test's values against speed: its name, direction and (speed min⁻¹, synchronous,
+/// asynchronous) points.
+type SpeedSeries = (String, Direction, Vec<(Real, Real, Real)>);
+
+/// Each test's preferred-centre values against speed, for tests seen at two speeds or more.
+fn speed_series(evaluation: &Evaluation) -> Vec<SpeedSeries> {
+    let mut series: Vec<SpeedSeries> = Vec::new();
+    for segment in &evaluation.segments {
+        for test in &segment.tests {
+            let name = if segment.setup.is_empty() {
+                test.name.clone()
+            } else {
+                format!("{} ({})", test.name, segment.setup)
+            };
+            let point = (
+                rpm(segment.speed),
+                test.values[0].synchronous,
+                test.values[0].asynchronous,
+            );
+            match series.iter_mut().find(|(n, _, _)| *n == name) {
+                Some((_, _, points)) => points.push(point),
+                None => series.push((name, test.direction, vec![point])),
+            }
+        }
+    }
+    series.retain(|(_, _, points)| points.len() >= 2);
+    series
+}
+
+/// The JSON report (keys in [`JSON_KEYS`]).
+pub fn to_json(evaluation: &Evaluation) -> Value {
+    let segments: Vec<Value> = evaluation
+        .segments
+        .iter()
+        .map(|s| {
+            json!({
+                "setup": s.setup,
+                "speed_rpm": round(rpm(s.speed)),
+                "revolutions": s.revolutions,
+                "tests": s.tests.iter().map(|t| test_json(t, s.speed)).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let speeds: Vec<Value> = speed_series(evaluation)
+        .into_iter()
+        .map(|(name, direction, points)| {
+            let (unit_name, scale) = unit(direction);
+            json!({
+                "test": name,
+                "unit": unit_name,
+                "points": points.iter().map(|(speed, sync, asynchronous)| json!({
+                    "speed_rpm": round(*speed),
+                    "synchronous": round(sync * scale),
+                    "asynchronous": round(asynchronous * scale),
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let separations: Vec<Value> = evaluation
+        .separations
+        .iter()
+        .map(|s| {
+            json!({
+                "method": s.method,
+                "probes": s.probes,
+                "speed_rpm": round(rpm(s.speed)),
+                "form_range_um": round(range(&s.form) * 1e6),
+                "form_um": s.form.iter().map(|v| round(v * 1e6)).collect::<Vec<_>>(),
+                "motion_synchronous_um": round(lsc_range(&s.motion_x) * 1e6),
+                "blind": s.blind,
+            })
+        })
+        .collect();
+    json!({
+        "samples_per_revolution": evaluation.samples_per_revolution,
+        "segments": segments,
+        "speeds": speeds,
+        "separations": separations,
+        "notes": evaluation.notes,
+    })
+}
+
+fn range(values: &[Real]) -> Real {
+    let (lo, hi) = values
+        .iter()
+        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        });
+    if values.is_empty() { 0.0 } else { hi - lo }
+}
+
+/// The range of a synchronous profile with its first harmonic removed (the LSC value).
+fn lsc_range(values: &[Real]) -> Real {
+    let m = values.len();
+    if m < 3 {
+        return 0.0;
+    }
+    let (mut a, mut b) = (0.0, 0.0);
+    for (i, v) in values.iter().enumerate() {
+        let t = TAU * i as Real / m as Real;
+        a += v * t.cos();
+        b += v * t.sin();
+    }
+    let (a, b) = (2.0 * a / m as Real, 2.0 * b / m as Real);
+    let residual: Vec<Real> = values
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let t = TAU * i as Real / m as Real;
+            v - a * t.cos() - b * t.sin()
+        })
+        .collect();
+    range(&residual)
+}
+
+/// The report for people.
+pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
+    let axis = table.record.axis;
+    let mut out = format!(
+        "Axis of rotation {axis}: error motion (ISO 230-7), {} samples per revolution\n\
+         values in µm (tilt in µrad); preferred centre first (Tab 1)\n",
+        evaluation.samples_per_revolution
+    );
+    for segment in &evaluation.segments {
+        let setup = if segment.setup.is_empty() {
+            String::new()
+        } else {
+            format!("set-up {}, ", segment.setup)
+        };
+        out += &format!(
+            "\n{setup}{:.0} min⁻¹, {} revolutions\n  {:<30} {:<4} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+            rpm(segment.speed),
+            segment.revolutions,
+            "test",
+            "ctr",
+            "total",
+            "sync",
+            "async",
+            "fund.",
+            "resid.",
+            "inner",
+            "outer"
+        );
+        for test in &segment.tests {
+            let (_, scale) = unit(test.direction);
+            for (i, v) in test.values.iter().enumerate() {
+                out += &format!(
+                    "  {:<30} {:<4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4}\n",
+                    if i == 0 { test.name.as_str() } else { "" },
+                    v.centre.to_string(),
+                    v.total * scale,
+                    v.synchronous * scale,
+                    v.asynchronous * scale,
+                    v.fundamental * scale,
+                    v.residual * scale,
+                    v.inner * scale,
+                    v.outer * scale,
+                );
+            }
+            let lines: Vec<String> = test
+                .lines
+                .iter()
+                .take(4)
+                .map(|l| {
+                    format!(
+                        "{:.2} UPR ({:.1} Hz) {:.4}{}",
+                        l.per_revolution,
+                        l.per_revolution * segment.speed.abs() / TAU,
+                        l.amplitude * scale,
+                        if l.synchronous { " sync" } else { " async" }
+                    )
+                })
+                .collect();
+            out += &format!("  {:<30} lines: {}\n", "", lines.join("; "));
+        }
+    }
+    let series = speed_series(evaluation);
+    if !series.is_empty() {
+        out += "\nError motion against speed (preferred centre: synchronous / asynchronous):\n";
+        for (name, direction, points) in &series {
+            let (_, scale) = unit(*direction);
+            let cells: Vec<String> = points
+                .iter()
+                .map(|(s, sync, asynchronous)| {
+                    format!("{s:.0}: {:.4} / {:.4}", sync * scale, asynchronous * scale)
+                })
+                .collect();
+            out += &format!("  {name}: {}\n", cells.join(",  "));
+        }
+    }
+    for s in &evaluation.separations {
+        out += &format!(
+            "\n{} {} at {:.0} min⁻¹: artefact form {:.4} µm peak to valley; separated \
+             synchronous motion {:.4} µm (LSC)",
+            s.method,
+            s.probes.join("+"),
+            rpm(s.speed),
+            range(&s.form) * 1e6,
+            lsc_range(&s.motion_x) * 1e6
+        );
+        if !s.blind.is_empty() {
+            out += &format!("; blind to harmonics {}", compact_list(&s.blind));
+        }
+        out += "\n";
+    }
+    for note in &evaluation.notes {
+        out += &format!("\nnote: {note}\n");
+    }
+    out
+}
+
+/// Lowest and highest residual `v − cx cos θ − cy sin θ` of a profile about a centre offset.
+fn bounds(values: &[Real], angles: &[Real], offset: [Real; 2]) -> (Real, Real) {
+    values
+        .iter()
+        .zip(angles)
+        .map(|(v, t)| v - offset[0] * t.cos() - offset[1] * t.sin())
+        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), r| {
+            (lo.min(r), hi.max(r))
+        })
+}
+
+/// A file-name-safe slug.
+fn slug(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect::<String>()
+        .trim_matches('_')
+        .to_string()
+}
+
+/// The SVG files: per segment and test a polar plot and a spectrum, per test seen at several
+/// speeds its values against speed, per separation the form.
+pub fn plots(table: &SpindleTable, evaluation: &Evaluation) -> Vec<(String, Vec<u8>)> {
+    let mut files = Vec::new();
+    let m = evaluation.samples_per_revolution;
+    let angles: Vec<Real> = (0..m).map(|i| TAU * i as Real / m as Real).collect();
+    for segment in &evaluation.segments {
+        let tag = format!(
+            "{}{}rpm",
+            if segment.setup.is_empty() {
+                String::new()
+            } else {
+                format!("{}_", slug(&segment.setup))
+            },
+            rpm(segment.speed).round()
+        );
+        for test in &segment.tests {
+            let (unit_name, scale) = unit(test.direction);
+            let d = decompose(&test.signal);
+            let preferred = &test.values[0];
+            // The polar plot takes SI values (m; a tilt's rad drawn on the same scale).
+            let total = test.signal.values();
+            let total_angles: Vec<Real> = (0..total.len()).map(|i| angles[i % m]).collect();
+            let title = format!(
+                "{} — axis {}, {:.0} min⁻¹, {} revolutions",
+                test.name,
+                table.record.axis,
+                rpm(segment.speed),
+                segment.revolutions
+            );
+            let notes: Vec<String> = test
+                .values
+                .iter()
+                .map(|v| {
+                    format!(
+                        "{}: sync {:.4}, async {:.4}, total {:.4} {unit_name}",
+                        v.centre,
+                        v.synchronous * scale,
+                        v.asynchronous * scale,
+                        v.total * scale
+                    )
+                })
+                .collect();
+            let bounds = bounds(&d.synchronous, &angles, preferred.offset);
+            let svg = polar_svg(
+                &title,
+                &[
+                    PolarCurve {
+                        label: "total",
+                        angles: &total_angles,
+                        values: total,
+                        stroke: "#9ab",
+                        width: 0.6,
+                    },
+                    PolarCurve {
+                        label: "synchronous",
+                        angles: &angles,
+                        values: &d.synchronous,
+                        stroke: "#c20",
+                        width: 1.8,
+                    },
+                ],
+                preferred.offset,
+                bounds,
+                &notes,
+            );
+            let name = slug(&test.name);
+            files.push((format!("polar_{tag}_{name}.svg"), svg.into_bytes()));
+            let lines: Vec<(Real, Real, bool)> = super::analysis::spectrum::spectrum(&test.signal)
+                .lines
+                .iter()
+                .filter(|l| l.per_revolution <= 50.0)
+                .map(|l| (l.per_revolution, l.amplitude * scale, l.synchronous))
+                .collect();
+            files.push((
+                format!("spectrum_{tag}_{name}.svg"),
+                spectrum_svg(&format!("spectrum — {title}"), &lines).into_bytes(),
+            ));
+        }
+    }
+    for (name, direction, points) in speed_series(evaluation) {
+        let (unit_name, scale) = unit(direction);
+        let sync: Vec<(Real, Real)> = points.iter().map(|p| (p.0, p.1 * scale)).collect();
+        let asynchronous: Vec<(Real, Real)> = points.iter().map(|p| (p.0, p.2 * scale)).collect();
+        files.push((
+            format!("speed_{}.svg", slug(&name)),
+            line_svg(
+                &format!("{name}: error motion against speed"),
+                "speed (min⁻¹)",
+                &format!("value ({unit_name})"),
+                &[("synchronous", &sync), ("asynchronous", &asynchronous)],
+            )
+            .into_bytes(),
+        ));
+    }
+    for s in &evaluation.separations {
+        let form = &s.form;
+        let (lo, hi) = bounds(form, &angles, [0.0, 0.0]);
+        let svg = polar_svg(
+            &format!(
+                "artefact form by {} ({}), {:.0} min⁻¹",
+                s.method,
+                s.probes.join("+"),
+                rpm(s.speed)
+            ),
+            &[PolarCurve {
+                label: "form (outward)",
+                angles: &angles,
+                values: form,
+                stroke: "#063",
+                width: 1.5,
+            }],
+            [0.0, 0.0],
+            (lo, hi),
+            &[format!("peak to valley {:.4} µm", (hi - lo) * 1e6)],
+        );
+        files.push((
+            format!(
+                "form_{}_{}_{}rpm.svg",
+                slug(s.method),
+                slug(&s.probes.join("_")),
+                rpm(s.speed).round()
+            ),
+            svg.into_bytes(),
+        ));
+    }
+    files
+}

@@ -1,0 +1,653 @@
+//! From a record to the ISO 230-7 tests its probes allow, evaluated set-up by set-up and speed
+//! by speed: what `mtwin analyze spindle` reports.
+//!
+//! The probes decide the tests (directions and positions from the table, see
+//! [`super::record`]):
+//!
+//! | probes | test | signal |
+//! |---|---|---|
+//! | one radial probe (direction across the axis), fixed | radial, fixed sensitive direction (§5.4.3, formula (3)) | its reading |
+//! | two radial probes at one height, not parallel, fixed | radial, rotating sensitive direction (§5.3.2, formula (1)) | `E_X cos θ + E_Y sin θ`, with `E` solved from both readings |
+//! | two parallel radial probes at two heights | tilt, fixed sensitive direction (§5.4.5 Method 2, formula (5)) | `(upper − lower) / L` |
+//! | two such pairs at two heights | tilt, rotating sensitive direction (§5.3.3 Method 2) | formula (1) on the differences, `/ L` |
+//! | a probe along the axis, on it | axial (§5.3.4) | its reading |
+//! | a probe along the axis at a radius | face | its reading |
+//! | a probe turning with the axis | the same tests, its sensitive direction rotating | its reading |
+//!
+//! Each test is scored about every centre asked (the preferred one of ISO 230-7 Tab 1 first),
+//! with its spectrum. When the record holds the set-ups `normal` and `reversed` (Donaldson
+//! reversal, Annex B) the radial probes' synchronous profiles are separated into artefact form
+//! and error motion; three or more radial probes at one height are separated by the
+//! multi-probe method, whose blind harmonics are listed.
+//!
+//! Samples must lie on the index grid `θ_m = 2πm/M` (within 1 µrad); a record sampled off
+//! the grid is resampled first ([`motion::resample`]). A record of an axis turning backwards
+//! (negative speed) is laid out on the angle travelled, `2π − θ`, so that its revolutions run
+//! forward in time; its values are those of the mirrored plot, which are the same, and formula
+//! (1) takes the axis angle. Separations use forward records of the normal set-up only: the
+//! probe azimuths in the table describe that set-up.
+
+use super::analysis::motion::{self, Direction, ErrorMotionValues, MotionError, Revolutions};
+use super::analysis::polar::Centre;
+use super::analysis::separation::{self, Model, SeparationError};
+use super::analysis::spectrum::{self, Line};
+use super::record::{Sensing, SpindleProbe, SpindleRecord};
+use crate::math::Real;
+use std::f64::consts::TAU;
+
+/// How far a probe direction may lean and still count as radial or axial (1 mrad).
+const ALIGNED: Real = 1e-3;
+
+/// Spectral lines reported per test.
+pub const LINES: usize = 8;
+
+/// What to evaluate.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Centres to score about (the preferred one is always first).
+    pub centres: Vec<Centre>,
+    /// Condition number above which a multi-probe harmonic is blind.
+    pub condition_limit: Real,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            centres: vec![
+                Centre::Pc,
+                Centre::Lsc,
+                Centre::Mrs,
+                Centre::Mic,
+                Centre::Mcc,
+            ],
+            condition_limit: separation::DEFAULT_CONDITION_LIMIT,
+        }
+    }
+}
+
+/// Why a record cannot be evaluated.
+#[derive(Debug, thiserror::Error)]
+pub enum EvaluateError {
+    /// A test's signal could not be laid out or scored.
+    #[error("{test}: {source}")]
+    Motion {
+        /// The test.
+        test: String,
+        /// Why.
+        source: MotionError,
+    },
+    /// A separation failed.
+    #[error("{what}: {source}")]
+    Separation {
+        /// Which separation.
+        what: String,
+        /// Why.
+        source: SeparationError,
+    },
+    /// No probe gives any test.
+    #[error("no probe gives an ISO 230-7 test (radial, axial, face or tilt)")]
+    NoTest,
+}
+
+/// One evaluated test.
+#[derive(Clone, Debug)]
+pub struct Test {
+    /// Its name: kind, probes and sensing (`radial x1`, `radial x1+y1 rotating`, `tilt x1-x2`).
+    pub name: String,
+    /// Radial, axial, tilt or face.
+    pub direction: Direction,
+    /// Whether the sensitive direction is fixed or rotating.
+    pub sensing: Sensing,
+    /// The probes it uses.
+    pub probes: Vec<String>,
+    /// Height along the axis (m) of a radial or face test; the lower station of a tilt.
+    pub height: Real,
+    /// The signal (m, or rad for tilt), revolution by revolution.
+    pub signal: Revolutions,
+    /// The values about each centre asked, the preferred centre first.
+    pub values: Vec<ErrorMotionValues>,
+    /// The largest spectral lines (synchronous and asynchronous).
+    pub lines: Vec<Line>,
+}
+
+/// The tests of one set-up at one speed.
+#[derive(Clone, Debug)]
+pub struct Segment {
+    /// The set-up's name (`""` for a record of one set-up).
+    pub setup: String,
+    /// Speed (rad/s, signed).
+    pub speed: Real,
+    /// Revolutions recorded.
+    pub revolutions: usize,
+    /// The tests.
+    pub tests: Vec<Test>,
+}
+
+/// Artefact form separated from the error motion by one probe (reversal) or a layout
+/// (multi-probe), at one speed.
+#[derive(Clone, Debug)]
+pub struct Separated {
+    /// The method: `reversal` or `multi-probe`.
+    pub method: &'static str,
+    /// The probes used.
+    pub probes: Vec<String>,
+    /// Speed (rad/s).
+    pub speed: Real,
+    /// Artefact form h(ψ) (m, outward positive) on the grid ψ_m = 2πm/M.
+    pub form: Vec<Real>,
+    /// Synchronous error motion along X and Y (m) on the θ grid (reversal: along the probe
+    /// only, in `motion_x`).
+    pub motion_x: Vec<Real>,
+    /// See `motion_x` (empty for a reversal).
+    pub motion_y: Vec<Real>,
+    /// Harmonics the layout cannot see (multi-probe).
+    pub blind: Vec<usize>,
+}
+
+/// Everything `analyze spindle` reports on one record.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    /// Samples per revolution.
+    pub samples_per_revolution: usize,
+    /// Set-up by set-up, speed by speed, in file order.
+    pub segments: Vec<Segment>,
+    /// Form separations.
+    pub separations: Vec<Separated>,
+    /// Things a reader should know (resampling, skipped separations).
+    pub notes: Vec<String>,
+}
+
+/// The probe's kind from its geometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ProbeKind {
+    /// Across the axis at stator azimuth `azimuth` (the side it sits on).
+    Radial { azimuth: Real },
+    /// Along the axis, on it.
+    Axial,
+    /// Along the axis at a radius.
+    Face,
+}
+
+fn kind(probe: &SpindleProbe) -> Option<ProbeKind> {
+    let [dx, dy, dz] = probe.direction;
+    let [px, py, _] = probe.position;
+    if dz.abs() < ALIGNED {
+        // The probe faces −d: it sits on the side −d points away from, at azimuth of −d.
+        Some(ProbeKind::Radial {
+            azimuth: (-dy).atan2(-dx).rem_euclid(TAU),
+        })
+    } else if dx.hypot(dy) < ALIGNED {
+        if px.hypot(py) < 1e-6 {
+            Some(ProbeKind::Axial)
+        } else {
+            Some(ProbeKind::Face)
+        }
+    } else {
+        None
+    }
+}
+
+/// Evaluates every test the record's probes allow.
+pub fn evaluate(
+    record: &SpindleRecord,
+    samples_per_revolution: usize,
+    options: &Options,
+) -> Result<Evaluation, EvaluateError> {
+    let m = samples_per_revolution;
+    let mut notes = Vec::new();
+    let mut segments = Vec::new();
+    for (start, end) in segment_bounds(record) {
+        let signals = probe_signals(record, start, end, m, &mut notes)?;
+        let backwards = record.speed[start] < 0.0;
+        if backwards {
+            let note = "a backwards record is laid out on the angle travelled (360° − the axis \
+                        angle): its polar plots are mirrored; its values are not changed by that";
+            if !notes.iter().any(|n| n == note) {
+                notes.push(note.to_string());
+            }
+        }
+        let tests = tests(record, &signals, options, backwards)?;
+        if tests.is_empty() {
+            return Err(EvaluateError::NoTest);
+        }
+        segments.push(Segment {
+            setup: record.setup[start].clone(),
+            speed: record.speed[start],
+            revolutions: signals.first().map_or(0, |s| s.count()),
+            tests,
+        });
+    }
+    let mut separations = reversals(&segments)?;
+    separations.extend(multiprobe(record, &segments, options, &mut notes)?);
+    Ok(Evaluation {
+        samples_per_revolution: m,
+        segments,
+        separations,
+        notes,
+    })
+}
+
+/// Sample ranges of equal set-up and speed, in file order.
+fn segment_bounds(record: &SpindleRecord) -> Vec<(usize, usize)> {
+    let mut bounds = Vec::new();
+    let mut start = 0;
+    for i in 1..=record.len() {
+        if i == record.len()
+            || record.setup[i] != record.setup[start]
+            || record.speed[i] != record.speed[start]
+        {
+            bounds.push((start, i));
+            start = i;
+        }
+    }
+    bounds
+}
+
+/// Each probe's readings in `start..end` as revolutions on the index grid (resampled when
+/// the angles are off it).
+fn probe_signals(
+    record: &SpindleRecord,
+    start: usize,
+    end: usize,
+    m: usize,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Revolutions>, EvaluateError> {
+    // The angle travelled since the index: the axis angle, or its complement for an axis
+    // turning backwards, so that revolutions run forward in time either way.
+    let backwards = record.speed[start] < 0.0;
+    let travelled = |i: usize| {
+        if backwards {
+            (TAU - record.angle[i]).rem_euclid(TAU)
+        } else {
+            record.angle[i]
+        }
+    };
+    let on_grid = (start..end).all(|i| {
+        let nominal = TAU * ((i - start) % m) as Real / m as Real;
+        (travelled(i) - nominal).abs() < 1e-6
+    }) && (end - start).is_multiple_of(m);
+    record
+        .probes
+        .iter()
+        .zip(&record.readings)
+        .map(|(probe, readings)| {
+            let values = readings[start..end].to_vec();
+            let laid_out = if on_grid {
+                Revolutions::new(m, values)
+            } else {
+                let first = record.revolution[start];
+                let unwrapped: Vec<Real> = (start..end)
+                    .map(|i| TAU * (record.revolution[i] - first) as Real + travelled(i))
+                    .collect();
+                motion::resample(&unwrapped, &values, m)
+            };
+            laid_out.map_err(|source| EvaluateError::Motion {
+                test: format!("probe {}", probe.name),
+                source,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .inspect(|_| {
+            if !on_grid {
+                let note = format!(
+                    "samples off the index grid: resampled linearly onto {m} per revolution"
+                );
+                if !notes.contains(&note) {
+                    notes.push(note);
+                }
+            }
+        })
+}
+
+/// A signal's values and spectrum.
+fn score(
+    name: String,
+    direction: Direction,
+    signal: Revolutions,
+    options: &Options,
+) -> Result<(Vec<ErrorMotionValues>, Vec<Line>, Revolutions, String), EvaluateError> {
+    let preferred = direction.preferred_centre();
+    let centres = std::iter::once(preferred)
+        .chain(options.centres.iter().copied().filter(|c| *c != preferred));
+    let centres: Vec<Centre> = centres.collect();
+    let values = motion::values_about(&signal, direction, &centres).map_err(|source| {
+        EvaluateError::Motion {
+            test: name.clone(),
+            source,
+        }
+    })?;
+    let lines = spectrum::spectrum(&signal).largest(LINES, None);
+    Ok((values, lines, signal, name))
+}
+
+/// The tests of one segment.
+fn tests(
+    record: &SpindleRecord,
+    signals: &[Revolutions],
+    options: &Options,
+    backwards: bool,
+) -> Result<Vec<Test>, EvaluateError> {
+    let probes = &record.probes;
+    let kinds: Vec<Option<ProbeKind>> = probes.iter().map(kind).collect();
+    let mut out = Vec::new();
+    let mut push = |name: String,
+                    direction: Direction,
+                    sensing: Sensing,
+                    used: &[usize],
+                    height: Real,
+                    signal: Revolutions|
+     -> Result<(), EvaluateError> {
+        let (values, lines, signal, name) = score(name, direction, signal, options)?;
+        out.push(Test {
+            name,
+            direction,
+            sensing,
+            probes: used.iter().map(|&i| probes[i].name.clone()).collect(),
+            height,
+            signal,
+            values,
+            lines,
+        });
+        Ok(())
+    };
+    // Single probes.
+    for (i, probe) in probes.iter().enumerate() {
+        let (direction, label) = match kinds[i] {
+            Some(ProbeKind::Radial { .. }) => (Direction::Radial, "radial"),
+            Some(ProbeKind::Axial) => (Direction::Axial, "axial"),
+            Some(ProbeKind::Face) => (Direction::Face, "face"),
+            None => continue,
+        };
+        let suffix = match probe.sensing {
+            Sensing::Fixed => "",
+            Sensing::Rotating => " rotating",
+        };
+        push(
+            format!("{label} {}{suffix}", probe.name),
+            direction,
+            probe.sensing,
+            &[i],
+            probe.position[2],
+            signals[i].clone(),
+        )?;
+    }
+    // Fixed radial probes: pairs at one height (rotating sensitive direction), parallel pairs
+    // at two heights (tilt).
+    let radial: Vec<usize> = (0..probes.len())
+        .filter(|&i| {
+            matches!(kinds[i], Some(ProbeKind::Radial { .. }))
+                && probes[i].sensing == Sensing::Fixed
+        })
+        .collect();
+    let m = signals.first().map_or(0, |s| s.samples_per_revolution());
+    // Formula (1) takes the axis angle: minus the angle travelled when turning backwards.
+    let sign = if backwards { -1.0 } else { 1.0 };
+    let angles: Vec<Real> = (0..m).map(|k| sign * TAU * k as Real / m as Real).collect();
+    let pairs = xy_pairs(probes, &radial);
+    for &(a, b) in &pairs {
+        let signal = rotating(&probes[a], &probes[b], &signals[a], &signals[b], &angles);
+        push(
+            format!("radial {}+{} rotating", probes[a].name, probes[b].name),
+            Direction::Radial,
+            Sensing::Rotating,
+            &[a, b],
+            probes[a].position[2],
+            signal,
+        )?;
+    }
+    for (n, &a) in radial.iter().enumerate() {
+        for &b in &radial[n + 1..] {
+            let (da, db) = (probes[a].direction, probes[b].direction);
+            let parallel = (da[0] * db[0] + da[1] * db[1] - 1.0).abs() < ALIGNED;
+            let (za, zb) = (probes[a].position[2], probes[b].position[2]);
+            if !parallel || (za - zb).abs() < 1e-6 {
+                continue;
+            }
+            let (lower, upper) = if za < zb { (a, b) } else { (b, a) };
+            let length = (za - zb).abs();
+            let mut values = vec![0.0; signals[a].values().len()];
+            motion::tilt(
+                signals[lower].values(),
+                signals[upper].values(),
+                length,
+                &mut values,
+            );
+            push(
+                format!("tilt {}-{}", probes[lower].name, probes[upper].name),
+                Direction::Tilt,
+                Sensing::Fixed,
+                &[lower, upper],
+                probes[lower].position[2],
+                Revolutions::new(m, values).expect("laid out like its probes"),
+            )?;
+        }
+    }
+    // Two xy pairs at two heights: tilt in the rotating sensitive direction (Method 2).
+    for (n, &(a1, b1)) in pairs.iter().enumerate() {
+        for &(a2, b2) in &pairs[n + 1..] {
+            let (z1, z2) = (probes[a1].position[2], probes[a2].position[2]);
+            if (z1 - z2).abs() < 1e-6 {
+                continue;
+            }
+            let ((la, lb), (ua, ub)) = if z1 < z2 {
+                ((a1, b1), (a2, b2))
+            } else {
+                ((a2, b2), (a1, b1))
+            };
+            let lower = rotating(
+                &probes[la],
+                &probes[lb],
+                &signals[la],
+                &signals[lb],
+                &angles,
+            );
+            let upper = rotating(
+                &probes[ua],
+                &probes[ub],
+                &signals[ua],
+                &signals[ub],
+                &angles,
+            );
+            let mut values = vec![0.0; lower.values().len()];
+            motion::tilt(lower.values(), upper.values(), (z1 - z2).abs(), &mut values);
+            push(
+                format!(
+                    "tilt {}+{}-{}+{} rotating",
+                    probes[la].name, probes[lb].name, probes[ua].name, probes[ub].name
+                ),
+                Direction::Tilt,
+                Sensing::Rotating,
+                &[la, lb, ua, ub],
+                probes[la].position[2],
+                Revolutions::new(m, values).expect("laid out like its probes"),
+            )?;
+        }
+    }
+    Ok(out)
+}
+
+/// Pairs of fixed radial probes at one height whose directions are at least 30° apart, each
+/// probe in one pair at most (the first partner in column order).
+fn xy_pairs(probes: &[SpindleProbe], radial: &[usize]) -> Vec<(usize, usize)> {
+    let mut used = vec![false; probes.len()];
+    let mut pairs = Vec::new();
+    for (n, &a) in radial.iter().enumerate() {
+        if used[a] {
+            continue;
+        }
+        for &b in &radial[n + 1..] {
+            let (da, db) = (probes[a].direction, probes[b].direction);
+            let cross = (da[0] * db[1] - da[1] * db[0]).abs();
+            let same_height = (probes[a].position[2] - probes[b].position[2]).abs() < 1e-6;
+            if !used[b] && same_height && cross > 0.5 {
+                used[a] = true;
+                used[b] = true;
+                pairs.push((a, b));
+                break;
+            }
+        }
+    }
+    pairs
+}
+
+/// Formula (1) of ISO 230-7: `E_X cos θ + E_Y sin θ`, with `E` solved per sample from two
+/// radial readings `r_i = d_i · E`.
+fn rotating(
+    pa: &SpindleProbe,
+    pb: &SpindleProbe,
+    a: &Revolutions,
+    b: &Revolutions,
+    angles: &[Real],
+) -> Revolutions {
+    let (da, db) = (pa.direction, pb.direction);
+    let det = da[0] * db[1] - da[1] * db[0];
+    let m = angles.len();
+    let directions: Vec<(Real, Real)> = angles.iter().map(|t| t.sin_cos()).collect();
+    let values = a
+        .values()
+        .iter()
+        .zip(b.values())
+        .enumerate()
+        .map(|(i, (&ra, &rb))| {
+            let ex = (ra * db[1] - rb * da[1]) / det;
+            let ey = (da[0] * rb - db[0] * ra) / det;
+            let (sin, cos) = directions[i % m];
+            ex * cos + ey * sin
+        })
+        .collect();
+    Revolutions::new(m, values).expect("laid out like its probes")
+}
+
+/// Donaldson reversal of each radial probe between the set-ups `normal` and `reversed` at
+/// equal speeds.
+fn reversals(segments: &[Segment]) -> Result<Vec<Separated>, EvaluateError> {
+    let mut out = Vec::new();
+    // Forward records only: the separations' conventions take the axis angle increasing.
+    for normal in segments
+        .iter()
+        .filter(|s| s.setup == "normal" && s.speed >= 0.0)
+    {
+        let Some(reversed) = segments
+            .iter()
+            .find(|s| s.setup == "reversed" && s.speed == normal.speed)
+        else {
+            continue;
+        };
+        for (test, other) in normal.tests.iter().zip(&reversed.tests) {
+            let single_radial = test.direction == Direction::Radial
+                && test.probes.len() == 1
+                && test.sensing == Sensing::Fixed;
+            if !single_radial || other.name != test.name {
+                continue;
+            }
+            let r1 = motion::decompose(&test.signal).synchronous;
+            let r2 = motion::decompose(&other.signal).synchronous;
+            let result = separation::donaldson_reversal(&r1, &r2).map_err(|source| {
+                EvaluateError::Separation {
+                    what: format!("reversal of {}", test.probes[0]),
+                    source,
+                }
+            })?;
+            out.push(Separated {
+                method: "reversal",
+                probes: test.probes.clone(),
+                speed: normal.speed,
+                form: result.form,
+                motion_x: result.motion,
+                motion_y: Vec::new(),
+                blind: Vec::new(),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Multi-probe separation (two-direction model) of three or more fixed radial probes at one
+/// height, per segment.
+fn multiprobe(
+    record: &SpindleRecord,
+    segments: &[Segment],
+    options: &Options,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Separated>, EvaluateError> {
+    let mut out = Vec::new();
+    let mut groups: Vec<(Real, Vec<(usize, Real)>)> = Vec::new();
+    for (i, probe) in record.probes.iter().enumerate() {
+        if let (Some(ProbeKind::Radial { azimuth }), Sensing::Fixed) = (kind(probe), probe.sensing)
+        {
+            let z = probe.position[2];
+            match groups.iter_mut().find(|(h, _)| (h - z).abs() < 1e-6) {
+                Some((_, members)) => members.push((i, azimuth)),
+                None => groups.push((z, vec![(i, azimuth)])),
+            }
+        }
+    }
+    for (_, members) in groups.iter().filter(|(_, m)| m.len() >= 3) {
+        let names: Vec<String> = members
+            .iter()
+            .map(|(i, _)| record.probes[*i].name.clone())
+            .collect();
+        let azimuths: Vec<Real> = members.iter().map(|(_, a)| *a).collect();
+        // The probe azimuths of the table describe the normal set-up: a reversed or turned
+        // set-up moves the probes (or the artefact), so only normal, forward records are
+        // separated.
+        let separable =
+            |s: &&Segment| (s.setup.is_empty() || s.setup == "normal") && s.speed >= 0.0;
+        for segment in segments.iter().filter(separable) {
+            let profiles: Vec<Vec<Real>> = members
+                .iter()
+                .map(|(i, _)| {
+                    let test = segment
+                        .tests
+                        .iter()
+                        .find(|t| t.probes == [record.probes[*i].name.clone()])
+                        .expect("every radial probe has its own test");
+                    motion::decompose(&test.signal).synchronous
+                })
+                .collect();
+            let result = separation::separate(
+                &profiles,
+                &azimuths,
+                Model::TwoDirection,
+                separation::Options {
+                    k_max: None,
+                    condition_limit: options.condition_limit,
+                },
+            )
+            .map_err(|source| EvaluateError::Separation {
+                what: format!("multi-probe {}", names.join("+")),
+                source,
+            })?;
+            if !result.blind.is_empty() {
+                let note = format!(
+                    "multi-probe {}: the layout cannot see harmonics {}",
+                    names.join("+"),
+                    compact_list(&result.blind)
+                );
+                if !notes.contains(&note) {
+                    notes.push(note);
+                }
+            }
+            out.push(Separated {
+                method: "multi-probe",
+                probes: names.clone(),
+                speed: segment.speed,
+                form: result.form,
+                motion_x: result.motion_x,
+                motion_y: result.motion_y,
+                blind: result.blind,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// `2, 4, 5, 7, …` shortened: at most 12 numbers, then the count of the rest.
+pub fn compact_list(values: &[usize]) -> String {
+    let shown: Vec<String> = values.iter().take(12).map(|v| v.to_string()).collect();
+    if values.len() > 12 {
+        format!("{}, … ({} in all)", shown.join(", "), values.len())
+    } else {
+        shown.join(", ")
+    }
+}
