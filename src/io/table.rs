@@ -51,7 +51,7 @@ pub(crate) fn read_header(
     reader: &mut csv::Reader<&[u8]>,
     file: &str,
 ) -> Result<(csv::StringRecord, u64), TableError> {
-    let line = record_line(reader.get_ref(), 0);
+    let line = record_line(reader.get_ref(), 0, 1);
     let header = reader
         .headers()
         .map_err(|e| TableError::new(file, Some(line), format!("cannot read the header: {e}")))?
@@ -68,12 +68,13 @@ pub(crate) fn read_header(
     Ok((header, line))
 }
 
-/// The 1-based line of the record that starts reading at `byte` of `bytes`: the reader's
-/// positions point at the first byte after the record before, so the comment and blank lines
-/// it then skips are stepped over here.
-fn record_line(bytes: &[u8], byte: u64) -> u64 {
+/// The 1-based line of the record that starts reading at `byte` of `bytes`, which is on line
+/// `line` (the reader's count): the reader's positions point at the first byte after the
+/// record before, so the comment and blank lines it then skips are stepped over here. Only
+/// those lines are scanned, so reading a table stays linear in its length.
+fn record_line(bytes: &[u8], byte: u64, line: u64) -> u64 {
     let start = (byte as usize).min(bytes.len());
-    let mut line = bytes[..start].iter().filter(|b| **b == b'\n').count() as u64 + 1;
+    let mut line = line;
     for text in bytes[start..].split(|b| *b == b'\n') {
         let text = text.strip_prefix("\u{feff}".as_bytes()).unwrap_or(text);
         let text = text.trim_ascii();
@@ -94,19 +95,19 @@ pub(crate) fn row(
     bytes: &[u8],
     file: &str,
 ) -> Result<csv::StringRecord, TableError> {
-    let line_at = |byte: u64| record_line(bytes, byte);
+    let line_at = |position: &csv::Position| record_line(bytes, position.byte(), position.line());
     match record {
         Ok(mut record) => {
             if let Some(position) = record.position() {
                 let mut position = position.clone();
-                position.set_line(line_at(position.byte()));
+                position.set_line(line_at(&position));
                 record.set_position(Some(position));
             }
             Ok(record)
         }
         Err(e) => Err(TableError::new(
             file,
-            e.position().map(|p| line_at(p.byte())),
+            e.position().map(line_at),
             format!("not a valid CSV row: {e}"),
         )),
     }

@@ -28,8 +28,9 @@ fn temporary(dir: &Path, name: &str) -> std::path::PathBuf {
 }
 
 /// Writes `(file name, bytes)` pairs into `dir` (created if needed). All are first written
-/// under temporary names and only then renamed, so a failure while writing leaves none of the
-/// new files (and removes the temporary ones).
+/// under temporary names and only then renamed, so a failure while writing or renaming leaves
+/// none of the new files (and removes the temporary ones). A file this call replaced is gone
+/// if a later rename fails.
 pub fn write_files(files: &[(String, Vec<u8>)], dir: &Path) -> Result<(), WriteError> {
     std::fs::create_dir_all(dir).map_err(|e| WriteError::new(dir, e))?;
     for (index, (name, bytes)) in files.iter().enumerate() {
@@ -40,9 +41,22 @@ pub fn write_files(files: &[(String, Vec<u8>)], dir: &Path) -> Result<(), WriteE
             return Err(WriteError::new(&dir.join(name), e));
         }
     }
-    for (name, _) in files {
+    for (index, (name, _)) in files.iter().enumerate() {
         let target = dir.join(name);
-        std::fs::rename(temporary(dir, name), &target).map_err(|e| WriteError::new(&target, e))?;
+        if let Err(e) = std::fs::rename(temporary(dir, name), &target) {
+            // Best effort, already failing: take back the files renamed so far and remove the
+            // temporary ones left, so that nothing of this write remains.
+            for (renamed, _) in &files[..index] {
+                let _ = std::fs::remove_file(dir.join(renamed));
+            }
+            for (left, _) in &files[index..] {
+                let _ = std::fs::remove_file(temporary(dir, left));
+            }
+            return Err(WriteError {
+                path: target.display().to_string(),
+                message: format!("cannot put the file in place: {e}"),
+            });
+        }
     }
     Ok(())
 }

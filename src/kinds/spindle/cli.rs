@@ -198,7 +198,7 @@ fn speed_series(evaluation: &Evaluation) -> Vec<SpeedSeries> {
     series
 }
 
-/// The JSON report (keys in [`JSON_KEYS`]).
+/// The JSON report (its keys are listed in `mtwin analyze spindle --help`).
 pub fn to_json(evaluation: &Evaluation) -> Value {
     let segments: Vec<Value> = evaluation
         .segments
