@@ -161,6 +161,23 @@ pub(crate) fn sections(
     raw: Option<&Spanned<RawEtve>>,
     thermal: Option<(&ThermalSetup, std::ops::Range<usize>)>,
 ) -> Result<Option<EtveTest>, ScenarioError> {
+    thermal_test(context, "iso230_3_etve", raw, thermal, |raw, setup| {
+        let test = etve_test(context, machine, raw, setup)?;
+        let duration = test.program.duration();
+        Ok((test, duration))
+    })
+}
+
+/// A thermal test section `name` of a scenario, if given, built by `build` on the scenario's
+/// `[thermal]` model (`thermal`, with its section's span), which it needs; the thermal model's
+/// steps are checked against the programme's duration that `build` returns with the test.
+pub(crate) fn thermal_test<R, T>(
+    context: &Context<'_>,
+    name: &str,
+    raw: Option<&Spanned<R>>,
+    thermal: Option<(&ThermalSetup, std::ops::Range<usize>)>,
+    build: impl FnOnce(&Spanned<R>, &ThermalSetup) -> Result<(T, Real), ScenarioError>,
+) -> Result<Option<T>, ScenarioError> {
     let Some(raw) = raw else {
         return Ok(None);
     };
@@ -168,11 +185,13 @@ pub(crate) fn sections(
         return Err(context.error(
             Some(raw.span()),
             ScenarioErrorKind::Value,
-            "iso230_3_etve is a thermal test: add a [thermal] section with the machine's thermal model (and its air)",
+            format!(
+                "{name} is a thermal test: add a [thermal] section with the machine's thermal model (and its air)"
+            ),
         ));
     };
-    let test = etve_test(context, machine, raw, setup)?;
-    setup.check_steps(context, thermal_span, test.program.duration())?;
+    let (test, duration) = build(raw, setup)?;
+    setup.check_steps(context, thermal_span, duration)?;
     Ok(Some(test))
 }
 

@@ -43,7 +43,7 @@
 
 use super::iso230_3::{drift_ranges, signed_range, stop_time, tilts};
 use super::run::{hold_condition, read_nest};
-use super::scenario::{Nest, RawAir, RawNest, air_thermometer, hold_position, nest};
+use super::scenario::{Nest, RawAir, RawNest, air_thermometer, hold_position, nest, thermal_test};
 use super::table::{DriftChannel, DriftConditions, DriftTable};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real, trimmed};
@@ -243,19 +243,11 @@ pub(crate) fn sections(
     raw: Option<&Spanned<RawSpindleTest>>,
     thermal: Option<(&ThermalSetup, std::ops::Range<usize>)>,
 ) -> Result<Option<SpindleThermalTest>, ScenarioError> {
-    let Some(raw) = raw else {
-        return Ok(None);
-    };
-    let Some((setup, thermal_span)) = thermal else {
-        return Err(context.error(
-            Some(raw.span()),
-            ScenarioErrorKind::Value,
-            "iso230_3_spindle is a thermal test: add a [thermal] section with the machine's thermal model (and its air)",
-        ));
-    };
-    let test = spindle_test(context, machine, raw, setup)?;
-    setup.check_steps(context, thermal_span, test.program.duration())?;
-    Ok(Some(test))
+    thermal_test(context, "iso230_3_spindle", raw, thermal, |raw, setup| {
+        let test = spindle_test(context, machine, raw, setup)?;
+        let duration = test.program.duration();
+        Ok((test, duration))
+    })
 }
 
 /// The `[thermal]` and `[iso230_3_spindle]` sections of a scenario's `text` (the file `file`;
