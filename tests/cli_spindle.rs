@@ -12,10 +12,9 @@
 //!   sampled on time with a speed ripple, CRLF, its own column order, no geometry): the values
 //!   and lines agree with the closed forms of that model within stated tolerances and the
 //!   report says it resampled.
-//!
-//! Two tests show library bugs and fail until they are fixed (see their comments):
-//! `a_plot_that_cannot_be_renamed_leaves_no_files_behind` (src/io/write.rs) and
-//! `reading_a_table_takes_time_in_proportion_to_its_rows` (src/io/table.rs).
+//! * `discover spindle`: the JSON keys its help documents, on the foreign export; bad set-up,
+//!   bearing and revolution counts refused with the file named, non-zero exit, nothing on
+//!   stdout.
 
 use serde_json::Value;
 use std::collections::BTreeSet;
@@ -1056,4 +1055,153 @@ fn a_time_sampled_foreign_export_is_resampled_and_its_values_are_the_models() {
         "{report}"
     );
     assert!(report.contains("6000 min⁻¹, 10 revolutions"), "{report}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. `discover spindle`.
+
+/// `mtwin discover spindle FILE EXTRA…`.
+fn discover(file: &Path, extra: &[&OsStr]) -> Output {
+    let mut args: Vec<&OsStr> = vec!["discover".as_ref(), "spindle".as_ref(), file.as_os_str()];
+    args.extend_from_slice(extra);
+    mtwin(&args)
+}
+
+#[test]
+fn discover_reports_the_documented_keys_on_a_foreign_export() {
+    let output = discover(&data("foreign/sea_time.csv"), &["--json".as_ref()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let json: Value = serde_json::from_slice(&output.stdout).expect("JSON on stdout");
+    assert_eq!(
+        keys(&json),
+        set(&[
+            "kind",
+            "setup",
+            "other_setups",
+            "probes",
+            "samples_per_revolution",
+            "speeds_rpm",
+            "revolutions",
+            "n_samples",
+            "validation",
+            "baseline",
+            "steps",
+            "rejected",
+            "untestable",
+            "final",
+        ])
+    );
+    assert_eq!(keys(&json["validation"]), set(&["scheme", "folds", "rule"]));
+    assert_eq!(
+        keys(&json["baseline"]),
+        set(&[
+            "model",
+            "base_harmonics",
+            "rms_um",
+            "cv_rms_um",
+            "fold_cv_rms_um",
+            "evidence"
+        ])
+    );
+    let steps = array(&json["steps"]);
+    let ids: Vec<&str> = steps
+        .iter()
+        .map(|s| s["effect"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids, ["harmonic", "asynchronous_line"]);
+    for step in steps {
+        assert_eq!(
+            keys(step),
+            set(&[
+                "effect",
+                "together_with",
+                "cause",
+                "evidence",
+                "params",
+                "rms_um",
+                "cv_rms_um",
+                "fold_cv_rms_um",
+                "gain_um",
+                "gain_pct"
+            ])
+        );
+        // One held-out RMS per fold, and the pooled one is their quadratic mean (equal folds).
+        let folds: Vec<f64> = array(&step["fold_cv_rms_um"]).iter().map(number).collect();
+        assert_eq!(folds.len(), 5);
+    }
+    assert_eq!(
+        keys(&steps[1]["params"]),
+        set(&["per_revolution", "harmonics", "name", "hz", "amplitude"])
+    );
+    assert_eq!(
+        keys(&json["final"]),
+        set(&["model", "params", "rms_um", "cv_rms_um", "fold_cv_rms_um"])
+    );
+    // The 11 revolutions × 256 samples × 2 probes.
+    assert_eq!(number(&json["n_samples"]), (11 * 256 * 2) as f64);
+    // The text report names the same effects.
+    let output = discover(&data("foreign/sea_time.csv"), &[]);
+    let report = text(&output.stdout);
+    assert!(
+        report.contains("+ harmonic: 3 UPR") && report.contains("+ asynchronous_line: 4.400 UPR"),
+        "{report}"
+    );
+}
+
+#[test]
+fn discover_refuses_what_it_cannot_search_with_the_file_named() {
+    let sea = data("foreign/sea_time.csv");
+    let small = data("small.csv");
+    // (file, flags, what the message says, whether it is about the file)
+    let cases: [(&Path, Vec<&str>, &str, bool); 4] = [
+        (
+            &sea,
+            vec!["--setup", "reversed"],
+            "set-up `reversed` is not in the record",
+            true,
+        ),
+        (
+            &sea,
+            vec![
+                "--bearing-elements",
+                "9",
+                "--bearing-element-diameter-mm",
+                "40",
+                "--bearing-pitch-diameter-mm",
+                "39",
+            ],
+            "bearing geometry",
+            false,
+        ),
+        (
+            &sea,
+            vec!["--bearing-elements", "9"],
+            "--bearing-element-diameter-mm",
+            false,
+        ),
+        // small.csv holds 2 revolutions: none could be held out.
+        (&small, vec![], "at least 3", true),
+    ];
+    for (file, extra, what, about_the_file) in cases {
+        let args: Vec<&OsStr> = extra.iter().map(|a| a.as_ref()).collect();
+        let output = discover(file, &args);
+        assert!(!output.status.success(), "{extra:?}");
+        assert!(
+            output.stdout.is_empty(),
+            "{extra:?}: {}",
+            text(&output.stdout)
+        );
+        let stderr = text(&output.stderr);
+        assert!(
+            stderr.contains(what),
+            "{extra:?}: expected `{what}` in {stderr}"
+        );
+        if about_the_file {
+            let name = file.file_name().unwrap().to_str().unwrap();
+            assert!(
+                stderr.contains(name),
+                "{extra:?}: the file named in {stderr}"
+            );
+        }
+    }
 }

@@ -33,9 +33,10 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // placements, 5 points a ball; a ring of 36 points and 3 mesh points (no sphere); the
     // probe lesson 4 C positions × 5 points. The spindle analysers: set-ups × speeds ×
     // revolutions × samples per revolution (vmc3 1 × 3 × 20 × 1024; the reversal 2 × 1 × 20 ×
-    // 1024; the multi-probe layout 1 × 1 × 20 × 1024; trunnion5's C 1 × 2 × 20 × 720); the
-    // ISO 230-3 spindle thermal test reads every minute for 240 + 60 min: 301 rows.
-    let expected: [(&str, &[(&str, usize)]); 26] = [
+    // 1024; the multi-probe layout 1 × 1 × 20 × 1024; trunnion5's C 1 × 2 × 20 × 720; the
+    // spindle lesson 1 × 1 × 16 × 256); the ISO 230-3 spindle thermal test reads every minute
+    // for 240 + 60 min: 301 rows.
+    let expected: [(&str, &[(&str, usize)]); 27] = [
         (
             "trunnion5_probe_sphere.toml",
             &[("probe.csv", 8 * 5), ("spheres.csv", 8)],
@@ -89,6 +90,7 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
             &[("spindle.csv", 20 * 1024)],
         ),
         ("trunnion5_c_axis.toml", &[("spindle.csv", 2 * 20 * 720)]),
+        ("teach_spindle.toml", &[("spindle.csv", 16 * 256)]),
         ("vmc3_ballbar_xy.toml", &[("ballbar_xy.csv", full_150)]),
         (
             "vmc3_ballbar_3planes.toml",

@@ -3,7 +3,7 @@
 //! conventions are in [`crate::viz`].
 
 use super::{Scenario, Simulation};
-use crate::kinds::{ballbar, positioning, probe, rtest, volumetric};
+use crate::kinds::{ballbar, positioning, probe, rtest, spindle, volumetric};
 use crate::math::Real;
 use crate::viz::machine::MachineScene;
 use crate::viz::rr;
@@ -54,6 +54,9 @@ pub fn record(
     }
     if let (Some(test), Some(run)) = (&scenario.probe_test, &simulation.probe) {
         start = probe::scene::record(rec, &mut scene, test, run, start, &mut legend)? + 1.0;
+    }
+    if let (Some(test), Some(table)) = (&scenario.spindle_test, &simulation.spindle) {
+        start = spindle::scene::record(rec, &mut scene, test, table, start, &mut legend)? + 1.0;
     }
     if let Some(map) = &simulation.volumetric {
         volumetric::scene::record(rec, &mut scene, map, start, &mut legend)?;
@@ -137,6 +140,19 @@ fn layout(scenario: &Scenario, simulation: &Simulation) -> rr::blueprint::Bluepr
         series.insert(
             0,
             series_view("probe (µm)", format!("/{}", probe::scene::SERIES)),
+        );
+    }
+    if simulation.spindle.is_some() {
+        plots.push(plot_view(
+            "spindle: polar plots",
+            format!("/{}", spindle::scene::PLOT),
+        ));
+        series.insert(
+            0,
+            series_view(
+                "spindle probes (µm)",
+                format!("/{}", spindle::scene::SERIES),
+            ),
         );
     }
     let left = Vertical::new([

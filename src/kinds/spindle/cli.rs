@@ -3,6 +3,8 @@
 
 use super::analysis::motion::{Direction, ErrorMotionValues, decompose};
 use super::analysis::polar::Centre;
+use super::discovery::bearing::Bearing;
+use super::discovery::{DEFAULT_BASE_HARMONICS, Options as DiscoveryOptions, discover_spindle};
 use super::evaluate::{Evaluation, Options, Test, compact_list, evaluate};
 use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
 use super::record::Sensing;
@@ -33,8 +35,108 @@ pub const KIND: Kind = Kind {
         },
         run: analyze,
     }),
-    discover: None,
+    discover: Some(Verb {
+        command: || {
+            DiscoverArgs::augment_args(clap::Command::new("spindle"))
+                .about(
+                    "Spindle analyser records (ISO 230-7): asynchronous lines (named by bearing \
+                     frequency), harmonics beyond the base, drift during the record, speed dependence",
+                )
+                .long_about(DISCOVER_ABOUT)
+        },
+        run: discover,
+    }),
 };
+
+const DISCOVER_ABOUT: &str = "\
+Spindle analyser records (ISO 230-7; the table of `analyze spindle`).
+
+The base model, for every probe: each speed's mean and the harmonics 1..K of the axis angle
+(--base-harmonics, default 2: the artefact's set-up eccentricity and an elliptical orbit).
+Effects: harmonic (a synchronous order above K, searched), asynchronous_line (a frequency that
+is no whole multiple of the rotation, searched; named by the bearing frequency it matches when
+--bearing-* give the geometry, else by its ratio to the rotation), drift (the mean moving during
+the record: linear or first-order, τ searched), speed_dependence (the harmonics 1..K differing
+between speeds). Harmonics and lines may enter up to 4 times each. Held-out data: contiguous
+blocks of revolutions in every speed; every testable effect is scored at every round.
+
+JSON keys (--json): kind, setup, other_setups[], probes[], samples_per_revolution,
+speeds_rpm[], revolutions[], n_samples, validation{scheme, folds, rule},
+baseline{model, base_harmonics, rms_um, cv_rms_um, fold_cv_rms_um[], evidence{}},
+steps[{effect, together_with, cause, evidence, params, rms_um, cv_rms_um, fold_cv_rms_um[],
+gain_um, gain_pct}], rejected[{effect, cv_rms_um}], untestable[{effect, reason}],
+final{model, params{}, rms_um, cv_rms_um, fold_cv_rms_um[]}. params: harmonic
+{per_revolution, amplitude{PROBE_um}}, asynchronous_line {per_revolution, name, hz[],
+amplitude{PROBE_um: [per speed]}}, drift {time_constant_s (null: linear), over_s,
+drift{PROBE_um}}, speed_dependence {speeds_rpm[], amplitude{PROBE_um: {upr_k: [per speed]}}}.";
+
+#[derive(Args)]
+struct DiscoverArgs {
+    /// The table (CSV, the columns of `analyze spindle`).
+    file: PathBuf,
+    /// Print JSON with stable keys instead of the report for people.
+    #[arg(long)]
+    json: bool,
+    /// The set-up to search, for a record of several (default: the first in the file).
+    #[arg(long, value_name = "NAME")]
+    setup: Option<String>,
+    /// The base model's harmonics of the angle, 1..=K.
+    #[arg(long, value_name = "K", default_value_t = DEFAULT_BASE_HARMONICS)]
+    base_harmonics: usize,
+    /// Rolling elements of the spindle bearing (with the two diameters: names lines by
+    /// bearing frequency).
+    #[arg(long, value_name = "N", requires_all = ["bearing_element_diameter_mm", "bearing_pitch_diameter_mm"])]
+    bearing_elements: Option<usize>,
+    /// Rolling-element diameter (mm).
+    #[arg(long, value_name = "MM", requires = "bearing_elements")]
+    bearing_element_diameter_mm: Option<Real>,
+    /// Pitch diameter of the bearing (mm).
+    #[arg(long, value_name = "MM", requires = "bearing_elements")]
+    bearing_pitch_diameter_mm: Option<Real>,
+    /// Contact angle of the bearing (°).
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        requires = "bearing_elements"
+    )]
+    bearing_contact_angle_deg: Real,
+}
+
+fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<String> {
+    let args = DiscoverArgs::from_arg_matches(matches)?;
+    let table = table::read(&args.file)?;
+    let bearing = match (
+        args.bearing_elements,
+        args.bearing_element_diameter_mm,
+        args.bearing_pitch_diameter_mm,
+    ) {
+        (Some(n), Some(d), Some(pitch)) => Some(Bearing::new(
+            n,
+            d * 1e-3,
+            pitch * 1e-3,
+            args.bearing_contact_angle_deg.to_radians(),
+        )?),
+        _ => None,
+    };
+    let options = DiscoveryOptions {
+        setup: args.setup.clone(),
+        base_harmonics: args.base_harmonics,
+        bearing,
+    };
+    let discovery = discover_spindle(
+        &table.record,
+        table.samples_per_revolution,
+        &options,
+        |what| progress(what),
+    )
+    .with_context(|| format!("{}", args.file.display()))?;
+    Ok(if args.json {
+        format!("{}\n", serde_json::to_string_pretty(&discovery.to_json())?)
+    } else {
+        discovery.to_text()
+    })
+}
 
 const JSON_KEYS: &str = "\
 Table: revolution, angle_deg and one NAME_um column per probe are required; setup, time_s and

@@ -17,9 +17,12 @@
 //! | [`evaluate`] | which tests the probes allow (radial, axial, face, tilt; fixed or rotating sensitive direction), scored per set-up and speed, and the form separations |
 //! | [`cli`] | `mtwin analyze spindle`: text, JSON and SVG |
 //! | [`plot`] | the SVG polar plots, spectra and value-against-speed charts |
+//! | [`discovery`] | `mtwin discover spindle`: what the synchronous model of a record leaves (asynchronous lines, harmonics, drift, speed dependence) |
+//! | `scene` | the teaching scene (feature `viz`) |
 
 pub mod analysis;
 pub mod cli;
+pub mod discovery;
 pub mod evaluate;
 pub mod instrument;
 pub mod plot;
@@ -27,6 +30,8 @@ pub mod program;
 pub mod record;
 pub mod run;
 pub mod scenario;
+#[cfg(feature = "viz")]
+pub mod scene;
 pub mod table;
 
 pub use record::{Sensing, SpindleProbe, SpindleRecord};
