@@ -64,9 +64,43 @@ impl Design {
     }
 }
 
+/// The least-squares coefficient of `r` on `column` alone (no intercept: centre both first
+/// for a slope) and its t statistic (n − 1 degrees of freedom).
+pub fn regression(column: &[Real], r: &[Real]) -> Option<(Real, Real)> {
+    let n = r.len() as Real;
+    let (cc, cr, rr) = column
+        .iter()
+        .zip(r)
+        .fold((0.0, 0.0, 0.0), |(cc, cr, rr), (c, r)| {
+            (cc + c * c, cr + c * r, rr + r * r)
+        });
+    if cc <= 0.0 || n < 3.0 {
+        return None;
+    }
+    let slope = cr / cc;
+    let variance = ((rr - slope * cr) / (n - 1.0)).max(0.0);
+    let t = if variance > 0.0 {
+        slope / (variance / cc).sqrt()
+    } else {
+        Real::INFINITY.copysign(slope)
+    };
+    Some((slope, t))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn regression_t_matches_a_hand_computation() {
+        // r = 2·c + e with c = (1, −1, 1, −1), e = (0.1, 0.1, −0.1, −0.1) ⊥ c: slope 2,
+        // residual variance 0.04/3, t = 2/√(0.04/3/4) = 34.64.
+        let c = [1.0, -1.0, 1.0, -1.0];
+        let r = [2.1, -1.9, 1.9, -2.1];
+        let (slope, t) = regression(&c, &r).unwrap();
+        assert!((slope - 2.0).abs() < 1e-12);
+        assert!((t - 2.0 / (0.04_f64 / 3.0 / 4.0).sqrt()).abs() < 1e-9);
+    }
 
     #[test]
     fn recovers_a_line_and_splits_collinear_columns_evenly() {

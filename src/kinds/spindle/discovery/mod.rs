@@ -46,7 +46,7 @@ use self::model::{
 };
 use super::record::SpindleRecord;
 use crate::discovery::engine::{self, Folds, Problem, Score, Selection};
-use crate::math::Real;
+use crate::math::{Real, golden_minimum};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
@@ -395,12 +395,13 @@ impl SpindleProblem {
                 // a factor of 2 either side (12 steps: to 0.4 % of τ).
                 let tau = match best {
                     Some((Some(tau), _)) => Some(
-                        golden_min(
+                        golden_minimum(
                             |log_tau| sse(Some(log_tau.exp())),
                             (tau / 2.0).ln(),
                             (tau * 2.0).ln(),
                             12,
                         )
+                        .0
                         .exp(),
                     ),
                     _ => None,
@@ -471,30 +472,6 @@ impl SpindleProblem {
     pub fn evidence(&self, effect: SpindleEffect, fit: &SpindleFit) -> String {
         report::evidence(self, effect, fit)
     }
-}
-
-/// The minimum of a unimodal `f` on `[low, high]` by golden-section search, `steps` steps.
-fn golden_min(f: impl Fn(Real) -> Real, mut low: Real, mut high: Real, steps: usize) -> Real {
-    let ratio = (5.0_f64.sqrt() - 1.0) / 2.0;
-    let mut a = high - ratio * (high - low);
-    let mut b = low + ratio * (high - low);
-    let (mut fa, mut fb) = (f(a), f(b));
-    for _ in 0..steps {
-        if fa <= fb {
-            high = b;
-            b = a;
-            fb = fa;
-            a = high - ratio * (high - low);
-            fa = f(a);
-        } else {
-            low = a;
-            a = b;
-            fa = fb;
-            b = low + ratio * (high - low);
-            fb = f(b);
-        }
-    }
-    if fa <= fb { a } else { b }
 }
 
 /// The orders of the harmonics in `searched`.

@@ -4,6 +4,7 @@
 use super::model::{Column, false_alarm_level, fit_linear, search_harmonic, search_line};
 use super::{FALSE_ALARM, Searched, SpindleDiscovery, SpindleEffect, SpindleFit, SpindleProblem};
 use crate::discovery::engine::{self, Score, round_json};
+use crate::discovery::least_squares::regression;
 use crate::math::Real;
 use serde_json::{Value, json};
 use std::f64::consts::TAU;
@@ -123,7 +124,7 @@ pub(super) fn evidence(
             let (probe, slope, t) = residuals
                 .iter()
                 .enumerate()
-                .filter_map(|(p, r)| regression(&x, r).map(|(s, t)| (p, s, t)))
+                .filter_map(|(p, r)| slope(&x, r).map(|(s, t)| (p, s, t)))
                 .max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()))
                 .unwrap_or((0, 0.0, 0.0));
             format!(
@@ -160,28 +161,13 @@ pub(super) fn evidence(
     }
 }
 
-/// The least-squares slope of `r` on `x` (both centred) and its t statistic.
-fn regression(x: &[Real], r: &[Real]) -> Option<(Real, Real)> {
-    let n = x.len() as Real;
-    let (mx, mr) = (x.iter().sum::<Real>() / n, r.iter().sum::<Real>() / n);
-    let (mut xx, mut xr, mut rr) = (0.0, 0.0, 0.0);
-    for (a, b) in x.iter().zip(r) {
-        let (a, b) = (a - mx, b - mr);
-        xx += a * a;
-        xr += a * b;
-        rr += b * b;
-    }
-    if xx <= 0.0 || n < 3.0 {
-        return None;
-    }
-    let slope = xr / xx;
-    let variance = ((rr - slope * xr) / (n - 2.0)).max(0.0);
-    let t = if variance > 0.0 {
-        slope / (variance / xx).sqrt()
-    } else {
-        Real::INFINITY.copysign(slope)
+/// The least-squares slope of `r` on `x` with an intercept (both centred) and its t statistic.
+fn slope(x: &[Real], r: &[Real]) -> Option<(Real, Real)> {
+    let centred = |v: &[Real]| -> Vec<Real> {
+        let mean = v.iter().sum::<Real>() / v.len().max(1) as Real;
+        v.iter().map(|a| a - mean).collect()
     };
-    Some((slope, t))
+    regression(&centred(x), &centred(r))
 }
 
 /// The amplitude of a cos/sin pair in `fit` for probe `p` (m).
@@ -294,11 +280,7 @@ fn params_text(problem: &SpindleProblem, fit: &SpindleFit, effect: SpindleEffect
 /// Numbers of a JSON array or number, `/`-separated, 3 decimals.
 fn numbers_flat(v: &Value) -> String {
     match v {
-        Value::Array(items) => items
-            .iter()
-            .map(numbers_flat)
-            .collect::<Vec<_>>()
-            .join("/"),
+        Value::Array(items) => items.iter().map(numbers_flat).collect::<Vec<_>>().join("/"),
         Value::Number(n) => format!("{:.3}", n.as_f64().unwrap_or(0.0)),
         Value::Object(map) => map
             .iter()
