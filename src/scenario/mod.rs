@@ -31,17 +31,21 @@
 //! same name (see [`crate::app::Scenario::load`]).
 //!
 //! This module holds what every section shares: located errors ([`ScenarioError`]), the key
-//! finder that points an error at its line ([`Context`]), the `[errors.*]` sections
-//! ([`errors`]), the machine's thermal model (`[thermal]`, [`thermal`]) and the teaching text
-//! (`[lesson]`, [`lesson`]). Each test kind reads its own sections in its folder
+//! finder that points an error at its line ([`Context`]), the located checks of a section read
+//! with spans ([`Checker`]), where the axes a test holds stand ([`parked`]), the `[errors.*]`
+//! sections ([`errors`]), the machine's thermal model (`[thermal]`, [`thermal`]) and the
+//! teaching text (`[lesson]`, [`lesson`]). Each test kind reads its own sections in its folder
 //! (`crate::kinds::<kind>::scenario`); [`crate::app::Scenario`] assembles them.
 
 use std::fmt;
 
+pub mod checker;
 pub mod errors;
 pub mod lesson;
+pub mod parked;
 pub mod thermal;
 
+pub use checker::Checker;
 pub use errors::{ErrorSpec, HarmonicSpec, InterpolationSpec, TableSpec, function_of, spec_of};
 pub use lesson::Lesson;
 pub use thermal::ThermalSetup;

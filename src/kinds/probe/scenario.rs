@@ -57,7 +57,7 @@ use super::instrument::TouchProbe;
 use crate::contact::{Approach, BallPlate, Cylinder, CylinderSide, Mesh, Sphere};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Rotation, Vector};
-use crate::scenario::{Context, ScenarioError, ScenarioErrorKind};
+use crate::scenario::{Checker, Context, ScenarioError, ScenarioErrorKind};
 use serde::Deserialize;
 use std::ops::Range;
 use std::path::Path;
@@ -168,224 +168,82 @@ pub struct ProbeTest {
     pub machine: String,
 }
 
-/// The located checks of one section.
-struct Checker<'a> {
-    context: &'a Context<'a>,
-    section: Range<usize>,
-    machine: &'a Machine,
-}
-
-impl Checker<'_> {
-    fn fail(
-        &self,
-        span: Option<Range<usize>>,
-        key: &str,
-        message: impl std::fmt::Display,
-    ) -> ScenarioError {
-        let span = span
-            .filter(|s| !s.is_empty())
-            .unwrap_or(self.section.clone());
-        self.context.error(
-            Some(span),
-            ScenarioErrorKind::Value,
-            format!("probe.{key}: {message}"),
-        )
-    }
-
-    /// A finite value ≥ `min` (or > `min` when `strict`), with its default.
-    fn value(
-        &self,
-        v: &Option<Spanned<Real>>,
-        key: &str,
-        default: Real,
-        min: Real,
-        strict: bool,
-    ) -> Result<Real, ScenarioError> {
-        let Some(v) = v else { return Ok(default) };
-        let x = *v.get_ref();
+/// A finite value ≥ `min` (or > `min` when `strict`), with its default.
+fn value(
+    check: &Checker<'_>,
+    v: &Option<Spanned<Real>>,
+    key: &str,
+    default: Real,
+    min: Real,
+    strict: bool,
+) -> Result<Real, ScenarioError> {
+    check.value(v, key, default, |x| {
         if x.is_finite() && (x > min || (!strict && x == min)) {
             Ok(x)
         } else {
             let relation = if strict { ">" } else { "≥" };
-            Err(self.fail(
-                Some(v.span()),
-                key,
-                format!("expected a finite number {relation} {min}, got {x}"),
+            Err(format!(
+                "expected a finite number {relation} {min}, got {x}"
             ))
         }
-    }
+    })
+}
 
-    fn finite(&self, v: &Option<Spanned<Real>>, key: &str) -> Result<Real, ScenarioError> {
-        self.value(v, key, 0.0, Real::MIN, false)
-    }
+/// A finite value, 0 by default.
+fn finite(
+    check: &Checker<'_>,
+    v: &Option<Spanned<Real>>,
+    key: &str,
+) -> Result<Real, ScenarioError> {
+    value(check, v, key, 0.0, Real::MIN, false)
+}
 
-    fn count(
-        &self,
-        v: &Option<Spanned<i64>>,
-        key: &str,
-        default: usize,
-        range: (usize, usize),
-    ) -> Result<usize, ScenarioError> {
-        let Some(v) = v else { return Ok(default) };
-        let n = *v.get_ref();
+/// A whole number within `range`, with its default.
+fn count(
+    check: &Checker<'_>,
+    v: &Option<Spanned<i64>>,
+    key: &str,
+    default: usize,
+    range: (usize, usize),
+) -> Result<usize, ScenarioError> {
+    check.value(v, key, default, |n| {
         if n >= range.0 as i64 && n <= range.1 as i64 {
             Ok(n as usize)
         } else {
-            Err(self.fail(
-                Some(v.span()),
-                key,
-                format!("expected {} … {}, got {n}", range.0, range.1),
-            ))
+            Err(format!("expected {} … {}, got {n}", range.0, range.1))
         }
-    }
+    })
+}
 
-    fn point(&self, v: &Spanned<[Real; 3]>, key: &str) -> Result<Vector, ScenarioError> {
-        let p = Vector::from_array(*v.get_ref());
-        if p.is_finite() {
-            Ok(p * M_PER_MM)
-        } else {
-            Err(self.fail(Some(v.span()), key, "expected three finite numbers (mm)"))
-        }
+/// A point given in mm, in m.
+fn point(check: &Checker<'_>, v: &Spanned<[Real; 3]>, key: &str) -> Result<Vector, ScenarioError> {
+    let p = Vector::from_array(*v.get_ref());
+    if p.is_finite() {
+        Ok(p * M_PER_MM)
+    } else {
+        Err(check.fail(Some(v.span()), key, "expected three finite numbers (mm)"))
     }
+}
 
-    fn direction(
-        &self,
-        v: [Real; 3],
-        span: Range<usize>,
-        key: &str,
-    ) -> Result<Vector, ScenarioError> {
-        let d = Vector::from_array(v);
-        if d.is_finite() && d.length() > 1e-12 {
-            Ok(d.normalize())
-        } else {
-            Err(self.fail(
-                Some(span),
-                key,
-                format!(
-                    "({}, {}, {}) has zero length or is not finite: an approach needs a direction",
-                    v[0], v[1], v[2]
-                ),
-            ))
-        }
-    }
-
-    /// The rotary angles of `raw` (absent: 0), each on an axis the machine has, within travel.
-    fn rotary(
-        &self,
-        raw: Option<RawRotary>,
-        span: Range<usize>,
-        key: &str,
-    ) -> Result<AxisValues, ScenarioError> {
-        let mut values = AxisValues::ZERO;
-        let Some(raw) = raw else { return Ok(values) };
-        for (axis, given) in [
-            (Axis::A, raw.a_deg),
-            (Axis::B, raw.b_deg),
-            (Axis::C, raw.c_deg),
-        ] {
-            let Some(deg) = given else { continue };
-            let Some(info) = self.machine.axis(axis) else {
-                return Err(self.fail(
-                    Some(span),
-                    key,
-                    format!("machine \"{}\" has no axis {axis}", self.machine.name()),
-                ));
-            };
-            let value = deg * RAD_PER_DEG;
-            if !info.within_travel(value) {
-                return Err(self.fail(
-                    Some(span),
-                    key,
-                    format!("{axis} {deg}° is outside its travel"),
-                ));
-            }
-            values[axis] = value;
-        }
-        Ok(values)
-    }
-
-    fn frame(
-        &self,
-        rotary: &AxisValues,
-        span: Range<usize>,
-        key: &str,
-    ) -> Result<LinearFrame, ScenarioError> {
-        LinearFrame::at(self.machine, rotary).ok_or_else(|| {
-            self.fail(
-                Some(span),
-                key,
-                "the linear axes are degenerate at these rotary angles",
-            )
-        })
-    }
-
-    /// Checks a planned move on the nominal chain: it touches `target` (stylus radius `r`)
-    /// within its travel, and starts and ends within every axis's travel.
-    #[allow(clippy::too_many_arguments)]
-    fn plan(
-        &self,
-        frame: &LinearFrame,
-        target: &Target,
-        r: Real,
-        start: Vector,
-        direction: Vector,
-        max_travel: Real,
-        overtravel: Real,
-        span: Range<usize>,
-        key: &str,
-    ) -> Result<ProbeMove, ScenarioError> {
-        let probing = frame.move_from(start, direction, max_travel);
-        let at = |s: Real| {
-            let mut axes = probing.start;
-            for (axis, c) in [
-                (Axis::X, probing.direction.x),
-                (Axis::Y, probing.direction.y),
-                (Axis::Z, probing.direction.z),
-            ] {
-                axes[axis] += c * s;
-            }
-            axes
-        };
-        let mm = |v: Vector| {
+/// The unit vector along `v`, which must have a length.
+fn direction(
+    check: &Checker<'_>,
+    v: [Real; 3],
+    span: Range<usize>,
+    key: &str,
+) -> Result<Vector, ScenarioError> {
+    let d = Vector::from_array(v);
+    if d.is_finite() && d.length() > 1e-12 {
+        Ok(d.normalize())
+    } else {
+        Err(check.fail(
+            Some(span),
+            key,
             format!(
-                "({:.3}, {:.3}, {:.3}) mm",
-                v.x / M_PER_MM,
-                v.y / M_PER_MM,
-                v.z / M_PER_MM
-            )
-        };
-        let approach =
-            Approach::new(start, direction).map_err(|e| self.fail(Some(span.clone()), key, e))?;
-        let touch = match target.touch(r, &approach, max_travel) {
-            Ok(Some(t)) => t,
-            Ok(None) => {
-                return Err(self.fail(Some(span), key, format!(
-                    "the approach from {} along ({:.4}, {:.4}, {:.4}) does not reach the artefact within {:.3} mm",
-                    mm(start), direction.x, direction.y, direction.z, max_travel / M_PER_MM
-                )));
-            }
-            Err(e) => {
-                return Err(self.fail(
-                    Some(span),
-                    key,
-                    format!("the approach from {}: {e}", mm(start)),
-                ));
-            }
-        };
-        for (what, axes) in [("starts", at(0.0)), ("ends", at(touch.travel + overtravel))] {
-            if let Err((axis, value, (lower, upper))) = self.machine.check_limits(&axes) {
-                let unit = if axis.is_linear() {
-                    (M_PER_MM, "mm")
-                } else {
-                    (RAD_PER_DEG, "°")
-                };
-                return Err(self.fail(Some(span), key, format!(
-                    "the approach toward the artefact {what} with {axis} at {:.3} {}, outside its travel {:.3} … {:.3}: the artefact cannot be reached there",
-                    value / unit.0, unit.1, lower / unit.0, upper / unit.0
-                )));
-            }
-        }
-        Ok(probing)
+                "({}, {}, {}) has zero length or is not finite: an approach needs a direction",
+                v[0], v[1], v[2]
+            ),
+        ))
     }
 }
 
@@ -398,11 +256,7 @@ pub fn probe_test(
     scenario_dir: &Path,
 ) -> Result<ProbeTest, ScenarioError> {
     let p = raw.get_ref();
-    let check = Checker {
-        context,
-        section: raw.span(),
-        machine,
-    };
+    let check = Checker::new(context, raw.span(), "probe");
     let diameter = *p.stylus_diameter_mm.get_ref();
     if !(diameter.is_finite() && diameter > 0.0) {
         return Err(check.fail(
@@ -413,7 +267,7 @@ pub fn probe_test(
     }
     let stylus_radius = diameter / 2.0 * M_PER_MM;
     let radius_error =
-        check.finite(&p.stylus_radius_error_um, "stylus_radius_error_um")? * M_PER_UM;
+        finite(&check, &p.stylus_radius_error_um, "stylus_radius_error_um")? * M_PER_UM;
     if stylus_radius + radius_error <= 0.0 {
         return Err(check.fail(
             p.stylus_radius_error_um.as_ref().map(|v| v.span()),
@@ -424,21 +278,35 @@ pub fn probe_test(
     let probe = TouchProbe {
         stylus_radius,
         radius_error,
-        pretravel: check.value(&p.pretravel_um, "pretravel_um", 0.0, 0.0, false)? * M_PER_UM,
-        lobing: check.value(&p.lobing_um, "lobing_um", 0.0, 0.0, false)? * M_PER_UM,
-        lobing_phase: check.finite(&p.lobing_phase_deg, "lobing_phase_deg")? * RAD_PER_DEG,
-        pretravel_axial: check.value(
+        pretravel: value(&check, &p.pretravel_um, "pretravel_um", 0.0, 0.0, false)? * M_PER_UM,
+        lobing: value(&check, &p.lobing_um, "lobing_um", 0.0, 0.0, false)? * M_PER_UM,
+        lobing_phase: finite(&check, &p.lobing_phase_deg, "lobing_phase_deg")? * RAD_PER_DEG,
+        pretravel_axial: value(
+            &check,
             &p.pretravel_axial_um,
             "pretravel_axial_um",
             0.0,
             0.0,
             false,
         )? * M_PER_UM,
-        repeatability: check.value(&p.repeatability_um, "repeatability_um", 0.0, 0.0, false)?
-            * M_PER_UM,
-        feed: check.value(&p.feed_mm_per_min, "feed_mm_per_min", 240.0, 0.0, true)? * M_PER_MM
+        repeatability: value(
+            &check,
+            &p.repeatability_um,
+            "repeatability_um",
+            0.0,
+            0.0,
+            false,
+        )? * M_PER_UM,
+        feed: value(
+            &check,
+            &p.feed_mm_per_min,
+            "feed_mm_per_min",
+            240.0,
+            0.0,
+            true,
+        )? * M_PER_MM
             / 60.0,
-        latency: check.value(&p.latency_ms, "latency_ms", 0.0, 0.0, false)? * 1e-3,
+        latency: value(&check, &p.latency_ms, "latency_ms", 0.0, 0.0, false)? * 1e-3,
     };
     if probe.lobing > probe.pretravel {
         return Err(check.fail(
@@ -447,10 +315,11 @@ pub fn probe_test(
             "is larger than pretravel_um: the pre-travel would be negative in some directions",
         ));
     }
-    let clearance = check.value(&p.clearance_mm, "clearance_mm", 2.0, 0.0, true)? * M_PER_MM;
-    let overtravel = check.value(&p.overtravel_mm, "overtravel_mm", 2.0, 0.0, true)? * M_PER_MM;
+    let clearance = value(&check, &p.clearance_mm, "clearance_mm", 2.0, 0.0, true)? * M_PER_MM;
+    let overtravel = value(&check, &p.overtravel_mm, "overtravel_mm", 2.0, 0.0, true)? * M_PER_MM;
     let plan = Plan {
         check: &check,
+        machine,
         r: stylus_radius,
         clearance,
         overtravel,
@@ -613,12 +482,132 @@ fn cycle_scene(machine: &Machine, cycle: &Cycle) -> crate::collision::Scene {
 /// Planning the cycles with the checks.
 struct Plan<'a> {
     check: &'a Checker<'a>,
+    machine: &'a Machine,
     r: Real,
     clearance: Real,
     overtravel: Real,
 }
 
 impl Plan<'_> {
+    /// The rotary angles of `raw` (absent: 0), each on an axis the machine has, within travel.
+    fn rotary(
+        &self,
+        raw: Option<RawRotary>,
+        span: Range<usize>,
+        key: &str,
+    ) -> Result<AxisValues, ScenarioError> {
+        let mut values = AxisValues::ZERO;
+        let Some(raw) = raw else { return Ok(values) };
+        for (axis, given) in [
+            (Axis::A, raw.a_deg),
+            (Axis::B, raw.b_deg),
+            (Axis::C, raw.c_deg),
+        ] {
+            let Some(deg) = given else { continue };
+            let Some(info) = self.machine.axis(axis) else {
+                return Err(self.check.fail(
+                    Some(span),
+                    key,
+                    format!("machine \"{}\" has no axis {axis}", self.machine.name()),
+                ));
+            };
+            let value = deg * RAD_PER_DEG;
+            if !info.within_travel(value) {
+                return Err(self.check.fail(
+                    Some(span),
+                    key,
+                    format!("{axis} {deg}° is outside its travel"),
+                ));
+            }
+            values[axis] = value;
+        }
+        Ok(values)
+    }
+
+    /// The linear axes' frame at `rotary`, which must not be degenerate.
+    fn frame(
+        &self,
+        rotary: &AxisValues,
+        span: Range<usize>,
+        key: &str,
+    ) -> Result<LinearFrame, ScenarioError> {
+        LinearFrame::at(self.machine, rotary).ok_or_else(|| {
+            self.check.fail(
+                Some(span),
+                key,
+                "the linear axes are degenerate at these rotary angles",
+            )
+        })
+    }
+
+    /// Checks a planned move on the nominal chain: it touches `target` within its travel, and
+    /// starts and ends (`overtravel` past the touch) within every axis's travel.
+    #[allow(clippy::too_many_arguments)]
+    fn checked_move(
+        &self,
+        frame: &LinearFrame,
+        target: &Target,
+        start: Vector,
+        direction: Vector,
+        max_travel: Real,
+        span: Range<usize>,
+        key: &str,
+    ) -> Result<ProbeMove, ScenarioError> {
+        let (r, overtravel) = (self.r, self.overtravel);
+        let probing = frame.move_from(start, direction, max_travel);
+        let at = |s: Real| {
+            let mut axes = probing.start;
+            for (axis, c) in [
+                (Axis::X, probing.direction.x),
+                (Axis::Y, probing.direction.y),
+                (Axis::Z, probing.direction.z),
+            ] {
+                axes[axis] += c * s;
+            }
+            axes
+        };
+        let mm = |v: Vector| {
+            format!(
+                "({:.3}, {:.3}, {:.3}) mm",
+                v.x / M_PER_MM,
+                v.y / M_PER_MM,
+                v.z / M_PER_MM
+            )
+        };
+        let approach = Approach::new(start, direction)
+            .map_err(|e| self.check.fail(Some(span.clone()), key, e))?;
+        let touch = match target.touch(r, &approach, max_travel) {
+            Ok(Some(t)) => t,
+            Ok(None) => {
+                return Err(self.check.fail(Some(span), key, format!(
+                    "the approach from {} along ({:.4}, {:.4}, {:.4}) does not reach the artefact within {:.3} mm",
+                    mm(start), direction.x, direction.y, direction.z, max_travel / M_PER_MM
+                )));
+            }
+            Err(e) => {
+                return Err(self.check.fail(
+                    Some(span),
+                    key,
+                    format!("the approach from {}: {e}", mm(start)),
+                ));
+            }
+        };
+        for (what, axes) in [("starts", at(0.0)), ("ends", at(touch.travel + overtravel))] {
+            if let Err((axis, value, (lower, upper))) = self.machine.check_limits(&axes) {
+                let unit = if axis.is_linear() {
+                    (M_PER_MM, "mm")
+                } else {
+                    (RAD_PER_DEG, "°")
+                };
+                return Err(self.check.fail(Some(span), key, format!(
+                    "the approach toward the artefact {what} with {axis} at {:.3} {}, outside its travel {:.3} … {:.3}: the artefact cannot be reached there",
+                    value / unit.0, unit.1, lower / unit.0, upper / unit.0
+                )));
+            }
+        }
+        Ok(probing)
+    }
+
     fn diameter(&self, v: &Spanned<Real>, key: &str) -> Result<Real, ScenarioError> {
         let d = *v.get_ref();
         if d.is_finite() && d > 0.0 {
@@ -633,7 +622,7 @@ impl Plan<'_> {
     }
 
     fn incidence(&self, v: &Option<Spanned<Real>>, key: &str) -> Result<Real, ScenarioError> {
-        let deg = self.check.value(v, key, 0.0, 0.0, false)?;
+        let deg = value(self.check, v, key, 0.0, 0.0, false)?;
         if deg >= 90.0 {
             return Err(self.check.fail(
                 v.as_ref().map(|v| v.span()),
@@ -664,17 +653,7 @@ impl Plan<'_> {
             .map(|n| {
                 let start = centre + n * (radius + self.r + self.clearance);
                 let travel = self.clearance + self.overtravel;
-                self.check.plan(
-                    frame,
-                    target,
-                    self.r,
-                    start,
-                    -n,
-                    travel,
-                    self.overtravel,
-                    span.clone(),
-                    key,
-                )
+                self.checked_move(frame, target, start, -n, travel, span.clone(), key)
             })
             .collect()
     }
@@ -682,12 +661,8 @@ impl Plan<'_> {
     fn sphere(&self, raw: &Spanned<RawSphere>, key: &str) -> Result<Cycle, ScenarioError> {
         let s = raw.get_ref();
         let diameter = self.diameter(&s.diameter_mm, &format!("{key}.diameter_mm"))?;
-        let centre = self
-            .check
-            .point(&s.centre_mm, &format!("{key}.centre_mm"))?;
-        let points = self
-            .check
-            .count(&s.points, &format!("{key}.points"), 5, (4, 25))?;
+        let centre = point(self.check, &s.centre_mm, &format!("{key}.centre_mm"))?;
+        let points = count(self.check, &s.points, &format!("{key}.points"), 5, (4, 25))?;
         let elevation = self.incidence(&s.incidence_deg, &format!("{key}.incidence_deg"))?;
         let sphere = Sphere {
             centre,
@@ -709,8 +684,8 @@ impl Plan<'_> {
         let mut features = Vec::new();
         for (n, position) in positions.into_iter().enumerate() {
             let key = format!("{key}.rotary[{n}]");
-            let rotary = self.check.rotary(position, span.clone(), &key)?;
-            let frame = self.check.frame(&rotary, span.clone(), &key)?;
+            let rotary = self.rotary(position, span.clone(), &key)?;
+            let frame = self.frame(&rotary, span.clone(), &key)?;
             let moves = self.sphere_moves(
                 &frame,
                 &target,
@@ -739,25 +714,17 @@ impl Plan<'_> {
     fn ring(&self, raw: &Spanned<RawRing>, key: &str) -> Result<Cycle, ScenarioError> {
         let g = raw.get_ref();
         let diameter = self.diameter(&g.diameter_mm, &format!("{key}.diameter_mm"))?;
-        let centre = self
-            .check
-            .point(&g.centre_mm, &format!("{key}.centre_mm"))?;
-        let points = self
-            .check
-            .count(&g.points, &format!("{key}.points"), 8, (3, 360))?;
+        let centre = point(self.check, &g.centre_mm, &format!("{key}.centre_mm"))?;
+        let points = count(self.check, &g.points, &format!("{key}.points"), 8, (3, 360))?;
         let span = g.rotary.as_ref().map_or(raw.span(), |r| r.span());
-        let rotary = self.check.rotary(
+        let rotary = self.rotary(
             g.rotary.as_ref().map(|r| *r.get_ref()),
             span.clone(),
             &format!("{key}.rotary"),
         )?;
-        let frame = self
-            .check
-            .frame(&rotary, span.clone(), &format!("{key}.rotary"))?;
+        let frame = self.frame(&rotary, span.clone(), &format!("{key}.rotary"))?;
         let axis = match &g.axis {
-            Some(a) => self
-                .check
-                .direction(*a.get_ref(), a.span(), &format!("{key}.axis"))?,
+            Some(a) => direction(self.check, *a.get_ref(), a.span(), &format!("{key}.axis"))?,
             None => frame.tool.z_axis,
         };
         let radius = diameter / 2.0;
@@ -780,14 +747,12 @@ impl Plan<'_> {
             .into_iter()
             .map(|u| {
                 let travel = free - offset + self.overtravel;
-                self.check.plan(
+                self.checked_move(
                     &frame,
                     &target,
-                    self.r,
                     centre + u * offset,
                     u,
                     travel,
-                    self.overtravel,
                     raw.span(),
                     key,
                 )
@@ -808,8 +773,13 @@ impl Plan<'_> {
     fn plate(&self, raw: &Spanned<RawPlate>, key: &str) -> Result<Vec<Cycle>, ScenarioError> {
         let b = raw.get_ref();
         let size = |v: &Spanned<i64>, name: &str| -> Result<usize, ScenarioError> {
-            self.check
-                .count(&Some(v.clone()), &format!("{key}.{name}"), 1, (1, 100))
+            count(
+                self.check,
+                &Some(v.clone()),
+                &format!("{key}.{name}"),
+                1,
+                (1, 100),
+            )
         };
         let (rows, columns) = (size(&b.rows, "rows")?, size(&b.columns, "columns")?);
         let pitch = self.diameter(&b.pitch_mm, &format!("{key}.pitch_mm"))?;
@@ -821,9 +791,7 @@ impl Plan<'_> {
                 "the balls are too close for the stylus to pass between them",
             ));
         }
-        let points = self
-            .check
-            .count(&b.points, &format!("{key}.points"), 5, (4, 25))?;
+        let points = count(self.check, &b.points, &format!("{key}.points"), 5, (4, 25))?;
         let elevation = self.incidence(&b.incidence_deg, &format!("{key}.incidence_deg"))?;
         let offsets: Vec<Vector> = match &b.ball_offsets_um {
             None => vec![Vector::ZERO; rows * columns],
@@ -847,7 +815,7 @@ impl Plan<'_> {
                 "give at least one placement",
             ));
         }
-        let frame = self.check.frame(&AxisValues::ZERO, span.clone(), key)?;
+        let frame = self.frame(&AxisValues::ZERO, span.clone(), key)?;
         let mut cycles = Vec::new();
         for (n, place) in placements.iter().enumerate() {
             let key = format!("{key}.placements[{n}]");
@@ -859,12 +827,14 @@ impl Plan<'_> {
                     "expected three finite numbers (mm)",
                 ));
             }
-            let along = self.check.direction(
+            let along = direction(
+                self.check,
                 place.along_row.unwrap_or([1.0, 0.0, 0.0]),
                 span.clone(),
                 &format!("{key}.along_row"),
             )?;
-            let across = self.check.direction(
+            let across = direction(
+                self.check,
                 place.across_rows.unwrap_or([0.0, 1.0, 0.0]),
                 span.clone(),
                 &format!("{key}.across_rows"),
@@ -955,18 +925,17 @@ impl Plan<'_> {
                 .fail(Some(m.file.span()), &format!("{key}.file"), e)
         })?;
         let origin = match &m.origin_mm {
-            Some(o) => self.check.point(o, &format!("{key}.origin_mm"))?,
+            Some(o) => point(self.check, o, &format!("{key}.origin_mm"))?,
             None => Vector::ZERO,
         };
-        let turn = self
-            .check
-            .finite(&m.rotation_deg, &format!("{key}.rotation_deg"))?
-            * RAD_PER_DEG;
+        let turn =
+            finite(self.check, &m.rotation_deg, &format!("{key}.rotation_deg"))? * RAD_PER_DEG;
         let placed = mesh.placed(&crate::math::Pose::from_mat3_translation(
             Rotation::from_rotation_z(turn),
             origin,
         ));
-        let max_travel = self.check.value(
+        let max_travel = value(
+            self.check,
             &m.max_travel_mm,
             &format!("{key}.max_travel_mm"),
             10.0,
@@ -974,12 +943,12 @@ impl Plan<'_> {
             true,
         )? * M_PER_MM;
         let span = m.rotary.as_ref().map_or(raw.span(), |r| r.span());
-        let rotary = self.check.rotary(
+        let rotary = self.rotary(
             m.rotary.as_ref().map(|r| *r.get_ref()),
             span.clone(),
             &format!("{key}.rotary"),
         )?;
-        let frame = self.check.frame(&rotary, span, &format!("{key}.rotary"))?;
+        let frame = self.frame(&rotary, span, &format!("{key}.rotary"))?;
         let target = Target::Mesh(Arc::new(placed));
         let points = m.points.get_ref();
         if points.is_empty() {
@@ -1000,19 +969,18 @@ impl Plan<'_> {
                     "expected three finite numbers (mm)",
                 ));
             }
-            let direction = self.check.direction(
+            let direction = direction(
+                self.check,
                 point.direction,
                 m.points.span(),
                 &format!("{key}.direction"),
             )?;
-            moves.push(self.check.plan(
+            moves.push(self.checked_move(
                 &frame,
                 &target,
-                self.r,
                 start,
                 direction,
                 max_travel,
-                self.overtravel,
                 m.points.span(),
                 &key,
             )?);

@@ -20,9 +20,10 @@ pub(crate) use laser::{RawLaser, air_temperature_given, laser_for, zero_given};
 use crate::kinds::positioning::conditions::{PositioningConditions, PositioningTest};
 use crate::kinds::positioning::laser::{Laser, Zeroing};
 use crate::kinds::positioning::program::{LinearCycle, irregular_targets};
-use crate::machine::{Axis, AxisValues, Machine};
-use crate::math::{M_PER_MM, RAD_PER_DEG, Real, seeded_rng};
+use crate::machine::{Axis, Machine};
+use crate::math::{M_PER_MM, Real, seeded_rng};
 use crate::program::Program;
+use crate::scenario::parked::{self, Why};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind, ThermalSetup};
 use serde::Deserialize;
 use toml::Spanned;
@@ -214,7 +215,6 @@ pub(crate) fn laser_test(
     );
 
     // Where the other axes stand: as given, else mid-travel (rotary axes at zero).
-    let mut rest = AxisValues::ZERO;
     let given = [
         (Axis::X, "x_mm", &t.x_mm),
         (Axis::Y, "y_mm", &t.y_mm),
@@ -223,47 +223,23 @@ pub(crate) fn laser_test(
         (Axis::B, "b_deg", &t.b_deg),
         (Axis::C, "c_deg", &t.c_deg),
     ];
-    for (other, key, value) in given {
-        let key = format!("iso230_2.{key}");
-        match (machine.axis(other), value) {
-            (_, Some(v)) if other == axis => {
-                return Err(fail(
-                    v.span(),
-                    &key,
-                    format!("{axis} is the axis under test; its positions are the targets"),
-                ));
+    let rest = parked::parked(machine, axis, &given).map_err(|refused| {
+        let other = refused.axis;
+        let message = match refused.why {
+            Why::UnderTest => {
+                format!("{axis} is the axis under test; its positions are the targets")
             }
-            (None, Some(v)) => {
-                return Err(fail(
-                    v.span(),
-                    &key,
-                    format!("machine \"{}\" has no axis {other}", machine.name()),
-                ));
+            Why::NoAxis => format!("machine \"{}\" has no axis {other}", machine.name()),
+            Why::OutsideTravel { position, .. } => {
+                format!("{position} is outside the travel of {other}")
             }
-            (None, None) => {}
-            (Some(info), value) => {
-                let scale = if other.is_linear() {
-                    M_PER_MM
-                } else {
-                    RAD_PER_DEG
-                };
-                let position = match (value, info.limits) {
-                    (Some(v), _) => *v.get_ref() * scale,
-                    (None, Some((lo, hi))) if other.is_linear() => (lo + hi) / 2.0,
-                    (None, _) => 0.0,
-                };
-                if !info.within_travel(position) {
-                    let span = value.as_ref().map_or(0..0, |v| v.span());
-                    return Err(fail(
-                        span,
-                        &key,
-                        format!("{} is outside the travel of {other}", position / scale),
-                    ));
-                }
-                rest[other] = position;
-            }
-        }
-    }
+        };
+        fail(
+            refused.span.unwrap_or(0..0),
+            &format!("iso230_2.{}", refused.key),
+            message,
+        )
+    })?;
     let cycle = LinearCycle {
         axis,
         targets,
