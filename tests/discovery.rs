@@ -576,6 +576,17 @@ fn the_report_has_the_stable_keys_and_consistent_gains() {
             assert!(step.get(key).is_some(), "step lacks {key}");
         }
         let after = step["cv_rms_um"].as_f64().unwrap();
+        // One held-out RMS per run held out (5 runs of 30 readings): the pooled held-out RMS is
+        // their quadratic mean.
+        let folds: Vec<f64> = step["fold_cv_rms_um"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(folds.len(), 5);
+        let pooled = (folds.iter().map(|f| f * f).sum::<f64>() / 5.0).sqrt();
+        assert!((pooled - after).abs() < 2e-4, "{folds:?} against {after}");
         assert!((step["gain_um"].as_f64().unwrap() - (before - after)).abs() < 2e-4);
         assert!(
             (step["gain_pct"].as_f64().unwrap() - 100.0 * (before - after) / before).abs() < 0.05

@@ -253,6 +253,22 @@ fn two_hidden_effects_are_both_found() {
         ] {
             assert!(!step[key].is_null(), "{key}");
         }
+        // One held-out RMS per angular sector (8); the pooled one lies between the extremes.
+        let folds: Vec<f64> = step["fold_cv_rms_um"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(folds.len(), 8);
+        let cv = step["cv_rms_um"].as_f64().unwrap();
+        let (low, high) = folds
+            .iter()
+            .fold((f64::INFINITY, 0.0_f64), |(l, h), &f| (l.min(f), h.max(f)));
+        assert!(
+            low - 1e-4 <= cv && cv <= high + 1e-4,
+            "{folds:?} against {cv}"
+        );
     }
     assert!(json["final"]["params"]["backlash_x"]["backlash_um"].is_number());
     assert!(json["final"]["params"]["base"]["squareness_um_per_m"].is_number());

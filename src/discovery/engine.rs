@@ -413,6 +413,28 @@ pub(crate) fn round_json(value: Real) -> serde_json::Value {
     )
 }
 
+/// Each fold's held-out RMS in µm (from its mean square, rounded by [`round_json`]): the JSON's
+/// `fold_cv_rms_um`, so a user sees which folds a gain comes from.
+pub(crate) fn folds_json(score: &Score) -> serde_json::Value {
+    serde_json::Value::Array(
+        score
+            .fold_mse
+            .iter()
+            .map(|m| round_json(m.sqrt() / crate::math::M_PER_UM))
+            .collect(),
+    )
+}
+
+/// Each fold's held-out RMS for people: `folds: 0.412 0.398 … µm` to `decimals`.
+pub(crate) fn folds_text(score: &Score, decimals: usize) -> String {
+    let values: Vec<String> = score
+        .fold_mse
+        .iter()
+        .map(|m| crate::math::fixed(m.sqrt() / crate::math::M_PER_UM, decimals))
+        .collect();
+    format!("folds: {} µm", values.join(" "))
+}
+
 /// An effect's parameters for people: `key = value, …` to 3 decimals (the JSON gives 4).
 pub(crate) fn params_text(params: &std::collections::BTreeMap<&'static str, Real>) -> String {
     params

@@ -642,6 +642,7 @@ impl BallbarDiscovery {
                     "params": params_json(&params(&step.fit, step.effect, data)),
                     "rms_um": um(step.score.rms),
                     "cv_rms_um": um(step.score.cv_rms),
+                    "fold_cv_rms_um": engine::folds_json(&step.score),
                     "gain_um": um(gain),
                     "gain_pct": round(pct),
                 })
@@ -681,6 +682,7 @@ impl BallbarDiscovery {
                 "params": self.base_params(base_fit),
                 "rms_um": um(base_score.rms),
                 "cv_rms_um": um(base_score.cv_rms),
+                "fold_cv_rms_um": engine::folds_json(base_score),
                 "evidence": Value::Object(evidence),
             },
             "steps": steps,
@@ -697,6 +699,7 @@ impl BallbarDiscovery {
                 "params": Value::Object(final_params),
                 "rms_um": um(final_score.rms),
                 "cv_rms_um": um(final_score.cv_rms),
+                "fold_cv_rms_um": engine::folds_json(final_score),
             },
         })
     }
@@ -726,9 +729,10 @@ impl BallbarDiscovery {
         );
         let _ = writeln!(
             out,
-            "Base model: radius + centre offset + squareness + scale mismatch\n  RMS {:.3} µm, held-out RMS {:.3} µm",
+            "Base model: radius + centre offset + squareness + scale mismatch\n  RMS {:.3} µm, held-out RMS {:.3} µm ({})",
             um(base_score.rms),
-            um(base_score.cv_rms)
+            um(base_score.cv_rms),
+            engine::folds_text(base_score, 3)
         );
         let _ = writeln!(out, "\nWhat the base model leaves:");
         for &effect in &self.problem.testable {
@@ -753,12 +757,13 @@ impl BallbarDiscovery {
             });
             let _ = writeln!(
                 out,
-                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)",
+                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {})",
                 step.effect.id(plane),
                 step.effect.cause(),
                 um(step.score.cv_rms),
                 um(gain),
-                pct
+                pct,
+                engine::folds_text(&step.score, 3)
             );
         }
         if !self.selection.rejected.is_empty() {
@@ -776,10 +781,11 @@ impl BallbarDiscovery {
         let (final_score, final_fit) = self.selection.last();
         let _ = writeln!(
             out,
-            "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm",
+            "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm ({})",
             self.model_name(self.selection.steps.len()),
             um(final_score.rms),
-            um(final_score.cv_rms)
+            um(final_score.cv_rms),
+            engine::folds_text(final_score, 3)
         );
         let _ = writeln!(out, "{}", engine::FINAL_VALUES);
         let base = self.base_params(final_fit);

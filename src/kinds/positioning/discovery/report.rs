@@ -109,6 +109,7 @@ impl PositioningDiscovery {
                     "params": params_json(&step.fit.params(step.effect)),
                     "rms_um": um(step.score.rms),
                     "cv_rms_um": um(step.score.cv_rms),
+                    "fold_cv_rms_um": engine::folds_json(&step.score),
                     "gain_um": um(gain),
                     "gain_pct": round(pct),
                 })
@@ -141,6 +142,7 @@ impl PositioningDiscovery {
                 },
                 "rms_um": um(base_score.rms),
                 "cv_rms_um": um(base_score.cv_rms),
+                "fold_cv_rms_um": engine::folds_json(base_score),
             },
             "steps": steps,
             "rejected": self.selection.rejected.iter().map(|(e, cv)| json!({
@@ -156,6 +158,7 @@ impl PositioningDiscovery {
                 "params": Value::Object(final_params),
                 "rms_um": um(final_score.rms),
                 "cv_rms_um": um(final_score.cv_rms),
+                "fold_cv_rms_um": engine::folds_json(final_score),
             },
             "diagnostics": {
                 "baseline": self.diagnostics_json(base_fit),
@@ -245,9 +248,10 @@ impl PositioningDiscovery {
             ));
         }
         out.push_str(&format!(
-            "\n  RMS {:.3} µm, held-out RMS {:.3} µm\n",
+            "\n  RMS {:.3} µm, held-out RMS {:.3} µm ({})\n",
             um(base_score.rms),
-            um(base_score.cv_rms)
+            um(base_score.cv_rms),
+            engine::folds_text(base_score, 3)
         ));
         let d = self.problem.diagnose(base_fit);
         out.push_str("\nWhat the base model leaves:\n");
@@ -269,12 +273,13 @@ impl PositioningDiscovery {
                 )
             });
             out.push_str(&format!(
-                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %)\n",
+                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {})\n",
                 step.effect.id(),
                 step.effect.cause(),
                 um(step.score.cv_rms),
                 um(gain),
-                pct
+                pct,
+                engine::folds_text(&step.score, 3)
             ));
         }
         if !self.selection.rejected.is_empty() {
@@ -291,10 +296,11 @@ impl PositioningDiscovery {
         }
         let (final_score, final_fit) = self.selection.last();
         out.push_str(&format!(
-            "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm\n",
+            "\nFinal model: {}\n  RMS {:.3} µm, held-out RMS {:.3} µm ({})\n",
             self.model_name(self.selection.steps.len()),
             um(final_score.rms),
-            um(final_score.cv_rms)
+            um(final_score.cv_rms),
+            engine::folds_text(final_score, 3)
         ));
         if !final_fit.effects.is_empty() {
             out.push_str(engine::FINAL_VALUES.trim_end_matches("):"));

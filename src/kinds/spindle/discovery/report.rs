@@ -291,15 +291,6 @@ fn numbers_flat(v: &Value) -> String {
     }
 }
 
-/// Each fold's held-out RMS (µm).
-fn folds_um(score: &Score) -> Vec<Value> {
-    score
-        .fold_mse
-        .iter()
-        .map(|m| round_json(m.sqrt() * UM))
-        .collect()
-}
-
 impl SpindleDiscovery {
     /// The model after `k` accepted effects, named.
     fn model_name(&self, k: usize) -> String {
@@ -339,7 +330,7 @@ impl SpindleDiscovery {
                     "params": params(problem, &step.fit, step.effect),
                     "rms_um": round_json(step.score.rms * UM),
                     "cv_rms_um": round_json(step.score.cv_rms * UM),
-                    "fold_cv_rms_um": folds_um(&step.score),
+                    "fold_cv_rms_um": engine::folds_json(&step.score),
                     "gain_um": round_json(gain * UM),
                     "gain_pct": round_json(pct),
                 })
@@ -381,7 +372,7 @@ impl SpindleDiscovery {
                 "base_harmonics": problem.base_harmonics(),
                 "rms_um": round_json(base_score.rms * UM),
                 "cv_rms_um": round_json(base_score.cv_rms * UM),
-                "fold_cv_rms_um": folds_um(base_score),
+                "fold_cv_rms_um": engine::folds_json(base_score),
                 "evidence": Value::Object(evidence),
             },
             "steps": steps,
@@ -398,7 +389,7 @@ impl SpindleDiscovery {
                 "params": Value::Object(final_params),
                 "rms_um": round_json(final_score.rms * UM),
                 "cv_rms_um": round_json(final_score.cv_rms * UM),
-                "fold_cv_rms_um": folds_um(final_score),
+                "fold_cv_rms_um": engine::folds_json(final_score),
             },
         })
     }
@@ -408,14 +399,7 @@ impl SpindleDiscovery {
         let problem = &self.problem;
         let data = problem.data();
         let (base_score, base_fit) = &self.selection.baseline;
-        let folds = |score: &Score| -> String {
-            score
-                .fold_mse
-                .iter()
-                .map(|m| format!("{:.4}", m.sqrt() * UM))
-                .collect::<Vec<_>>()
-                .join(" ")
-        };
+        let folds = |score: &Score| engine::folds_text(score, 4);
         let mut out = String::new();
         let setup = if data.setup.is_empty() {
             String::new()
@@ -454,7 +438,7 @@ impl SpindleDiscovery {
         );
         let _ = writeln!(
             out,
-            "Base model: {}\n  RMS {:.4} µm, held-out RMS {:.4} µm (folds: {} µm)",
+            "Base model: {}\n  RMS {:.4} µm, held-out RMS {:.4} µm ({})",
             self.base_model(),
             base_score.rms * UM,
             base_score.cv_rms * UM,
@@ -485,7 +469,7 @@ impl SpindleDiscovery {
             });
             let _ = writeln!(
                 out,
-                "  + {}{together}: {}\n      cause: {}\n      held-out RMS {:.4} µm (gain {:.4} µm, {:.1} %; folds: {} µm)",
+                "  + {}{together}: {}\n      cause: {}\n      held-out RMS {:.4} µm (gain {:.4} µm, {:.1} %; {})",
                 step.effect.id(),
                 params_text(problem, &step.fit, step.effect),
                 step.effect.cause(),
@@ -510,7 +494,7 @@ impl SpindleDiscovery {
         let (final_score, final_fit) = self.selection.last();
         let _ = writeln!(
             out,
-            "\nFinal model: {}\n  RMS {:.4} µm, held-out RMS {:.4} µm (folds: {} µm)",
+            "\nFinal model: {}\n  RMS {:.4} µm, held-out RMS {:.4} µm ({})",
             self.model_name(self.selection.steps.len()),
             final_score.rms * UM,
             final_score.cv_rms * UM,
