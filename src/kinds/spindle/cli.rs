@@ -66,7 +66,7 @@ baseline{model, base_harmonics, rms_um, cv_rms_um, fold_cv_rms_um[], evidence{}}
 steps[{effect, together_with, cause, evidence, params, rms_um, cv_rms_um, fold_cv_rms_um[],
 gain_um, gain_pct}], rejected[{effect, cv_rms_um}], untestable[{effect, reason}],
 final{model, params{}, rms_um, cv_rms_um, fold_cv_rms_um[]}. params: harmonic
-{per_revolution, amplitude{PROBE_um}}, asynchronous_line {per_revolution, name, hz[],
+{per_revolution, amplitude{PROBE_um}}, asynchronous_line {per_revolution, harmonics, name, hz[],
 amplitude{PROBE_um: [per speed]}}, drift {time_constant_s (null: linear), over_s,
 drift{PROBE_um}}, speed_dependence {speeds_rpm[], amplitude{PROBE_um: {upr_k: [per speed]}}}.";
 
