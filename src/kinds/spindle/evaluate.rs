@@ -27,7 +27,7 @@
 //! (1) takes the axis angle. Separations use forward records of the normal set-up only: the
 //! probe azimuths in the table describe that set-up.
 
-use super::analysis::motion::{self, Direction, ErrorMotionValues, MotionError, Revolutions};
+use super::analysis::motion::{self, Direction, ErrorMotionValues, Grid, MotionError, Revolutions};
 use super::analysis::polar::Centre;
 use super::analysis::separation::{self, Model, SeparationError};
 use super::analysis::spectrum::{self, Line};
@@ -206,14 +206,15 @@ pub fn evaluate(
                 notes.push(note.to_string());
             }
         }
-        let tests = tests(record, &signals, options, backwards)?;
+        let revolutions = signals.first().map_or(0, |s| s.count());
+        let tests = tests(record, signals, options, backwards)?;
         if tests.is_empty() {
             return Err(EvaluateError::NoTest);
         }
         segments.push(Segment {
             setup: record.setup[start].clone(),
             speed: record.speed[start],
-            revolutions: signals.first().map_or(0, |s| s.count()),
+            revolutions,
             tests,
         });
     }
@@ -262,10 +263,11 @@ fn probe_signals(
             record.angle[i]
         }
     };
-    let on_grid = (start..end).all(|i| {
-        let nominal = TAU * ((i - start) % m) as Real / m as Real;
-        (travelled(i) - nominal).abs() < 1e-6
-    }) && (end - start).is_multiple_of(m);
+    let grid: Vec<Real> = (0..m).map(|k| TAU * k as Real / m as Real).collect();
+    let on_grid = (start..end)
+        .zip(grid.iter().cycle())
+        .all(|(i, &nominal)| (travelled(i) - nominal).abs() < 1e-6)
+        && (end - start).is_multiple_of(m);
     record
         .probes
         .iter()
@@ -299,78 +301,72 @@ fn probe_signals(
         })
 }
 
-/// A signal's values and spectrum.
-fn score(
+/// A test's signal with what names it, before it is scored.
+struct Candidate {
     name: String,
     direction: Direction,
+    sensing: Sensing,
+    /// Indices of the probes it uses.
+    probes: Vec<usize>,
+    height: Real,
     signal: Revolutions,
+}
+
+/// A test's values about each centre asked (the preferred one first) and its largest spectral
+/// lines, on the record's grid.
+fn score(
+    candidate: Candidate,
+    probes: &[SpindleProbe],
+    grid: &Grid,
     options: &Options,
-) -> Result<(Vec<ErrorMotionValues>, Vec<Line>, Revolutions, String), EvaluateError> {
+) -> Result<Test, EvaluateError> {
+    let Candidate {
+        name,
+        direction,
+        sensing,
+        probes: used,
+        height,
+        signal,
+    } = candidate;
     let preferred = direction.preferred_centre();
     let centres = std::iter::once(preferred)
         .chain(options.centres.iter().copied().filter(|c| *c != preferred));
     let centres: Vec<Centre> = centres.collect();
-    let values = motion::values_about(&signal, direction, &centres).map_err(|source| {
+    let values = motion::values_about_on(&signal, direction, &centres, grid).map_err(|source| {
         EvaluateError::Motion {
             test: name.clone(),
             source,
         }
     })?;
-    let lines = spectrum::spectrum(&signal).largest(LINES, None);
-    Ok((values, lines, signal, name))
+    let lines = spectrum::largest_lines(&signal, LINES, None);
+    Ok(Test {
+        name,
+        direction,
+        sensing,
+        probes: used.iter().map(|&i| probes[i].name.clone()).collect(),
+        height,
+        signal,
+        values,
+        lines,
+    })
 }
 
-/// The tests of one segment.
+/// The tests of one segment, in report order: single probes, pairs of radial probes at one
+/// height (rotating sensitive direction), tilts between parallel probes (fixed sensitive
+/// direction), tilts between pairs (rotating). Each signal is built once: the single tests
+/// take the probes' signals over, the rotating tilts are built from the pairs' signals.
 fn tests(
     record: &SpindleRecord,
-    signals: &[Revolutions],
+    signals: Vec<Revolutions>,
     options: &Options,
     backwards: bool,
 ) -> Result<Vec<Test>, EvaluateError> {
     let probes = &record.probes;
     let kinds: Vec<Option<ProbeKind>> = probes.iter().map(kind).collect();
-    let mut out = Vec::new();
-    let mut push = |name: String,
-                    direction: Direction,
-                    sensing: Sensing,
-                    used: &[usize],
-                    height: Real,
-                    signal: Revolutions|
-     -> Result<(), EvaluateError> {
-        let (values, lines, signal, name) = score(name, direction, signal, options)?;
-        out.push(Test {
-            name,
-            direction,
-            sensing,
-            probes: used.iter().map(|&i| probes[i].name.clone()).collect(),
-            height,
-            signal,
-            values,
-            lines,
-        });
-        Ok(())
+    let Some(first) = signals.first() else {
+        return Ok(Vec::new());
     };
-    // Single probes.
-    for (i, probe) in probes.iter().enumerate() {
-        let (direction, label) = match kinds[i] {
-            Some(ProbeKind::Radial { .. }) => (Direction::Radial, "radial"),
-            Some(ProbeKind::Axial) => (Direction::Axial, "axial"),
-            Some(ProbeKind::Face) => (Direction::Face, "face"),
-            None => continue,
-        };
-        let suffix = match probe.sensing {
-            Sensing::Fixed => "",
-            Sensing::Rotating => " rotating",
-        };
-        push(
-            format!("{label} {}{suffix}", probe.name),
-            direction,
-            probe.sensing,
-            &[i],
-            probe.position[2],
-            signals[i].clone(),
-        )?;
-    }
+    let m = first.samples_per_revolution();
     // Fixed radial probes: pairs at one height (rotating sensitive direction), parallel pairs
     // at two heights (tilt).
     let radial: Vec<usize> = (0..probes.len())
@@ -379,22 +375,30 @@ fn tests(
                 && probes[i].sensing == Sensing::Fixed
         })
         .collect();
-    let m = signals.first().map_or(0, |s| s.samples_per_revolution());
     // Formula (1) takes the axis angle: minus the angle travelled when turning backwards.
     let sign = if backwards { -1.0 } else { 1.0 };
-    let angles: Vec<Real> = (0..m).map(|k| sign * TAU * k as Real / m as Real).collect();
+    let directions: Vec<(Real, Real)> = (0..m)
+        .map(|k| (sign * TAU * k as Real / m as Real).sin_cos())
+        .collect();
     let pairs = xy_pairs(probes, &radial);
-    for &(a, b) in &pairs {
-        let signal = rotating(&probes[a], &probes[b], &signals[a], &signals[b], &angles);
-        push(
-            format!("radial {}+{} rotating", probes[a].name, probes[b].name),
-            Direction::Radial,
-            Sensing::Rotating,
-            &[a, b],
-            probes[a].position[2],
-            signal,
-        )?;
-    }
+    let pair_tests: Vec<Candidate> = pairs
+        .iter()
+        .map(|&(a, b)| Candidate {
+            name: format!("radial {}+{} rotating", probes[a].name, probes[b].name),
+            direction: Direction::Radial,
+            sensing: Sensing::Rotating,
+            probes: vec![a, b],
+            height: probes[a].position[2],
+            signal: rotating(
+                &probes[a],
+                &probes[b],
+                &signals[a],
+                &signals[b],
+                &directions,
+            ),
+        })
+        .collect();
+    let mut tilts = Vec::new();
     for (n, &a) in radial.iter().enumerate() {
         for &b in &radial[n + 1..] {
             let (da, db) = (probes[a].direction, probes[b].direction);
@@ -404,66 +408,86 @@ fn tests(
                 continue;
             }
             let (lower, upper) = if za < zb { (a, b) } else { (b, a) };
-            let length = (za - zb).abs();
-            let mut values = vec![0.0; signals[a].values().len()];
-            motion::tilt(
-                signals[lower].values(),
-                signals[upper].values(),
-                length,
-                &mut values,
-            );
-            push(
-                format!("tilt {}-{}", probes[lower].name, probes[upper].name),
-                Direction::Tilt,
-                Sensing::Fixed,
-                &[lower, upper],
-                probes[lower].position[2],
-                Revolutions::new(m, values).expect("laid out like its probes"),
-            )?;
+            tilts.push(Candidate {
+                name: format!("tilt {}-{}", probes[lower].name, probes[upper].name),
+                direction: Direction::Tilt,
+                sensing: Sensing::Fixed,
+                probes: vec![lower, upper],
+                height: probes[lower].position[2],
+                signal: tilt(&signals[lower], &signals[upper], (za - zb).abs()),
+            });
         }
     }
-    // Two xy pairs at two heights: tilt in the rotating sensitive direction (Method 2).
+    // Two xy pairs at two heights: tilt in the rotating sensitive direction (Method 2), from
+    // the pairs' formula-(1) signals.
     for (n, &(a1, b1)) in pairs.iter().enumerate() {
-        for &(a2, b2) in &pairs[n + 1..] {
+        for (n2, &(a2, b2)) in pairs.iter().enumerate().skip(n + 1) {
             let (z1, z2) = (probes[a1].position[2], probes[a2].position[2]);
             if (z1 - z2).abs() < 1e-6 {
                 continue;
             }
-            let ((la, lb), (ua, ub)) = if z1 < z2 {
-                ((a1, b1), (a2, b2))
+            let (((la, lb), lower), ((ua, ub), upper)) = if z1 < z2 {
+                (((a1, b1), n), ((a2, b2), n2))
             } else {
-                ((a2, b2), (a1, b1))
+                (((a2, b2), n2), ((a1, b1), n))
             };
-            let lower = rotating(
-                &probes[la],
-                &probes[lb],
-                &signals[la],
-                &signals[lb],
-                &angles,
-            );
-            let upper = rotating(
-                &probes[ua],
-                &probes[ub],
-                &signals[ua],
-                &signals[ub],
-                &angles,
-            );
-            let mut values = vec![0.0; lower.values().len()];
-            motion::tilt(lower.values(), upper.values(), (z1 - z2).abs(), &mut values);
-            push(
-                format!(
+            tilts.push(Candidate {
+                name: format!(
                     "tilt {}+{}-{}+{} rotating",
                     probes[la].name, probes[lb].name, probes[ua].name, probes[ub].name
                 ),
-                Direction::Tilt,
-                Sensing::Rotating,
-                &[la, lb, ua, ub],
-                probes[la].position[2],
-                Revolutions::new(m, values).expect("laid out like its probes"),
-            )?;
+                direction: Direction::Tilt,
+                sensing: Sensing::Rotating,
+                probes: vec![la, lb, ua, ub],
+                height: probes[la].position[2],
+                signal: tilt(
+                    &pair_tests[lower].signal,
+                    &pair_tests[upper].signal,
+                    (z1 - z2).abs(),
+                ),
+            });
         }
     }
-    Ok(out)
+    // Single probes last to be built, first in the report: they take the signals over.
+    let singles = signals
+        .into_iter()
+        .enumerate()
+        .filter_map(|(i, signal)| {
+            let probe = &probes[i];
+            let (direction, label) = match kinds[i]? {
+                ProbeKind::Radial { .. } => (Direction::Radial, "radial"),
+                ProbeKind::Axial => (Direction::Axial, "axial"),
+                ProbeKind::Face => (Direction::Face, "face"),
+            };
+            let suffix = match probe.sensing {
+                Sensing::Fixed => "",
+                Sensing::Rotating => " rotating",
+            };
+            Some(Candidate {
+                name: format!("{label} {}{suffix}", probe.name),
+                direction,
+                sensing: probe.sensing,
+                probes: vec![i],
+                height: probe.position[2],
+                signal,
+            })
+        })
+        .collect::<Vec<_>>();
+    // The grid's directions once for every test of the segment.
+    let grid = Grid::new(m).expect("a laid-out signal has at least 3 samples per revolution");
+    singles
+        .into_iter()
+        .chain(pair_tests)
+        .chain(tilts)
+        .map(|candidate| score(candidate, probes, &grid, options))
+        .collect()
+}
+
+/// Formula (5): `(upper − lower) / length`, revolution by revolution.
+fn tilt(lower: &Revolutions, upper: &Revolutions, length: Real) -> Revolutions {
+    let mut values = vec![0.0; lower.values().len()];
+    motion::tilt(lower.values(), upper.values(), length, &mut values);
+    Revolutions::new(lower.samples_per_revolution(), values).expect("laid out like its probes")
 }
 
 /// Pairs of fixed radial probes at one height whose directions are at least 30° apart, each
@@ -491,30 +515,31 @@ fn xy_pairs(probes: &[SpindleProbe], radial: &[usize]) -> Vec<(usize, usize)> {
 }
 
 /// Formula (1) of ISO 230-7: `E_X cos θ + E_Y sin θ`, with `E` solved per sample from two
-/// radial readings `r_i = d_i · E`.
+/// radial readings `r_i = d_i · E`; `directions` holds `(sin θ, cos θ)` of the `M` axis
+/// angles of a revolution.
 fn rotating(
     pa: &SpindleProbe,
     pb: &SpindleProbe,
     a: &Revolutions,
     b: &Revolutions,
-    angles: &[Real],
+    directions: &[(Real, Real)],
 ) -> Revolutions {
     let (da, db) = (pa.direction, pb.direction);
     let det = da[0] * db[1] - da[1] * db[0];
-    let m = angles.len();
-    let directions: Vec<(Real, Real)> = angles.iter().map(|t| t.sin_cos()).collect();
-    let values = a
-        .values()
-        .iter()
-        .zip(b.values())
-        .enumerate()
-        .map(|(i, (&ra, &rb))| {
-            let ex = (ra * db[1] - rb * da[1]) / det;
-            let ey = (da[0] * rb - db[0] * ra) / det;
-            let (sin, cos) = directions[i % m];
-            ex * cos + ey * sin
-        })
-        .collect();
+    let m = directions.len();
+    let mut values = Vec::with_capacity(a.values().len());
+    for (ra, rb) in a.values().chunks_exact(m).zip(b.values().chunks_exact(m)) {
+        values.extend(
+            ra.iter()
+                .zip(rb)
+                .zip(directions)
+                .map(|((&ra, &rb), &(sin, cos))| {
+                    let ex = (ra * db[1] - rb * da[1]) / det;
+                    let ey = (da[0] * rb - db[0] * ra) / det;
+                    ex * cos + ey * sin
+                }),
+        );
+    }
     Revolutions::new(m, values).expect("laid out like its probes")
 }
 
@@ -540,8 +565,8 @@ fn reversals(segments: &[Segment]) -> Result<Vec<Separated>, EvaluateError> {
             if !single_radial || other.name != test.name {
                 continue;
             }
-            let r1 = motion::decompose(&test.signal).synchronous;
-            let r2 = motion::decompose(&other.signal).synchronous;
+            let r1 = motion::synchronous(&test.signal);
+            let r2 = motion::synchronous(&other.signal);
             let result = separation::donaldson_reversal(&r1, &r2).map_err(|source| {
                 EvaluateError::Separation {
                     what: format!("reversal of {}", test.probes[0]),
@@ -602,7 +627,7 @@ fn multiprobe(
                         .iter()
                         .find(|t| t.probes == [record.probes[*i].name.clone()])
                         .expect("every radial probe has its own test");
-                    motion::decompose(&test.signal).synchronous
+                    motion::synchronous(&test.signal)
                 })
                 .collect();
             let result = separation::separate(

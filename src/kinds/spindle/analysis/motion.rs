@@ -180,6 +180,40 @@ fn grid(m: usize) -> Vec<Real> {
     (0..m).map(|i| TAU * i as Real / m as Real).collect()
 }
 
+/// The index grid `θ_m = 2πm/M` of `M` samples per revolution with the direction
+/// `(cos θ_m, sin θ_m)` of every angle computed once: build it once per record and pass it to
+/// [`values_about_on`] for each of the record's signals.
+#[derive(Clone, Debug)]
+pub struct Grid {
+    angles: Angles,
+}
+
+impl Grid {
+    /// The grid of `samples_per_revolution` angles.
+    ///
+    /// Errors: fewer than [`MIN_SAMPLES_PER_REVOLUTION`].
+    pub fn new(samples_per_revolution: usize) -> Result<Grid, MotionError> {
+        if samples_per_revolution < MIN_SAMPLES_PER_REVOLUTION {
+            return Err(MotionError::TooFewSamplesPerRevolution(
+                samples_per_revolution,
+            ));
+        }
+        let angles = Angles::equally_spaced(samples_per_revolution)
+            .expect("at least MIN_SAMPLES_PER_REVOLUTION = 3 angles");
+        Ok(Grid { angles })
+    }
+
+    /// Number of samples per revolution `M`.
+    pub fn samples_per_revolution(&self) -> usize {
+        self.angles.len()
+    }
+
+    /// The grid's angles, for the centre fits and ranges of [`super::polar`].
+    pub fn angles(&self) -> &Angles {
+        &self.angles
+    }
+}
+
 /// The decomposition of one signal by rotational frequency (ISO 230-7 §3.5, §3.6).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Decomposition {
@@ -201,35 +235,78 @@ pub struct Decomposition {
 /// Splits a signal into its synchronous, asynchronous, inner, outer, fundamental and residual
 /// parts (formulas in the module docs).
 pub fn decompose(r: &Revolutions) -> Decomposition {
-    let m_count = r.samples_per_revolution;
-    let k_count = r.count();
-    let mut synchronous = vec![0.0; m_count];
-    let mut inner = vec![Real::INFINITY; m_count];
-    let mut outer = vec![Real::NEG_INFINITY; m_count];
-    for k in 0..k_count {
-        for (((s, lo), hi), &v) in synchronous
-            .iter_mut()
-            .zip(inner.iter_mut())
-            .zip(outer.iter_mut())
-            .zip(r.revolution(k))
-        {
-            *s += v;
-            *lo = lo.min(v);
-            *hi = hi.max(v);
+    let grid = Grid::new(r.samples_per_revolution).expect("a laid-out signal has M ≥ 3");
+    let contours = Contours::new(r);
+    let mut asynchronous = Vec::with_capacity(r.values.len());
+    for k in 0..r.count() {
+        asynchronous.extend(
+            r.revolution(k)
+                .iter()
+                .zip(&contours.synchronous)
+                .map(|(v, s)| v - s),
+        );
+    }
+    let (fundamental, residual) = fundamental(&contours.synchronous, &grid);
+    Decomposition {
+        synchronous: contours.synchronous,
+        asynchronous,
+        inner: contours.inner,
+        outer: contours.outer,
+        fundamental,
+        residual,
+    }
+}
+
+/// The synchronous profile `S` of a signal alone (as in [`decompose`], without the other
+/// parts).
+pub fn synchronous(r: &Revolutions) -> Vec<Real> {
+    Contours::new(r).synchronous
+}
+
+/// The per-angle parts of a signal: `S`, `I` and `O`, in one pass over the record.
+struct Contours {
+    synchronous: Vec<Real>,
+    inner: Vec<Real>,
+    outer: Vec<Real>,
+}
+
+impl Contours {
+    fn new(r: &Revolutions) -> Contours {
+        let m_count = r.samples_per_revolution;
+        let mut synchronous = vec![0.0; m_count];
+        let mut inner = vec![Real::INFINITY; m_count];
+        let mut outer = vec![Real::NEG_INFINITY; m_count];
+        for revolution in r.values.chunks_exact(m_count) {
+            for (((s, lo), hi), &v) in synchronous
+                .iter_mut()
+                .zip(inner.iter_mut())
+                .zip(outer.iter_mut())
+                .zip(revolution)
+            {
+                *s += v;
+                *lo = lo.min(v);
+                *hi = hi.max(v);
+            }
+        }
+        let inv_k = 1.0 / r.count() as Real;
+        for s in &mut synchronous {
+            *s *= inv_k;
+        }
+        Contours {
+            synchronous,
+            inner,
+            outer,
         }
     }
-    let inv_k = 1.0 / k_count as Real;
-    for s in &mut synchronous {
-        *s *= inv_k;
-    }
-    let mut asynchronous = Vec::with_capacity(r.values.len());
-    for k in 0..k_count {
-        asynchronous.extend(r.revolution(k).iter().zip(&synchronous).map(|(v, s)| v - s));
-    }
-    let angles = r.angles();
+}
+
+/// `[a1, b1]` of the synchronous profile and its residual (formulas in the module docs), on
+/// the grid's directions.
+fn fundamental(synchronous: &[Real], grid: &Grid) -> ([Real; 2], Vec<Real>) {
+    let m_count = synchronous.len();
+    let directions = grid.angles().directions();
     let (mut a1, mut b1, mut mean) = (0.0, 0.0, 0.0);
-    for (&s, &t) in synchronous.iter().zip(&angles) {
-        let (sin, cos) = t.sin_cos();
+    for (&s, &[cos, sin]) in synchronous.iter().zip(directions) {
         a1 += s * cos;
         b1 += s * sin;
         mean += s;
@@ -240,20 +317,10 @@ pub fn decompose(r: &Revolutions) -> Decomposition {
     mean /= m_count as Real;
     let residual = synchronous
         .iter()
-        .zip(&angles)
-        .map(|(&s, &t)| {
-            let (sin, cos) = t.sin_cos();
-            s - mean - a1 * cos - b1 * sin
-        })
+        .zip(directions)
+        .map(|(&s, &[cos, sin])| s - mean - a1 * cos - b1 * sin)
         .collect();
-    Decomposition {
-        synchronous,
-        asynchronous,
-        inner,
-        outer,
-        fundamental: [a1, b1],
-        residual,
-    }
+    ([a1, b1], residual)
 }
 
 /// The direction of an error motion (ISO 230-7 §3.4), which sets the preferred centre and
@@ -362,37 +429,60 @@ pub fn values_about(
     direction: Direction,
     centres: &[Centre],
 ) -> Result<Vec<ErrorMotionValues>, MotionError> {
-    let d = decompose(r);
-    let angles = Angles::new(&r.angles())?;
+    values_about_on(r, direction, centres, &Grid::new(r.samples_per_revolution)?)
+}
+
+/// [`values_about`] on a grid built once for many signals of the same samples per revolution
+/// (the same values; the directions are not recomputed).
+///
+/// Errors: a centre fit fails ([`MotionError::Centre`]), or the grid has another number of
+/// samples per revolution than `r` (`MotionError::Centre` of a length mismatch).
+pub fn values_about_on(
+    r: &Revolutions,
+    direction: Direction,
+    centres: &[Centre],
+    grid: &Grid,
+) -> Result<Vec<ErrorMotionValues>, MotionError> {
+    if grid.samples_per_revolution() != r.samples_per_revolution {
+        return Err(MotionError::Centre(PolarError::LengthMismatch {
+            values: r.samples_per_revolution,
+            angles: grid.samples_per_revolution(),
+        }));
+    }
+    // S, I and O only: the asynchronous record of `decompose` is not needed for the values.
+    let contours = Contours::new(r);
+    let ([a1, b1], residual) = fundamental(&contours.synchronous, grid);
+    let angles = grid.angles();
     let range = |v: &[Real], c: [Real; 2]| {
         let (lo, hi) = angles.range_about(v, c);
         hi - lo
     };
-    let asynchronous = d
+    let asynchronous = contours
         .outer
         .iter()
-        .zip(&d.inner)
+        .zip(&contours.inner)
         .map(|(o, i)| o - i)
         .fold(0.0, Real::max);
-    let [a1, b1] = d.fundamental;
-    let residual = range(&d.residual, [0.0, 0.0]);
+    let residual = range(&residual, [0.0, 0.0]);
     centres
         .iter()
         .map(|&centre| {
-            let offset = angles.fit(&d.synchronous, centre)?.offset;
-            let (_, outer_high) = angles.range_about(&d.outer, offset);
-            let (inner_low, _) = angles.range_about(&d.inner, offset);
+            // The fit's low and high are those of S about its centre: the synchronous range.
+            let fit = angles.fit(&contours.synchronous, centre)?;
+            let offset = fit.offset;
+            let (outer_low, outer_high) = angles.range_about(&contours.outer, offset);
+            let (inner_low, inner_high) = angles.range_about(&contours.inner, offset);
             Ok(ErrorMotionValues {
                 direction,
                 centre,
                 offset,
                 total: outer_high - inner_low,
-                synchronous: range(&d.synchronous, offset),
+                synchronous: fit.value(),
                 asynchronous,
                 fundamental: 2.0 * a1.hypot(b1),
                 residual,
-                inner: range(&d.inner, offset),
-                outer: range(&d.outer, offset),
+                inner: inner_high - inner_low,
+                outer: outer_high - outer_low,
             })
         })
         .collect()

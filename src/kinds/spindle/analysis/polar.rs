@@ -288,6 +288,11 @@ impl Angles {
         self.directions.len()
     }
 
+    /// `[cos θ, sin θ]` of each angle, in the order given.
+    pub fn directions(&self) -> &[[Real; 2]] {
+        &self.directions
+    }
+
     /// Never true (an `Angles` holds at least 3); here for the `len` convention.
     pub fn is_empty(&self) -> bool {
         self.directions.is_empty()
@@ -361,7 +366,7 @@ impl Angles {
         let mut low = Real::INFINITY;
         let mut high = Real::NEG_INFINITY;
         for revolution in values.chunks(self.len()) {
-            let (l, h, _, _) = extremes(&self.directions, revolution, offset);
+            let (l, h) = range_of(&self.directions, revolution, offset);
             low = low.min(l);
             high = high.max(h);
         }
@@ -429,30 +434,98 @@ pub fn range_about(values: &[Real], angles: &[Real], offset: [Real; 2]) -> (Real
         .collect();
     let (mut low, mut high) = (Real::INFINITY, Real::NEG_INFINITY);
     for revolution in values.chunks(directions.len()) {
-        let (l, h, _, _) = extremes(&directions, revolution, offset);
+        let (l, h) = range_of(&directions, revolution, offset);
         low = low.min(l);
         high = high.max(h);
     }
     (low, high)
 }
 
-/// `(min ρ, max ρ, argmin, argmax)` of `p` about `offset`.
+/// `(min ρ, max ρ, argmin, argmax)` of `p` about `offset` (the first index of each on ties).
 fn extremes(dirs: &[[Real; 2]], p: &[Real], offset: [Real; 2]) -> (Real, Real, usize, usize) {
     let [cx, cy] = offset;
-    let (mut low, mut high) = (Real::INFINITY, Real::NEG_INFINITY);
-    let (mut arg_low, mut arg_high) = (0, 0);
-    for (m, (&[c, s], &v)) in dirs.iter().zip(p).enumerate() {
-        let rho = v - cx * c - cy * s;
-        if rho < low {
-            low = rho;
-            arg_low = m;
-        }
-        if rho > high {
-            high = rho;
-            arg_high = m;
+    // Two passes of one key each run faster than one pass keeping both.
+    let (arg_high, high) = first_max(dirs, p, |[c, s], v| v - cx * c - cy * s);
+    let (arg_low, minus_low) = first_max(dirs, p, |[c, s], v| -(v - cx * c - cy * s));
+    (-minus_low, high, arg_low, arg_high)
+}
+
+/// `(min ρ, max ρ)` of `p` about `offset`: [`extremes`] without the indices, in lanes of
+/// `min` and `max` that the compiler turns into vector instructions.
+fn range_of(dirs: &[[Real; 2]], p: &[Real], offset: [Real; 2]) -> (Real, Real) {
+    let [cx, cy] = offset;
+    let mut low = [Real::INFINITY; LANES];
+    let mut high = [Real::NEG_INFINITY; LANES];
+    let rho = |[c, s]: [Real; 2], v: Real| v - cx * c - cy * s;
+    let len = dirs.len().min(p.len());
+    let whole = len - len % LANES;
+    let chunks = dirs[..whole]
+        .chunks_exact(LANES)
+        .zip(p[..whole].chunks_exact(LANES));
+    for (d, v) in chunks {
+        for lane in 0..LANES {
+            let r = rho(d[lane], v[lane]);
+            low[lane] = low[lane].min(r);
+            high[lane] = high[lane].max(r);
         }
     }
-    (low, high, arg_low, arg_high)
+    for m in whole..len {
+        let r = rho(dirs[m], p[m]);
+        low[0] = low[0].min(r);
+        high[0] = high[0].max(r);
+    }
+    let low = low.into_iter().fold(Real::INFINITY, Real::min);
+    let high = high.into_iter().fold(Real::NEG_INFINITY, Real::max);
+    (low, high)
+}
+
+/// Interleaved lanes of [`first_max`] and [`range_of`]: independent running extremes that the
+/// processor overlaps, instead of one chain of compare-and-select through every point.
+const LANES: usize = 4;
+
+/// The largest `key(direction, value)` over the points and its first index (the one a plain
+/// scan with a strict `>` keeps); `(0, −∞)` for no points. The pricing of the simplex and the
+/// extremes of every centre fit go through here, so it is written for speed: the points are
+/// scanned in [`LANES`] interleaved lanes, each keeping the first index of its own largest
+/// key, and the lanes are merged at the end (largest key, then smallest index): the same index
+/// and key as the plain scan.
+#[inline(always)]
+fn first_max(
+    dirs: &[[Real; 2]],
+    p: &[Real],
+    key: impl Fn([Real; 2], Real) -> Real,
+) -> (usize, Real) {
+    let len = dirs.len().min(p.len());
+    let whole = len - len % LANES;
+    let mut best = [Real::NEG_INFINITY; LANES];
+    let mut at = [0usize; LANES];
+    let chunks = dirs[..whole]
+        .chunks_exact(LANES)
+        .zip(p[..whole].chunks_exact(LANES));
+    for (chunk, (d, v)) in chunks.enumerate() {
+        for lane in 0..LANES {
+            let k = key(d[lane], v[lane]);
+            if k > best[lane] {
+                best[lane] = k;
+                at[lane] = chunk * LANES + lane;
+            }
+        }
+    }
+    for m in whole..len {
+        let k = key(dirs[m], p[m]);
+        let lane = m - whole;
+        if k > best[lane] {
+            best[lane] = k;
+            at[lane] = m;
+        }
+    }
+    let mut pick = 0;
+    for lane in 1..LANES {
+        if best[lane] > best[pick] || (best[lane] == best[pick] && at[lane] < at[pick]) {
+            pick = lane;
+        }
+    }
+    (at[pick], best[pick])
 }
 
 /// The largest gap between neighbouring angles around the circle, in O(M) by buckets: with `M`
@@ -704,13 +777,7 @@ impl Family<3> for Upper<'_> {
     fn most_violated(&self, y: &[Real; 3]) -> (usize, Real) {
         let [t, cx, cy] = *y;
         let g = self.sigma;
-        let (mut best, mut best_d) = (0, Real::NEG_INFINITY);
-        for (m, (&[c, s], &v)) in self.dirs.iter().zip(self.p).enumerate() {
-            let d = g * (v - cx * c - cy * s);
-            if d > best_d {
-                (best, best_d) = (m, d);
-            }
-        }
+        let (best, best_d) = first_max(self.dirs, self.p, |[c, s], v| g * (v - cx * c - cy * s));
         (best, best_d - t)
     }
 
@@ -745,13 +812,9 @@ impl Family<4> for Band<'_> {
 
     fn most_violated(&self, y: &[Real; 4]) -> (usize, Real) {
         let [t, a0, cx, cy] = *y;
-        let (mut best, mut best_r): (usize, Real) = (0, 0.0);
-        for (m, (&[c, s], &v)) in self.dirs.iter().zip(self.p).enumerate() {
-            let r = v - a0 - cx * c - cy * s;
-            if r.abs() > best_r.abs() {
-                (best, best_r) = (m, r);
-            }
-        }
+        let residual = |[c, s]: [Real; 2], v: Real| v - a0 - cx * c - cy * s;
+        let (best, _) = first_max(self.dirs, self.p, |d, v| residual(d, v).abs());
+        let best_r = residual(self.dirs[best], self.p[best]);
         (2 * best + usize::from(best_r < 0.0), best_r.abs() - t)
     }
 
