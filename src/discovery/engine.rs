@@ -272,6 +272,31 @@ impl<E: Copy, F> Selection<E, F> {
             .collect()
     }
 
+    /// Each accepted step as JSON: the kind's own keys (`effect`, `cause`, `params`, …) from
+    /// `keys`, and the scores every kind reports — `evidence`, `rms_um`, `cv_rms_um`,
+    /// `fold_cv_rms_um` ([`folds_json`]) and the gain over the step before, `gain_um` and
+    /// `gain_pct` — rounded by [`round_json`].
+    pub fn steps_json(
+        &self,
+        keys: impl Fn(&Accepted<E, F>) -> serde_json::Map<String, serde_json::Value>,
+    ) -> Vec<serde_json::Value> {
+        let um = |v: Real| round_json(v / crate::math::M_PER_UM);
+        self.steps
+            .iter()
+            .zip(self.gains())
+            .map(|(step, (gain, pct))| {
+                let mut object = keys(step);
+                object.insert("evidence".into(), step.evidence.clone().into());
+                object.insert("rms_um".into(), um(step.score.rms));
+                object.insert("cv_rms_um".into(), um(step.score.cv_rms));
+                object.insert("fold_cv_rms_um".into(), folds_json(&step.score));
+                object.insert("gain_um".into(), um(gain));
+                object.insert("gain_pct".into(), round_json(pct));
+                serde_json::Value::Object(object)
+            })
+            .collect()
+    }
+
     /// The final model's score and fit.
     pub fn last(&self) -> (&Score, &F) {
         match self.steps.last() {
@@ -405,7 +430,7 @@ fn best_pair<P: Problem>(
 }
 
 /// Rounds a reported number to 4 decimals (0.1 nm in µm), without −0.
-pub(crate) fn round_json(value: Real) -> serde_json::Value {
+pub fn round_json(value: Real) -> serde_json::Value {
     serde_json::json!(
         crate::math::fixed(value, 4)
             .parse::<Real>()
@@ -415,7 +440,7 @@ pub(crate) fn round_json(value: Real) -> serde_json::Value {
 
 /// Each fold's held-out RMS in µm (from its mean square, rounded by [`round_json`]): the JSON's
 /// `fold_cv_rms_um`, so a user sees which folds a gain comes from.
-pub(crate) fn folds_json(score: &Score) -> serde_json::Value {
+pub fn folds_json(score: &Score) -> serde_json::Value {
     serde_json::Value::Array(
         score
             .fold_mse

@@ -627,27 +627,16 @@ impl BallbarDiscovery {
         let plane = self.plane();
         let data = &self.problem.data;
         let (base_score, base_fit) = &self.selection.baseline;
-        let steps: Vec<Value> = self
-            .selection
-            .steps
-            .iter()
-            .zip(self.selection.gains())
-            .map(|(step, (gain, pct))| {
-                json!({
-                    "effect": step.effect.id(plane),
-                    "axis": step.effect.axis(plane).map(|a| a.to_string()),
-                    "together_with": step.together_with.map(|e| e.id(plane)),
-                    "cause": step.effect.cause(),
-                    "evidence": step.evidence,
-                    "params": params_json(&params(&step.fit, step.effect, data)),
-                    "rms_um": um(step.score.rms),
-                    "cv_rms_um": um(step.score.cv_rms),
-                    "fold_cv_rms_um": engine::folds_json(&step.score),
-                    "gain_um": um(gain),
-                    "gain_pct": round(pct),
-                })
-            })
-            .collect();
+        let steps = self.selection.steps_json(|step| {
+            let json = json!({
+                "effect": step.effect.id(plane),
+                "axis": step.effect.axis(plane).map(|a| a.to_string()),
+                "together_with": step.together_with.map(|e| e.id(plane)),
+                "cause": step.effect.cause(),
+                "params": params_json(&params(&step.fit, step.effect, data)),
+            });
+            json.as_object().cloned().unwrap_or_default()
+        });
         let (final_score, final_fit) = self.selection.last();
         let mut final_params = serde_json::Map::new();
         final_params.insert("base".into(), self.base_params(final_fit));

@@ -95,26 +95,15 @@ impl PositioningDiscovery {
         let um = |v: Real| round(v / M_PER_UM);
         let (base_score, base_fit) = &self.selection.baseline;
         let (knots, values) = base_fit.profile();
-        let steps: Vec<Value> = self
-            .selection
-            .steps
-            .iter()
-            .zip(self.selection.gains())
-            .map(|(step, (gain, pct))| {
-                json!({
-                    "effect": step.effect.id(),
-                    "together_with": step.together_with.map(PositioningEffect::id),
-                    "cause": step.effect.cause(),
-                    "evidence": step.evidence,
-                    "params": params_json(&step.fit.params(step.effect)),
-                    "rms_um": um(step.score.rms),
-                    "cv_rms_um": um(step.score.cv_rms),
-                    "fold_cv_rms_um": engine::folds_json(&step.score),
-                    "gain_um": um(gain),
-                    "gain_pct": round(pct),
-                })
-            })
-            .collect();
+        let steps = self.selection.steps_json(|step| {
+            let json = json!({
+                "effect": step.effect.id(),
+                "together_with": step.together_with.map(PositioningEffect::id),
+                "cause": step.effect.cause(),
+                "params": params_json(&step.fit.params(step.effect)),
+            });
+            json.as_object().cloned().unwrap_or_default()
+        });
         let (final_score, final_fit) = self.selection.last();
         let final_params: serde_json::Map<String, Value> = final_fit
             .effects

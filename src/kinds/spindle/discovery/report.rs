@@ -316,26 +316,15 @@ impl SpindleDiscovery {
         let problem = &self.problem;
         let data = problem.data();
         let (base_score, base_fit) = &self.selection.baseline;
-        let steps: Vec<Value> = self
-            .selection
-            .steps
-            .iter()
-            .zip(self.selection.gains())
-            .map(|(step, (gain, pct))| {
-                json!({
-                    "effect": step.effect.id(),
-                    "together_with": step.together_with.map(|e| e.id()),
-                    "cause": step.effect.cause(),
-                    "evidence": step.evidence,
-                    "params": params(problem, &step.fit, step.effect),
-                    "rms_um": round_json(step.score.rms * UM),
-                    "cv_rms_um": round_json(step.score.cv_rms * UM),
-                    "fold_cv_rms_um": engine::folds_json(&step.score),
-                    "gain_um": round_json(gain * UM),
-                    "gain_pct": round_json(pct),
-                })
-            })
-            .collect();
+        let steps = self.selection.steps_json(|step| {
+            let json = json!({
+                "effect": step.effect.id(),
+                "together_with": step.together_with.map(|e| e.id()),
+                "cause": step.effect.cause(),
+                "params": params(problem, &step.fit, step.effect),
+            });
+            json.as_object().cloned().unwrap_or_default()
+        });
         let (final_score, final_fit) = self.selection.last();
         let final_params: serde_json::Map<String, Value> = self
             .selection
