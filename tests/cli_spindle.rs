@@ -1125,7 +1125,7 @@ fn discover_reports_the_documented_keys_on_a_foreign_export() {
                 "gain_pct"
             ])
         );
-        // One held-out RMS per fold, and the pooled one is their quadratic mean (equal folds).
+        // One held-out RMS per fold: 11 revolutions in min(5, 11) blocks.
         let folds: Vec<f64> = array(&step["fold_cv_rms_um"]).iter().map(number).collect();
         assert_eq!(folds.len(), 5);
     }
