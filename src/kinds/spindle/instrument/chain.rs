@@ -332,8 +332,9 @@ impl AxisChain {
                 set.amplitude.push(factor * s.amplitude);
                 set.step_sin.push(step_sin);
                 set.step_cos.push(step_cos);
+                // Set at the record's first sample, which is evaluated afresh.
                 set.sin.push(0.0);
-                set.cos.push(1.0);
+                set.cos.push(0.0);
             }
         }
         RecordChain {
@@ -352,7 +353,9 @@ impl AxisChain {
 }
 
 /// The asynchronous sinusoids acting on one twist component along a record, advanced sample
-/// by sample (stored by column so that the loops vectorise).
+/// by sample (stored by column so that the loops vectorise). Each line is held as its phasor
+/// scaled by its amplitude, `a·(sin, cos)`: a rotation by the phase step is linear, so the
+/// scaled phasor advances as the unit one does and the sum is that of the scaled sines.
 #[derive(Clone, Debug, Default)]
 struct Lines {
     component: usize,
@@ -361,6 +364,7 @@ struct Lines {
     amplitude: Vec<Real>,
     step_sin: Vec<Real>,
     step_cos: Vec<Real>,
+    /// `a·sin` and `a·cos` of each line at the current sample.
     sin: Vec<Real>,
     cos: Vec<Real>,
 }
@@ -370,35 +374,37 @@ impl Lines {
     /// `exact`, else advanced by one step from the previous sample.
     fn value(&mut self, exact: bool, time: Real, position: Real) -> Real {
         if exact {
-            for (s, (sin, cos)) in self
-                .sinusoids
-                .iter()
-                .zip(self.sin.iter_mut().zip(self.cos.iter_mut()))
-            {
+            let scaled = self.sin.iter_mut().zip(self.cos.iter_mut());
+            for ((s, a), (sin, cos)) in self.sinusoids.iter().zip(&self.amplitude).zip(scaled) {
                 let argument = match s.frequency {
                     Frequency::Hz(frequency) => TAU * frequency * time,
                     Frequency::PerRevolution(ratio) => ratio * position,
                 };
-                (*sin, *cos) = (argument + s.phase).sin_cos();
+                let (unit_sin, unit_cos) = (argument + s.phase).sin_cos();
+                (*sin, *cos) = (a * unit_sin, a * unit_cos);
             }
-        } else {
-            let steps = self.step_sin.iter().zip(&self.step_cos);
-            for ((sin, cos), (ss, sc)) in self.sin.iter_mut().zip(self.cos.iter_mut()).zip(steps) {
-                (*sin, *cos) = (*sin * sc + *cos * ss, *cos * sc - *sin * ss);
-            }
+            return four_lane_sum(&self.sin);
         }
-        // Four partial sums: the products vectorise.
-        let mut partial = [0.0; 4];
-        let (a, s) = (self.amplitude.chunks_exact(4), self.sin.chunks_exact(4));
-        let (a_rest, s_rest) = (a.remainder(), s.remainder());
-        for (a, s) in a.zip(s) {
-            for k in 0..4 {
-                partial[k] += a[k] * s[k];
-            }
+        let steps = self.step_sin.iter().zip(&self.step_cos);
+        for ((sin, cos), (ss, sc)) in self.sin.iter_mut().zip(self.cos.iter_mut()).zip(steps) {
+            (*sin, *cos) = (*sin * sc + *cos * ss, *cos * sc - *sin * ss);
         }
-        let rest: Real = a_rest.iter().zip(s_rest).map(|(a, s)| a * s).sum();
-        (partial[0] + partial[1]) + (partial[2] + partial[3]) + rest
+        four_lane_sum(&self.sin)
     }
+}
+
+/// The sum of `values`: four partial sums over whole groups of four (they vectorise), then the
+/// rest.
+fn four_lane_sum(values: &[Real]) -> Real {
+    let mut partial = [0.0; 4];
+    let chunks = values.chunks_exact(4);
+    let rest: Real = chunks.remainder().iter().sum();
+    for c in chunks {
+        for k in 0..4 {
+            partial[k] += c[k];
+        }
+    }
+    (partial[0] + partial[1]) + (partial[2] + partial[3]) + rest
 }
 
 /// What a factored record holds.

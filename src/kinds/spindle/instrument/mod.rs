@@ -54,7 +54,7 @@
 //!    `y_n = y_{n−1} + α (x_n − y_{n−1})`, `α = 1 − exp(−Δt/τ)`, started at the first input
 //!    (each speed's record is preceded by whole settling revolutions that are not recorded);
 //! 3. white Gaussian noise of a given standard deviation, from a stream seeded per probe, set-up
-//!    and speed (Marsaglia's polar method, both normals of each accepted pair used in turn);
+//!    and speed (the ziggurat standard normal of `rand_distr`);
 //! 4. its resolution: the reading rounded to the nearest multiple of it (ties to even).
 
 mod chain;
@@ -65,6 +65,7 @@ use super::record::{Sensing, SpindleProbe};
 use crate::math::{Pose, Real, Vector, small_motion};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
 use std::f64::consts::PI;
 
 /// The artefact's shape.
@@ -301,26 +302,11 @@ pub struct Channel<'a> {
     state: Option<Real>,
     /// `1/resolution` (0 without one).
     steps_per_metre: Real,
-    /// The second normal of the last polar pair, not yet used.
-    spare: Option<Real>,
 }
 
 /// `1.5·2⁵²`: adding and subtracting it rounds an `f64` below `2⁵¹` in magnitude to the nearest
 /// whole number, ties to even (the FPU's rounding), without a call to `round`.
 const ROUNDING: Real = 6_755_399_441_055_744.0;
-
-/// A standard normal pair by Marsaglia's polar method from `rng`.
-fn normal_pair(rng: &mut ChaCha8Rng) -> (Real, Real) {
-    loop {
-        let u = 2.0 * rng.random::<Real>() - 1.0;
-        let v = 2.0 * rng.random::<Real>() - 1.0;
-        let s = u * u + v * v;
-        if s > 0.0 && s < 1.0 {
-            let f = (-2.0 * s.ln() / s).sqrt();
-            return (u * f, v * f);
-        }
-    }
-}
 
 impl<'a> Channel<'a> {
     /// The channel of `probe` sampling every `dt` seconds, its filter not yet started.
@@ -334,7 +320,6 @@ impl<'a> Channel<'a> {
             } else {
                 0.0
             },
-            spare: None,
         }
     }
 
@@ -354,14 +339,7 @@ impl<'a> Channel<'a> {
     #[inline]
     pub fn digitise(&mut self, y: Real, rng: &mut ChaCha8Rng) -> Real {
         let noisy = if self.probe.noise > 0.0 {
-            let z = match self.spare.take() {
-                Some(z) => z,
-                None => {
-                    let (a, b) = normal_pair(rng);
-                    self.spare = Some(b);
-                    a
-                }
-            };
+            let z: Real = rng.sample(StandardNormal);
             y + self.probe.noise * z
         } else {
             y
