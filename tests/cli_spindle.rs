@@ -1122,12 +1122,24 @@ fn discover_reports_the_documented_keys_on_a_foreign_export() {
                 "cv_rms_um",
                 "fold_cv_rms_um",
                 "gain_um",
-                "gain_pct"
+                "gain_pct",
+                "gain_z",
+                "rest_z",
+                "z_needed"
             ])
         );
         // One held-out RMS per fold: 11 revolutions in min(5, 11) blocks.
         let folds: Vec<f64> = array(&step["fold_cv_rms_um"]).iter().map(number).collect();
         assert_eq!(folds.len(), 5);
+        // Accepted: the combined z and the z without the best fold reach the z needed.
+        assert!(number(&step["gain_z"]) >= number(&step["z_needed"]));
+        assert!(number(&step["rest_z"]) >= number(&step["z_needed"]));
+    }
+    for rejected in array(&json["rejected"]) {
+        assert_eq!(
+            keys(rejected),
+            set(&["effect", "cv_rms_um", "gain_z", "rest_z", "z_needed"])
+        );
     }
     assert_eq!(
         keys(&steps[1]["params"]),

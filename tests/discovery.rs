@@ -572,6 +572,9 @@ fn the_report_has_the_stable_keys_and_consistent_gains() {
             "cv_rms_um",
             "gain_um",
             "gain_pct",
+            "gain_z",
+            "rest_z",
+            "z_needed",
         ] {
             assert!(step.get(key).is_some(), "step lacks {key}");
         }
@@ -605,21 +608,49 @@ fn the_report_has_the_stable_keys_and_consistent_gains() {
     within(split, -3.0, 0.3, "up − down");
 }
 
-/// Noise only with few runs (contiguous folds for 1 and 2 runs, 3 folds for 3 runs): 60 tables
-/// per layout.
+/// False acceptances on noise by layout: `seeds` noise-only ISO tables of each number of runs
+/// (contiguous folds for 1 and 2 runs, leave-one-run-out from 3); returns, per layout, the
+/// seeds that accepted something.
+fn false_acceptances(runs: &[usize], seeds: std::ops::RangeInclusive<u64>) -> Vec<Vec<u64>> {
+    runs.iter()
+        .map(|&runs| {
+            seeds
+                .clone()
+                .filter(|&seed| {
+                    !discover(&Plan::iso(runs, seed).table(|_| 0.0))
+                        .accepted()
+                        .is_empty()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Noise only, 60 tables each of 1, 2, 3 and 7 runs (the 5-run layout is above). Issue 15
+/// asks for at most 5 % on single-run files: at most 3 of 60; for the others at most 1 of 60
+/// (the rule's family-wise 2.5 % per round, and no more than the old rule's 0 in 140 on 5
+/// runs would allow by chance).
 #[test]
-fn nothing_hidden_in_short_files_rarely_accepts_anything() {
-    let mut false_positives = Vec::new();
-    for runs in 1..=3 {
-        for seed in 1..=60 {
-            let d = discover(&Plan::iso(runs, seed).table(|_| 0.0));
-            if !d.accepted().is_empty() {
-                false_positives.push((runs, seed, d.accepted()));
-            }
-        }
+fn nothing_hidden_in_few_or_many_runs_rarely_accepts_anything() {
+    let layouts = [1, 2, 3, 7];
+    let found = false_acceptances(&layouts, 1..=60);
+    println!("false acceptances in 60 tables of 1, 2, 3, 7 runs: {found:?}");
+    assert!(found[0].len() <= 3, "{found:?}");
+    for seeds in &found[1..] {
+        assert!(seeds.len() <= 1, "{found:?}");
     }
-    println!("false positives in 180 short files: {false_positives:?}");
-    assert!(false_positives.len() <= 4, "{false_positives:?}");
+}
+
+/// The measurement behind the README's rates: 500 noise-only tables of each layout (1, 2, 3,
+/// 5, 7 runs). About ten minutes; run with `--ignored --nocapture`.
+#[test]
+#[ignore]
+fn false_acceptance_rates_by_layout() {
+    let layouts = [1, 2, 3, 5, 7];
+    let found = false_acceptances(&layouts, 1..=500);
+    for (runs, seeds) in layouts.iter().zip(&found) {
+        println!("{runs} runs: {} of 500 {seeds:?}", seeds.len());
+    }
 }
 
 /// The written model, loaded as a scenario extending vmc3's, gives back the axis's true error
@@ -680,4 +711,78 @@ fn the_written_model_reproduces_the_true_error() {
         rms < 0.5 * NOISE_UM && worst < 2.0 * NOISE_UM,
         "RMS {rms}, worst {worst}\n{fragment}"
     );
+}
+
+/// The acceptance rule before issue 15: a 5 % held-out gain and a paired t over folds of
+/// ln(held-out mean square before / after) at the one-sided 97.5 % Student quantile with
+/// (folds − 1) degrees of freedom. Computed here from the report's per-fold RMS to show what
+/// it would have decided.
+fn old_rule_accepts(before_um: &[f64], after_um: &[f64]) -> bool {
+    const T_975: [f64; 6] = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447];
+    let d: Vec<f64> = before_um
+        .iter()
+        .zip(after_um)
+        .map(|(b, a)| 2.0 * (b / a).ln())
+        .collect();
+    let k = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / k;
+    let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / k).sqrt();
+    rms(after_um) <= 0.95 * rms(before_um) && mean / (sd / k.sqrt()) >= T_975[d.len() - 2]
+}
+
+/// Issue 15 (a): three runs, the first one cold (the warm-up starts with it) and the middle one
+/// interpolated by the other two when held out. A thermal or time effect must still be
+/// accepted first, on every seed; the old fold t-test (three folds: t ≥ 4.303) is computed from
+/// the same per-fold RMS and printed, and must have missed some, which is why the rule changed.
+#[test]
+fn three_runs_with_a_cold_first_run_find_thermal_and_time_effects() {
+    type Hidden = fn(At) -> f64;
+    let cases: [(PositioningEffect, Hidden); 3] = [
+        (PositioningEffect::ThermalScale, |a| {
+            5.0 * a.x_mm * 1e-3 * (temperature(a.t_s) - 20.0)
+        }),
+        (PositioningEffect::ThermalOffset, |a| {
+            -3.0 * (temperature(a.t_s) - 20.0)
+        }),
+        (PositioningEffect::TimeDrift, |a| 0.8 * a.t_s / 3600.0),
+    ];
+    let mut old_misses = Vec::new();
+    for (effect, hidden) in cases {
+        for seed in 1..=4 {
+            let d = discover(&Plan::iso(3, seed).table(hidden));
+            assert_eq!(
+                d.accepted().first(),
+                Some(&effect),
+                "seed {seed}:\n{}",
+                d.to_text()
+            );
+            let json = d.to_json();
+            let folds = |v: &serde_json::Value| -> Vec<f64> {
+                v["fold_cv_rms_um"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect()
+            };
+            let before = folds(&json["baseline"]);
+            let after = folds(&json["steps"][0]);
+            if !old_rule_accepts(&before, &after) {
+                old_misses.push((effect, seed));
+            }
+        }
+    }
+    println!("the old rule would have missed: {old_misses:?}");
+    assert!(!old_misses.is_empty());
+}
+
+/// Issue 15 (b) on the same layouts as the fixtures above: noise only, three runs, 60 seeds:
+/// nothing accepted.
+#[test]
+fn three_runs_of_noise_accept_nothing() {
+    for seed in 101..=160 {
+        let d = discover(&Plan::iso(3, seed).table(|_| 0.0));
+        assert!(d.accepted().is_empty(), "seed {seed}:\n{}", d.to_text());
+    }
 }

@@ -250,6 +250,9 @@ fn two_hidden_effects_are_both_found() {
             "cv_rms_um",
             "gain_um",
             "gain_pct",
+            "gain_z",
+            "rest_z",
+            "z_needed",
         ] {
             assert!(!step[key].is_null(), "{key}");
         }

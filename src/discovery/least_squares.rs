@@ -1,6 +1,7 @@
-//! Linear least squares for the discovery engine: column-scaled SVD with a rank cut, so that
-//! terms the data cannot tell apart (a polynomial sampled only at the profile's knots, an
-//! offset when every run has one temperature) get the minimum-norm share instead of blowing up.
+//! Linear least squares for the discovery engine: column-scaled QR, then the SVD of its small
+//! triangle with a rank cut, so that terms the data cannot tell apart (a polynomial sampled
+//! only at the profile's knots, an offset when every run has one temperature) get the
+//! minimum-norm share instead of blowing up.
 
 use crate::math::Real;
 use nalgebra::{DMatrix, DVector};
@@ -54,8 +55,18 @@ impl Design {
             .collect();
         let scale = |j: usize| if norms[j] > 0.0 { 1.0 / norms[j] } else { 0.0 };
         let a = DMatrix::from_fn(self.rows, columns, |i, j| self.columns[j][i] * scale(j));
-        let b = DVector::from_column_slice(y);
-        let svd = a.svd(true, true);
+        let mut b = DVector::from_column_slice(y);
+        // Tall designs (the usual case): A = Q·R by Householder, then the SVD of the small R,
+        // which has A's singular values: the same rank cut at a fraction of the cost of
+        // bidiagonalising A with its left factor.
+        let (square, b) = if self.rows > columns {
+            let qr = a.qr();
+            qr.q_tr_mul(&mut b);
+            (qr.r(), b.rows(0, columns).into_owned())
+        } else {
+            (a, b)
+        };
+        let svd = square.svd(true, true);
         let largest = svd.singular_values.max();
         let solution = svd
             .solve(&b, largest * RANK_TOLERANCE)

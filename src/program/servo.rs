@@ -16,10 +16,29 @@
 //! here: they are the error model's reversal and harmonic terms, applied by the twin to the
 //! actual positions with each axis's direction of travel (the sign of its loop velocity).
 //!
+//! **Play** (optional, per axis, gap width `b` ≥ 0, default 0): the loop drives the motor (the
+//! loop position above, measured on the motor side as with a rotary encoder) and the carriage
+//! (load) follows it through a dead band of width `b`: `load = motor − (b/2)·d`, `d` the last
+//! direction in which the motor pushed the load. While the motor moves inside the band (after
+//! it reverses, until it has crossed the gap) the load stands still; then it follows offset by
+//! `b/2` against the new direction. Within an interpolation period the motor is monotone on
+//! either side of its reversal, so the load is the motor clamped to the band (`load =
+//! clamp(load₀, motor − b/2, motor + b/2)`) over each monotone piece: exact, like the loop.
+//! The instant the load starts to move in its new direction (the motor reaching the far side
+//! of the gap) is found by bisection on the monotone motor path (to the last bit of f64);
+//! with play the reversal spike starts there, when the carriage itself reverses and sticks.
+//! With `b = 0` the load is the motor and nothing else changes. On a ball-bar trace this is
+//! not a step: at a quadrant crossing the axis's speed grows linearly from zero, so the motor
+//! crosses the gap over a finite arc, R·(1 − cos φ) = b (φ ≈ √(2b/R), 0.4° for b = 4 µm on a
+//! 150 mm bar), during which the carriage stands still. Play and the error model's reversal
+//! term may be combined; they add.
+//!
 //! Simplified: ideal velocity loop and drive (no current limits, no resonance beyond the
 //! stated vibration), the spike as a jump and an exponential decay (not a stick–slip
-//! simulation), lost motion as a step at the reversal (the real take-up of play spreads it over
-//! the first micrometres of motor travel), axes off the plane exactly at their commands.
+//! simulation), lost motion either as a step at the reversal (the error model's reversal
+//! term) or as play (a rigid dead band: no elasticity of screw, nut or coupling, no friction
+//! inside the gap beyond the spike above, the loop closed on the motor so that it does not see
+//! the gap), axes off the plane exactly at their commands.
 
 use crate::machine::{Axis, Direction};
 use crate::math::Real;
@@ -40,6 +59,8 @@ pub struct AxisServo {
     pub vibration_amplitude: Real,
     /// Vibration frequency (Hz).
     pub vibration_frequency: Real,
+    /// Play between motor and carriage: the width of the dead band (m, ≥ 0; 0 = none).
+    pub play: Real,
 }
 
 impl AxisServo {
@@ -52,6 +73,7 @@ impl AxisServo {
         spike_decay: 0.01,
         vibration_amplitude: 0.0,
         vibration_frequency: 0.0,
+        play: 0.0,
     };
 
     /// Lag time of the loop on a ramp, `(1 − f)/Kv` (s).
@@ -86,6 +108,9 @@ impl AxisServo {
             || self.vibration_frequency < 0.0
         {
             return Some("vibration amplitude and frequency must be finite, frequency ≥ 0".into());
+        }
+        if !(self.play.is_finite() && self.play >= 0.0) {
+            return Some(format!("the play must be ≥ 0, got {}", self.play));
         }
         None
     }
@@ -130,12 +155,19 @@ pub struct AxisLoop {
     servo: AxisServo,
     /// The axis it drives.
     pub axis: Axis,
-    /// Loop position at the start of the current period (m).
+    /// Loop (motor) position at the start of the current period (m).
     position: Real,
     /// Direction of travel (sign of the loop velocity, kept while it is zero).
     direction: Direction,
     /// Last reversal: when, and the direction after it.
     reversal: Option<(Real, Direction)>,
+    /// With play: the load (carriage) position at the start of the current period (m).
+    load: Real,
+    /// With play: the last direction in which the motor pushed the load.
+    push: Direction,
+    /// With play: when the load last started to move in a new direction, and that direction
+    /// (where the spike starts).
+    engaged: Option<(Real, Direction)>,
 }
 
 /// One period of one axis: command `c(t) = c0 + rate·(t − t0)` from `t0`.
@@ -148,10 +180,17 @@ pub struct Period {
     transient: Real,
     /// The reversal inside this period, if any: (time, new direction).
     reversal: Option<(Real, Direction)>,
+    /// With play: the load when the motor reverses in this period (else at its start).
+    load_at_reversal: Real,
+    /// With play: the load at the end of the period and the last push direction then.
+    load_end: (Real, Direction),
+    /// With play: the instant in this period the load starts to move in a new direction.
+    engaged: Option<(Real, Direction)>,
 }
 
 impl AxisLoop {
-    /// A loop at rest at `position`, its direction of travel `direction`, no reversal yet.
+    /// A loop at rest at `position`, its direction of travel `direction`, no reversal yet;
+    /// with play, the load pushed in `direction` (at `position − (b/2)·direction`).
     pub fn new(servo: AxisServo, axis: Axis, position: Real, direction: Direction) -> AxisLoop {
         AxisLoop {
             servo,
@@ -159,6 +198,9 @@ impl AxisLoop {
             position,
             direction,
             reversal: None,
+            load: position - servo.play / 2.0 * direction.sign(),
+            push: direction,
+            engaged: None,
         }
     }
 
@@ -187,16 +229,72 @@ impl AxisLoop {
                 reversal = Some((t0 + tau, direction));
             }
         }
-        Period {
+        let mut period = Period {
             t0,
             c0,
             rate,
             transient,
             reversal,
+            load_at_reversal: self.load,
+            load_end: (self.load, self.push),
+            engaged: None,
+        };
+        if self.servo.play > 0.0 {
+            self.take_up(&mut period, t0 + dt);
         }
+        period
     }
 
-    /// Loop position at `t` within the period.
+    /// With play: the load over the period ending at `t1`, piece by monotone piece of the
+    /// motor's path (before and after its reversal), and the instant the load starts to move
+    /// in a new direction, if it does in this period.
+    fn take_up(&self, period: &mut Period, t1: Real) {
+        let half = self.servo.play / 2.0;
+        let (mut load, mut push) = (self.load, self.push);
+        let turn = period.reversal.map_or(t1, |(at, _)| at);
+        let pieces = [
+            Some((period.t0, turn, self.direction)),
+            period.reversal.map(|(at, after)| (at, t1, after)),
+        ];
+        for (i, (from, to, direction)) in pieces.into_iter().flatten().enumerate() {
+            let d = direction.sign();
+            // The motor position at which the load starts to move in `direction`.
+            let contact = load + d * half;
+            let end = self.loop_position(period, to);
+            if d * (end - contact) > 0.0 {
+                if direction != push {
+                    let at = self.crossing(period, from, to, contact, d);
+                    period.engaged = Some((at, direction));
+                    push = direction;
+                }
+                load = end - d * half;
+            }
+            if i == 0 {
+                period.load_at_reversal = load;
+            }
+        }
+        period.load_end = (load, push);
+    }
+
+    /// When the motor, moving monotonically in direction `d` over `[from, to]`, reaches
+    /// `target` (bisection to the resolution of f64).
+    fn crossing(&self, period: &Period, from: Real, to: Real, target: Real, d: Real) -> Real {
+        let (mut low, mut high) = (from, to);
+        for _ in 0..200 {
+            let middle = 0.5 * (low + high);
+            if middle <= low || middle >= high {
+                break;
+            }
+            if d * (self.loop_position(period, middle) - target) >= 0.0 {
+                high = middle;
+            } else {
+                low = middle;
+            }
+        }
+        high
+    }
+
+    /// Loop (motor) position at `t` within the period.
     pub fn loop_position(&self, period: &Period, t: Real) -> Real {
         let (kv, lag) = (self.servo.kv, 1.0 - self.servo.feed_forward);
         let tau = t - period.t0;
@@ -204,19 +302,37 @@ impl AxisLoop {
             + period.transient * (-kv * tau).exp()
     }
 
-    /// Actual position and direction of travel at `t` within the period.
+    /// Actual position and direction of travel (the motor's) at `t` within the period.
     pub fn actual(&self, period: &Period, t: Real) -> (Real, Direction) {
         let (reversal, direction) = match period.reversal {
             Some((at, after)) if t >= at => (Some((at, after)), after),
             _ => (self.reversal, self.direction),
         };
         let servo = &self.servo;
-        let spike = reversal.map_or(0.0, |(at, after)| {
+        let motor = self.loop_position(period, t);
+        // Without play the load is the motor and the spike starts at the motor's reversal;
+        // with play the load is the motor clamped to the band, the spike starts when the load
+        // itself starts to move in its new direction.
+        let (load, start) = if servo.play > 0.0 {
+            let half = servo.play / 2.0;
+            let before = match period.reversal {
+                Some((at, _)) if t >= at => period.load_at_reversal,
+                _ => self.load,
+            };
+            let engaged = match period.engaged {
+                Some((at, after)) if t >= at => Some((at, after)),
+                _ => self.engaged,
+            };
+            (before.clamp(motor - half, motor + half), engaged)
+        } else {
+            (motor, reversal)
+        };
+        let spike = start.map_or(0.0, |(at, after)| {
             -after.sign() * servo.spike_height * (-(t - at) / servo.spike_decay).exp()
         });
         let vibration = servo.vibration_amplitude
             * (std::f64::consts::TAU * servo.vibration_frequency * t).sin();
-        (self.loop_position(period, t) + spike + vibration, direction)
+        (load + spike + vibration, direction)
     }
 
     /// Ends the period at `t1`.
@@ -225,6 +341,10 @@ impl AxisLoop {
         if let Some(reversal) = period.reversal {
             self.reversal = Some(reversal);
             self.direction = reversal.1;
+        }
+        (self.load, self.push) = period.load_end;
+        if period.engaged.is_some() {
+            self.engaged = period.engaged;
         }
     }
 }

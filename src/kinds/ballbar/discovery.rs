@@ -287,15 +287,15 @@ impl BallbarProblem {
                 ((at / span * SECTORS as Real) as usize).min(SECTORS - 1)
             })
             .collect();
-        Folds {
-            scheme: format!(
+        Folds::new(
+            format!(
                 "{SECTORS} angular sectors of {:.1}° from {:.1}° (a sector held out in both senses)",
                 span / SECTORS as Real / RAD_PER_DEG,
                 start / RAD_PER_DEG
             ),
             of_sample,
-            count: SECTORS,
-        }
+            SECTORS,
+        )
     }
 
     /// Why the table cannot show `effect`, if it cannot.
@@ -463,6 +463,9 @@ impl Problem for BallbarProblem {
     }
 
     fn proposals(&self, effects: &[BallbarEffect], fit: &ModelFit) -> Vec<(BallbarEffect, String)> {
+        // Screened by the residual diagnostics: scoring every candidate of a 28 000-reading
+        // trace (each fit a shape search) takes minutes today. Issue 15 asks for every
+        // candidate to be scored; that waits for the discovery speed work (its item 8).
         self.testable
             .iter()
             .copied()
@@ -581,8 +584,8 @@ impl BallbarDiscovery {
         self.selection.effects()
     }
 
-    /// The effects tested in the last round and not accepted, with their held-out RMS (m).
-    pub fn rejected(&self) -> &[(BallbarEffect, Real)] {
+    /// The effects tested in the last round and not accepted, with their scores.
+    pub fn rejected(&self) -> &[engine::Rejected<BallbarEffect>] {
         &self.selection.rejected
     }
 
@@ -675,10 +678,7 @@ impl BallbarDiscovery {
                 "evidence": Value::Object(evidence),
             },
             "steps": steps,
-            "rejected": self.selection.rejected.iter().map(|(e, cv)| json!({
-                "effect": e.id(plane),
-                "cv_rms_um": um(*cv),
-            })).collect::<Vec<_>>(),
+            "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id(plane).into()),
             "untestable": self.problem.untestable.iter().map(|(e, why)| json!({
                 "effect": e.id(plane),
                 "reason": why,
@@ -746,21 +746,21 @@ impl BallbarDiscovery {
             });
             let _ = writeln!(
                 out,
-                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {})",
+                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {}; {})",
                 step.effect.id(plane),
                 step.effect.cause(),
                 um(step.score.cv_rms),
                 um(gain),
                 pct,
-                engine::folds_text(&step.score, 3)
+                engine::folds_text(&step.score, 3),
+                engine::test_text(&step.test)
             );
         }
-        if !self.selection.rejected.is_empty() {
-            let _ = writeln!(out, "\nTested and rejected (held-out RMS):");
-            for (effect, cv) in &self.selection.rejected {
-                let _ = writeln!(out, "  {:<18} {:.3} µm", effect.id(plane), um(*cv));
-            }
-        }
+        out.push_str(&engine::rejected_text(
+            &self.selection.rejected,
+            |e| e.id(plane).into(),
+            3,
+        ));
         if !self.problem.untestable.is_empty() {
             let _ = writeln!(out, "\nCannot be tested with this table:");
             for (effect, why) in &self.problem.untestable {

@@ -1,5 +1,6 @@
 //! Running the ball-bar tests: each circle through the servo loops and the twin, measured by
-//! the virtual ball-bar; and the set-up, circles and controller as injected, for the truth.
+//! the virtual ball-bar; and the set-up, circles and controller as injected, for the truth
+//! (per axis `kv_per_s`, …, `spike_um`, and `play_um` when the axis has play).
 
 use super::scenario::BallbarTest;
 use super::table::BallbarTable;
@@ -24,9 +25,11 @@ pub fn simulate(twin: &Twin, test: &BallbarTest, seed: u64) -> Vec<BallbarTable>
 pub fn truth(test: &BallbarTest) -> Value {
     let bar = &test.ballbar;
     let servo = &test.servo;
+    // Play is recorded when an axis has some (absent: none), so that the truth of a test
+    // without play reads as before.
     let axis_servo = |axis: crate::machine::Axis| {
         let s = servo.axis(axis);
-        json!({
+        let mut record = json!({
             "kv_per_s": s.kv,
             "feed_forward": s.feed_forward,
             "lag_ms": s.lag_time() * 1e3,
@@ -34,7 +37,11 @@ pub fn truth(test: &BallbarTest) -> Value {
             "spike_decay_ms": s.spike_decay * 1e3,
             "vibration_um": s.vibration_amplitude * 1e6,
             "vibration_hz": s.vibration_frequency,
-        })
+        });
+        if s.play > 0.0 {
+            record["play_um"] = json!(s.play * 1e6);
+        }
+        record
     };
     json!({
         "length_mm": bar.length * 1e3,

@@ -20,9 +20,14 @@
 //!
 //! [servo]
 //! ipo_period_ms = 1.0
-//! X = { kv_per_s = 33.3, feed_forward = 0.0, spike_um = 0.0, spike_decay_ms = 10.0, vibration_um = 0.0, vibration_hz = 0.0 }
+//! X = { kv_per_s = 33.3, feed_forward = 0.0, spike_um = 0.0, spike_decay_ms = 10.0, vibration_um = 0.0, vibration_hz = 0.0, play_um = 0.0 }
 //! Y = { kv_per_s = 30.0 }         # unset keys take these defaults
 //! ```
+//!
+//! `play_um` is real play between motor and carriage (a dead band of that width, ≥ 0, see
+//! [`crate::program::servo`]): the carriage stands still while the motor crosses the gap after
+//! a reversal. Lost motion as an instantaneous half-step at each reversal is the error model's
+//! reversal term instead (e.g. `EXX = { reversal_um = 4.0 }`).
 //!
 //! A partial arc (less than 360°) keeps to the upper half of a vertical plane (the +Z side of
 //! the centre, where the bar clears the table), centred on it: a 180° data arc runs from 0 to
@@ -83,7 +88,7 @@ pub(crate) struct RawServo {
     z: Option<Spanned<RawAxisServo>>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 struct RawAxisServo {
     kv_per_s: Option<Real>,
@@ -92,6 +97,7 @@ struct RawAxisServo {
     spike_decay_ms: Option<Real>,
     vibration_um: Option<Real>,
     vibration_hz: Option<Real>,
+    play_um: Option<Spanned<Real>>,
 }
 
 /// Circular tests, the ball-bar that measures them and the controller that runs them.
@@ -396,6 +402,21 @@ fn servo_spec(
         let Some(given) = given else { continue };
         let g = given.get_ref();
         let d = AxisServo::DEFAULT;
+        let play = match &g.play_um {
+            None => d.play,
+            Some(v) => {
+                let um = *v.get_ref();
+                if !(um.is_finite() && um >= 0.0) {
+                    let span = Some(v.span()).filter(|s| !s.is_empty());
+                    return Err(context.error(
+                        span.or(Some(given.span())),
+                        ScenarioErrorKind::Value,
+                        format!("servo.{axis}.play_um: expected a finite width ≥ 0 µm, got {um}"),
+                    ));
+                }
+                um * M_PER_UM
+            }
+        };
         let spec = AxisServo {
             kv: g.kv_per_s.unwrap_or(d.kv),
             feed_forward: g.feed_forward.unwrap_or(d.feed_forward),
@@ -405,6 +426,7 @@ fn servo_spec(
                 .vibration_um
                 .map_or(d.vibration_amplitude, |v| v * M_PER_UM),
             vibration_frequency: g.vibration_hz.unwrap_or(d.vibration_frequency),
+            play,
         };
         if let Some(problem) = spec.problem() {
             return Err(context.error(

@@ -3,7 +3,7 @@
 //! standard uncertainty ([`TermEstimate`]).
 
 use super::linalg::{gram, gram_pinv};
-use super::model::spike;
+use super::model::{spike, take_up_arc};
 use super::report::lag_key;
 use super::{BasisPoint, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term};
 use crate::machine::Plane;
@@ -250,6 +250,25 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
         if lag.is_some() && !located {
             *lag = None;
             notes.push(unlocated_lag(plane, axis));
+        }
+    }
+    // Backlash drawn as real play: say so, with the arc the carriage stood still over.
+    for (axis, term) in [(0, Term::BacklashP), (1, Term::BacklashQ)] {
+        let gap = fit.shape.play[axis];
+        let Some(estimate) = estimates.iter().find(|(t, _)| *t == term).map(|(_, e)| e) else {
+            continue;
+        };
+        if gap > 0.0 && estimate.u > 0.0 && estimate.value.abs() >= 2.0 * estimate.u {
+            notes.push(format!(
+                "{}: read as play, not as an instantaneous step: after {} reverses the carriage stands still while the motor crosses the gap, over {:.2}° of the circle",
+                term.key(plane),
+                if axis == 0 {
+                    plane.first()
+                } else {
+                    plane.second()
+                },
+                take_up_arc(gap, data.test.radius).to_degrees(),
+            ));
         }
     }
     Ok(Diagnostics {

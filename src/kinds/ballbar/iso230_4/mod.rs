@@ -40,6 +40,31 @@
 //! (negative: the axis reverses before its programmed angle, lagging less than the detected
 //! start). With δ = 0 the terms read as in the table (sgn(sin θ_p)·sin θ = |sin θ|, …).
 //!
+//! **Backlash as a step or as play.** Lost motion can reach the trace two ways. As an
+//! instantaneous half-step at the reversal (the error model's reversal term: the carriage
+//! lags b/2 against its travel and switches sides at once), the column is the table's. As
+//! real play (a dead band of width b between motor and carriage, see
+//! [`crate::program::servo`]) the carriage stands still after the motor reverses until the
+//! motor has come back b; at a quadrant crossing the motor comes back u = R·(1 − cos φ) over
+//! the arc φ since its reversal, so the carriage's lead over it in its new direction goes from
+//! b/2 to −b/2 as u goes from 0 to b: the column is the step column times
+//! w = 2·min(R·(1 − cos φ)/g, 1) − 1 with g = b ([`take_up`]), a parabola over the take-up arc
+//! arccos(1 − b/R) ≈ √(2b/R) (0.63° for 6 µm on 100 mm), whatever the feed; it is the step as
+//! g → 0. The fit draws both, the step and the play with g = |b| (searched parameters searched
+//! again, g refitted from b until it settles), and keeps the one with the smaller residual
+//! sum of squares (with backlash on both axes, also one axis as a step and the other as play);
+//! a note says when play was chosen. With play a spike starts where the carriage reverses,
+//! the take-up arc after the motor. Fitted with the step, play of b leaves an inward dip of
+//! depth b at each reversal that the spike term reads as an inward spike.
+//!
+//! **The angle of the position-dependent terms.** A trace whose angles were assigned from the
+//! command at the sampling time (not timed from the machine's motion) leads the direction the
+//! axes actually reach by σ·v·ℓ/R, ℓ the common servo lag: the centre offset, squareness and
+//! scale mismatch are then fitted at θ_a = θ − σ·v·ℓ/R, ℓ estimated from the trace
+//! ([`CircleData::angle_lag`]: the centre offset turns by v·ℓ/R in opposite directions in the
+//! two senses), used when it is significant (3 u) and both senses are full circles; 0 for
+//! traces timed from the motion, such as mtwin's.
+//!
 //! | key | parameter | radial term |
 //! |---|---|---|
 //! | `radius_deviation_um` | c₀: bar length error, mean scale | c₀ |
@@ -47,7 +72,7 @@
 //! | `squareness_um_per_m` | s (rad), + when the angle between +p and +q travel is < 90° | (R·s/2)·sin 2θ |
 //! | `scale_mismatch_ppm` | Δk = k_p − k_q | (R·Δk/2)·cos 2θ |
 //! | `servo_mismatch_ms` | Δτ = τ_p − τ_q (lag = 1/K_v), + when p lags more | σ·(v·Δτ/2)·sin 2θ |
-//! | `backlash_p_um` | b_p: p lags the command by b_p/2 against its travel, sgn ṗ = −σ·sgn(sin θ_p) | +σ·sgn(sin θ_p)·cos θ·b_p/2 |
+//! | `backlash_p_um` | b_p: p lags the command by b_p/2 against its travel, sgn ṗ = −σ·sgn(sin θ_p) | +σ·sgn(sin θ_p)·cos θ·b_p/2 (× w as play) |
 //! | `backlash_q_um` | b_q, sgn q̇ = σ·sgn(cos θ_q) | −σ·sgn(cos θ_q)·sin θ·b_q/2 |
 //! | `lateral_play_p_um` | l_p: the p carriage shifts along q by −sgn(ṗ)·l_p/2 | +σ·sgn(sin θ_p)·sin θ·l_p/2 (= +σ·\|sin θ\|·l_p/2 at δ_p = 0) |
 //! | `lateral_play_q_um` | l_q: the q carriage shifts along p by −sgn(q̇)·l_q/2 | −σ·sgn(cos θ_q)·cos θ·l_q/2 (= −σ·\|cos θ\|·l_q/2) |
@@ -102,7 +127,9 @@ pub use data::{CircleData, SearchRanges, covered_arc};
 pub use diagnose::{Diagnostics, TermEstimate};
 pub use figures::{BallbarEvaluation, evaluate};
 pub use fit::ModelFit;
-pub use model::{BasisPoint, Shape, Term, arc_since_reversal, diagnostic_column};
+pub use model::{
+    BasisPoint, Shape, Term, arc_since_reversal, diagnostic_column, take_up, take_up_arc,
+};
 
 use crate::machine::Plane;
 use crate::math::Real;

@@ -27,9 +27,9 @@ pub enum Term {
     ScaleMismatch,
     /// Δτ = τ_p − τ_q (s): σ·(v/2)·sin 2θ.
     ServoMismatch,
-    /// b_p (m): σ·sgn(sin θ_p)·cos θ/2, θ_p = θ − σ·v·δ_p/R.
+    /// b_p (m): σ·sgn(sin θ_p)·cos θ/2, θ_p = θ − σ·v·δ_p/R; as play times [`take_up`].
     BacklashP,
-    /// b_q (m): −σ·sgn(cos θ_q)·sin θ/2, θ_q = θ − σ·v·δ_q/R.
+    /// b_q (m): −σ·sgn(cos θ_q)·sin θ/2, θ_q = θ − σ·v·δ_q/R; as play times [`take_up`].
     BacklashQ,
     /// l_p (m): σ·sgn(sin θ_p)·sin θ/2 (σ·|sin θ|/2 at δ_p = 0).
     LateralPlayP,
@@ -219,6 +219,19 @@ pub struct Shape {
     pub period: [Real; 2],
     /// Number of lobes per turn.
     pub lobes: u32,
+    /// Play g_p, g_q (m) the backlash columns take up: 0 for lost motion as an instantaneous
+    /// step at the reversal, else the gap the motor crosses while the carriage stands still
+    /// (see [`take_up`]). The fit sets it to the fitted backlash when that fits better.
+    pub play: [Real; 2],
+    /// Angle lag ℓ (s) of the position-dependent terms: the trace's angles lead the direction
+    /// the axes actually reach by σ·v·ℓ/R (ℓ ≈ 1/K_v for angles assigned from the command at the
+    /// sampling time, 0 for ball-bar software that times its trace from the machine's motion);
+    /// the centre offset, squareness and scale mismatch columns (the tool's actual position
+    /// projected on its actual direction) are taken at θ_a = θ − σ·v·ℓ/R. Straightness and
+    /// cyclic columns stay at θ: a bow moves by S·2·v·ℓ/R (0.04 µm for 2 µm at 2000 mm/min on
+    /// 100 mm), and where a cyclic error is drawn (at the commanded or the actual position)
+    /// is the data's convention, not settled by the trace.
+    pub angle_lag: Real,
 }
 
 impl Default for Shape {
@@ -228,8 +241,47 @@ impl Default for Shape {
             decay: [0.02; 2],
             period: [0.01; 2],
             lobes: 3,
+            play: [0.0; 2],
+            angle_lag: 0.0,
         }
     }
+}
+
+/// The arc (rad) over which the motor crosses a gap `gap` after it reverses at a quadrant
+/// (`radius` the circle's): the axis position is R·cos φ from the reversal, so the motor has
+/// come back R·(1 − cos φ) = gap after φ = arccos(1 − gap/R) (≈ √(2·gap/R): 0.41° for 4 µm on
+/// 150 mm). 0 without play.
+pub fn take_up_arc(gap: Real, radius: Real) -> Real {
+    if gap > 0.0 {
+        (1.0 - (gap / radius).min(2.0)).acos()
+    } else {
+        0.0
+    }
+}
+
+/// The fraction w of its half-step the backlash of `axis` shows at `at` (−1 … 1), with the
+/// play `shape.play[axis]` = g.
+///
+/// Derivation: the carriage follows the motor through a dead band of width b, carriage =
+/// motor − (b/2)·d, d the last direction the motor pushed it. Before a reversal it lags by
+/// b/2 against the old direction, i.e. leads by b/2 in the new one; the motor runs the circle
+/// (its lag is in the reversal lag δ, its gain on the circle differs from 1 by (ωτ)²/2, a few
+/// 10⁻⁵), so φ after its reversal it has come back u = R·(1 − cos φ), and the carriage, still
+/// standing, leads it by b/2 − u in the new direction until u = b, then lags by b/2. In units
+/// of the steady lag −(b/2)·d_new that is w = 2·min(u/b, 1) − 1: −1 at the reversal (the trace
+/// continues as before it), +1 once the gap is crossed (the half-step's level), a parabola
+/// in φ between (u ≈ R·φ²/2). Radially the backlash column is the half-step column times w,
+/// linear in b for the fixed g the column is drawn with; the fit takes g = |b|. The shape does
+/// not depend on the feed: the motor's travel, not time, sets the take-up. As g → 0 the
+/// take-up arc vanishes and w = 1: today's instantaneous step.
+pub fn take_up(axis: usize, at: &BasisPoint, test: &CircularTest, shape: &Shape) -> Real {
+    let gap = shape.play[axis];
+    if gap <= 0.0 {
+        return 1.0;
+    }
+    let arc = arc_since_reversal(axis, at, test, shape);
+    let back = 2.0 * test.radius * (arc / 2.0).sin().powi(2);
+    2.0 * (back / gap).min(1.0) - 1.0
 }
 
 /// A reading's place on the circle, as the diagnostic columns need it.
@@ -297,15 +349,25 @@ pub fn diagnostic_column(
     let (sin, cos) = at.sin_cos;
     let sigma = at.sense;
     let r = test.radius;
+    // The direction the axes actually reach, for the position-dependent terms.
+    let (sin_a, cos_a) = if shape.angle_lag == 0.0 {
+        at.sin_cos
+    } else {
+        (at.angle - sigma * test.feed * shape.angle_lag / r).sin_cos()
+    };
     match term {
         Term::Radius => 1.0,
-        Term::CentreP => cos,
-        Term::CentreQ => sin,
-        Term::Squareness => r * sin * cos,
-        Term::ScaleMismatch => r / 2.0 * (cos * cos - sin * sin),
+        Term::CentreP => cos_a,
+        Term::CentreQ => sin_a,
+        Term::Squareness => r * sin_a * cos_a,
+        Term::ScaleMismatch => r / 2.0 * (cos_a * cos_a - sin_a * sin_a),
         Term::ServoMismatch => sigma * test.feed * sin * cos,
-        Term::BacklashP => sigma * travel(0, at, test, shape) * cos / 2.0,
-        Term::BacklashQ => -sigma * travel(1, at, test, shape) * sin / 2.0,
+        Term::BacklashP => {
+            sigma * travel(0, at, test, shape) * cos / 2.0 * take_up(0, at, test, shape)
+        }
+        Term::BacklashQ => {
+            -sigma * travel(1, at, test, shape) * sin / 2.0 * take_up(1, at, test, shape)
+        }
         Term::LateralPlayP => sigma * travel(0, at, test, shape) * sin / 2.0,
         Term::LateralPlayQ => -sigma * travel(1, at, test, shape) * cos / 2.0,
         Term::StraightnessP => sin * sin * sin,
@@ -340,7 +402,9 @@ fn signum(x: Real) -> Real {
 }
 
 /// The spike column of `axis` at `at` and the time since the actual reversal (s), when the
-/// reversal was crossed and is less than [`SPIKE_DECAYS`] decays ago.
+/// reversal was crossed and is less than [`SPIKE_DECAYS`] decays ago. With play
+/// (`shape.play[axis]` > 0) the spike starts where the carriage reverses, the take-up arc
+/// ([`take_up_arc`]) after the motor.
 pub(super) fn spike(
     axis: usize,
     at: &BasisPoint,
@@ -362,8 +426,13 @@ pub(super) fn spike(
     if !crossed {
         return None;
     }
+    // With play the carriage reverses (and sticks) once the motor has crossed the gap.
+    let onset = take_up_arc(shape.play[axis], test.radius);
+    if arc < onset {
+        return None;
+    }
     let tau = shape.decay[axis];
-    let dt = test.radius * arc / test.feed;
+    let dt = test.radius * (arc - onset) / test.feed;
     (dt < SPIKE_DECAYS * tau).then(|| {
         let (sin, cos) = at.sin_cos;
         let weight = if axis == 0 { cos.abs() } else { sin.abs() };

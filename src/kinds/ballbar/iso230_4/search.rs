@@ -4,7 +4,7 @@
 //! searched amplitude must reach.
 
 use super::linalg::{Projection, dot};
-use super::model::{SPIKE_DECAYS, spike};
+use super::model::{SPIKE_DECAYS, spike, take_up_arc};
 use super::{CircleData, ModelFit, Shape, Term, arc_since_reversal};
 use crate::math::{Real, golden_minimum};
 use nalgebra::DMatrix;
@@ -65,7 +65,10 @@ impl CircleData {
         } else {
             0.0
         };
-        let after = rate * (self.ranges.lag.1.max(0.0) + spike);
+        // With play the backlash column takes the gap up (and the spike starts) over the
+        // take-up arc after the reversal: those rows move with the lag too.
+        let after = rate * (self.ranges.lag.1.max(0.0) + spike)
+            + take_up_arc(shape.play[axis], self.test.radius);
         let before = rate * (-self.ranges.lag.0).max(0.0);
         let (near, far): (Vec<usize>, Vec<usize>) = (0..rows.len()).partition(|&j| {
             let arc = arc_since_reversal(axis, &self.points[rows[j]], &self.test, &unlagged);

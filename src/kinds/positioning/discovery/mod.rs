@@ -111,12 +111,20 @@ impl Problem for PositioningProblem {
         effects: &[PositioningEffect],
         fit: &PositioningFit,
     ) -> Vec<(PositioningEffect, String)> {
+        // Every testable effect is scored (issue 15: no silent screening); the diagnostics
+        // only order them and say what points to each.
         let d = self.diagnose(fit);
-        self.testable
+        let (mut pointed, unpointed): (Vec<_>, Vec<_>) = self
+            .testable
             .iter()
             .copied()
             .filter(|e| !effects.contains(e))
-            .filter_map(|e| d.evidence(e).map(|text| (e, text)))
+            .map(|e| (e, d.evidence(e)))
+            .partition(|(_, evidence)| evidence.is_some());
+        pointed.extend(unpointed);
+        pointed
+            .into_iter()
+            .map(|(e, evidence)| (e, evidence.unwrap_or_else(|| engine::NO_DIAGNOSTIC.into())))
             .collect()
     }
 }

@@ -49,8 +49,8 @@ impl PositioningDiscovery {
         self.selection.effects()
     }
 
-    /// The effects tested in the last round and not accepted, with their held-out RMS (m).
-    pub fn rejected(&self) -> &[(PositioningEffect, Real)] {
+    /// The effects tested in the last round and not accepted, with their scores.
+    pub fn rejected(&self) -> &[engine::Rejected<PositioningEffect>] {
         &self.selection.rejected
     }
 
@@ -134,10 +134,7 @@ impl PositioningDiscovery {
                 "fold_cv_rms_um": engine::folds_json(base_score),
             },
             "steps": steps,
-            "rejected": self.selection.rejected.iter().map(|(e, cv)| json!({
-                "effect": e.id(),
-                "cv_rms_um": um(*cv),
-            })).collect::<Vec<_>>(),
+            "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
             "untestable": self.problem.untestable.iter().map(|(e, why)| json!({
                 "effect": e.id(),
                 "reason": why,
@@ -262,21 +259,21 @@ impl PositioningDiscovery {
                 )
             });
             out.push_str(&format!(
-                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {})\n",
+                "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {}; {})\n",
                 step.effect.id(),
                 step.effect.cause(),
                 um(step.score.cv_rms),
                 um(gain),
                 pct,
-                engine::folds_text(&step.score, 3)
+                engine::folds_text(&step.score, 3),
+                engine::test_text(&step.test)
             ));
         }
-        if !self.selection.rejected.is_empty() {
-            out.push_str("\nTested and rejected (held-out RMS):\n");
-            for (effect, cv) in &self.selection.rejected {
-                out.push_str(&format!("  {:<19} {:.3} µm\n", effect.id(), um(*cv)));
-            }
-        }
+        out.push_str(&engine::rejected_text(
+            &self.selection.rejected,
+            |e| e.id().into(),
+            3,
+        ));
         if !self.problem.untestable.is_empty() {
             out.push_str("\nCannot be tested with this file:\n");
             for (effect, why) in &self.problem.untestable {

@@ -235,13 +235,13 @@ impl SpindleProblem {
             .map(|i| data.revolution[i] * count / data.segments[data.segment[i]].revolutions)
             .collect();
         let probes = data.probes.len();
-        let folds = Folds {
-            scheme: format!(
+        let folds = Folds::new(
+            format!(
                 "{count} contiguous blocks of revolutions in every speed (a block held out in all of them)"
             ),
-            of_sample: (0..probes).flat_map(|_| fold_of_sample.clone()).collect(),
+            (0..probes).flat_map(|_| fold_of_sample.clone()).collect(),
             count,
-        };
+        );
         let mut untestable = Vec::new();
         if data.segments.len() < 2 {
             untestable.push((
@@ -572,8 +572,8 @@ impl SpindleDiscovery {
         self.selection.last().0
     }
 
-    /// The candidates of the last round with their held-out RMS (m).
-    pub fn rejected(&self) -> &[(SpindleEffect, Real)] {
+    /// The candidates of the last round with their scores.
+    pub fn rejected(&self) -> &[engine::Rejected<SpindleEffect>] {
         &self.selection.rejected
     }
 

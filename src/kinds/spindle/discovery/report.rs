@@ -365,10 +365,7 @@ impl SpindleDiscovery {
                 "evidence": Value::Object(evidence),
             },
             "steps": steps,
-            "rejected": self.selection.rejected.iter().map(|(e, cv)| json!({
-                "effect": e.id(),
-                "cv_rms_um": round_json(cv * UM),
-            })).collect::<Vec<_>>(),
+            "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
             "untestable": problem.untestable().iter().map(|(e, why)| json!({
                 "effect": e.id(),
                 "reason": why,
@@ -458,22 +455,22 @@ impl SpindleDiscovery {
             });
             let _ = writeln!(
                 out,
-                "  + {}{together}: {}\n      cause: {}\n      held-out RMS {:.4} µm (gain {:.4} µm, {:.1} %; {})",
+                "  + {}{together}: {}\n      cause: {}\n      held-out RMS {:.4} µm (gain {:.4} µm, {:.1} %; {}; {})",
                 step.effect.id(),
                 params_text(problem, &step.fit, step.effect),
                 step.effect.cause(),
                 step.score.cv_rms * UM,
                 gain * UM,
                 pct,
-                folds(&step.score)
+                folds(&step.score),
+                engine::test_text(&step.test)
             );
         }
-        if !self.selection.rejected.is_empty() {
-            let _ = writeln!(out, "\nTested and rejected (held-out RMS):");
-            for (effect, cv) in &self.selection.rejected {
-                let _ = writeln!(out, "  {:<20} {:.4} µm", effect.id(), cv * UM);
-            }
-        }
+        out.push_str(&engine::rejected_text(
+            &self.selection.rejected,
+            |e| e.id().into(),
+            4,
+        ));
         if !problem.untestable().is_empty() {
             let _ = writeln!(out, "\nCannot be tested with this record:");
             for (effect, why) in problem.untestable() {
