@@ -5,7 +5,7 @@
 
 mod common;
 
-use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
+use mtwin::errors::ErrorFunction;
 use mtwin::kinds::ballbar::instrument::Ballbar;
 use mtwin::kinds::ballbar::{BallbarReading, BallbarTable, Sense};
 use mtwin::kinds::ballbar::{CircularInterpolation, run_circle};
@@ -20,16 +20,7 @@ const FEED: Real = 1.0 / 60.0; // 1000 mm/min
 const NM: Real = 1e-9;
 
 fn twin(errors: &[(&str, ErrorFunction)]) -> Twin {
-    let machine = common::machine("vmc3");
-    let parameters = errors
-        .iter()
-        .map(|(name, function)| ErrorParameter {
-            name: name.parse().unwrap(),
-            function: function.clone(),
-        })
-        .collect();
-    let errors = ErrorModel::new(&machine, parameters).unwrap();
-    Twin { machine, errors }
+    common::twin(&common::machine("vmc3"), errors)
 }
 
 /// The vmc3 circle about X 380, Y 205, Z 300 mm: full (180° overshoots) or partial (on the

@@ -22,7 +22,7 @@
 mod common;
 
 use mtwin::app::Scenario;
-use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
+use mtwin::errors::ErrorFunction;
 use mtwin::kinds::ballbar::instrument::Ballbar;
 use mtwin::kinds::ballbar::iso230_4::{self, CircularTest, Diagnostics, Term};
 use mtwin::kinds::ballbar::{BallbarReading, BallbarTable, Sense};
@@ -51,16 +51,7 @@ fn feed(mm_per_min: Real) -> Real {
 }
 
 fn twin(errors: &[(&str, ErrorFunction)]) -> Twin {
-    let machine = common::machine("vmc3");
-    let parameters = errors
-        .iter()
-        .map(|(name, function)| ErrorParameter {
-            name: name.parse().unwrap(),
-            function: function.clone(),
-        })
-        .collect();
-    let errors = ErrorModel::new(&machine, parameters).unwrap();
-    Twin { machine, errors }
+    common::twin(&common::machine("vmc3"), errors)
 }
 
 /// The vmc3 XY circle of 100 mm about X 380, Y 205, Z 300 mm, full, 180° overshoots.

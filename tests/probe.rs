@@ -5,7 +5,7 @@
 mod common;
 
 use mtwin::contact::Sphere;
-use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
+use mtwin::errors::ErrorFunction;
 use mtwin::kinds::probe::fit::{algebraic_sphere, fit_sphere};
 use mtwin::kinds::probe::{
     CycleKind, LinearFrame, ProbeEvaluation, ProbeMove, ProbeTable, ProbeTest, RawProbe,
@@ -48,20 +48,6 @@ fn scenario(name: &str) -> (Machine, ProbeTest) {
     load_text(&text).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-fn twin(machine: &Machine, errors: &[(&str, ErrorFunction)]) -> Twin {
-    let parameters = errors
-        .iter()
-        .map(|(name, function)| ErrorParameter {
-            name: name.parse().unwrap(),
-            function: function.clone(),
-        })
-        .collect();
-    Twin {
-        machine: machine.clone(),
-        errors: ErrorModel::new(machine, parameters).unwrap(),
-    }
-}
-
 /// A probe with no errors of its own.
 fn ideal(test: &mut ProbeTest) {
     let p = &mut test.probe;
@@ -87,7 +73,7 @@ fn the_scenarios_load_run_and_describe_themselves() {
     for name in SCENARIOS {
         let (machine, test) = scenario(name);
         assert!(!test.describe().is_empty());
-        let run = simulate(&twin(&machine, &[]), &test, 1).unwrap();
+        let run = simulate(&common::twin(&machine, &[]), &test, 1).unwrap();
         let touches: usize = test
             .cycles
             .iter()
@@ -114,7 +100,7 @@ fn with_no_errors_the_fitted_centres_are_where_the_chain_puts_the_tip_on_the_sph
     ] {
         let (machine, mut test) = scenario(name);
         ideal(&mut test);
-        let (_, evaluation) = run(&twin(&machine, &[]), &test);
+        let (_, evaluation) = run(&common::twin(&machine, &[]), &test);
         let Target::Sphere(sphere) = &test.cycles[0].features[0].target else {
             panic!()
         };
@@ -149,7 +135,7 @@ fn location_errors_move_the_fitted_centres_to_where_the_actual_chain_reaches_the
         ("EB0C", ErrorFunction::Constant(30e-6)),
         ("EZ0A", ErrorFunction::Constant(15.0 * UM)),
     ];
-    let twin = twin(&machine, &errors);
+    let twin = common::twin(&machine, &errors);
     let (_, evaluation) = run(&twin, &test);
     let Target::Sphere(sphere) = &test.cycles[0].features[0].target else {
         panic!()
@@ -182,7 +168,7 @@ fn a_stylus_radius_error_moves_every_fitted_radius_and_no_centre() {
         "vmc3_probe_ring_mesh.toml",
     ] {
         let (machine, mut test) = scenario(name);
-        let twin = twin(
+        let twin = common::twin(
             &machine,
             &[("EX0C", ErrorFunction::Constant(5.0 * UM))]
                 .into_iter()
@@ -213,7 +199,7 @@ fn three_lobe_pretravel_shows_as_a_three_per_revolution_term_in_the_ring_fit() {
     let (machine, mut test) = scenario("vmc3_probe_ring_mesh.toml");
     test.probe.repeatability = 0.0;
     let p = test.probe;
-    let (table, evaluation) = run(&twin(&machine, &[]), &test);
+    let (table, evaluation) = run(&common::twin(&machine, &[]), &test);
     let ring = &evaluation.rings[0];
     let moves = &test.cycles[0].features[0].moves;
     assert_eq!(ring.fit.residuals.len(), 36);
@@ -253,7 +239,7 @@ fn pre_travel_and_latency_add_along_the_motion() {
     // position plus (δ + v·t) along the motion. With no machine errors and the believed radius
     // true, the contact is `clearance` from the start.
     let machine = common::machine("vmc3");
-    let twin = twin(&machine, &[]);
+    let twin = common::twin(&machine, &[]);
     let probe = TouchProbe {
         stylus_radius: 2.0 * M_PER_MM,
         radius_error: 0.0,
@@ -308,7 +294,7 @@ fn repeatability_scatters_the_touches_with_its_standard_deviation() {
     // minus those of a scatter-free run, projected on the approach, are exactly σ times the
     // stream's normal draws.
     let (machine, mut test) = scenario("vmc3_probe_ring_mesh.toml");
-    let twin = twin(&machine, &[]);
+    let twin = common::twin(&machine, &[]);
     let sigma = test.probe.repeatability;
     let noisy = simulate(&twin, &test, 11).unwrap().probe;
     test.probe.repeatability = 0.0;
@@ -336,7 +322,7 @@ fn a_machine_translation_error_moves_the_fitted_centre_by_minus_the_deviation() 
         ("EYY", ErrorFunction::Constant(-5.0 * UM)),
         ("EZZ", ErrorFunction::Constant(3.0 * UM)),
     ];
-    let shifted = twin(&machine, &errors);
+    let shifted = common::twin(&machine, &errors);
     let d = shifted
         .errors
         .deviation(
@@ -346,7 +332,7 @@ fn a_machine_translation_error_moves_the_fitted_centre_by_minus_the_deviation() 
         )
         .translation;
     assert!(d.length() > 5.0 * UM);
-    let (_, nominal) = run(&twin(&machine, &[]), &test);
+    let (_, nominal) = run(&common::twin(&machine, &[]), &test);
     let (_, actual) = run(&shifted, &test);
     for (a, b) in nominal.spheres.iter().zip(&actual.spheres) {
         assert!(
@@ -370,7 +356,7 @@ fn a_scale_error_shows_as_ball_plate_distance_errors() {
     ideal(&mut test);
     let k = 8e-6;
     let (_, evaluation) = run(
-        &twin(
+        &common::twin(
             &machine,
             &[("EXX", ErrorFunction::Polynomial(vec![0.0, k]))],
         ),
@@ -513,13 +499,13 @@ fn iso_10360_5_p_ftu_from_25_points() {
     let mut even = test.clone();
     ideal(&mut even);
     (even.probe.pretravel, even.probe.pretravel_axial) = (1.0 * UM, 1.0 * UM);
-    let (_, evaluation) = run(&twin(&machine, &[]), &even);
+    let (_, evaluation) = run(&common::twin(&machine, &[]), &even);
     for s in &evaluation.spheres {
         assert!(s.p_ftu().unwrap() < 1e-9, "{:?}", s.p_ftu());
     }
     // With the scenario's scatter and lobing: the range of the distances from the centre of an
     // independent algebraic fit (normal equations, in this file) of the 25 stylus centres.
-    let (table, evaluation) = run(&twin(&machine, &[]), &test);
+    let (table, evaluation) = run(&common::twin(&machine, &[]), &test);
     for s in &evaluation.spheres {
         let centres: Vec<Vector> = table
             .touches
@@ -540,7 +526,7 @@ fn iso_10360_5_p_ftu_from_25_points() {
     let json = evaluation.to_json();
     assert!(json["spheres"][0]["p_ftu_um"].as_f64().is_some());
     let (_, five) = run(
-        &twin(&machine, &[]),
+        &common::twin(&machine, &[]),
         &scenario("trunnion5_probe_sphere.toml").1,
     );
     assert!(five.spheres[0].p_ftu().is_none());
@@ -549,7 +535,7 @@ fn iso_10360_5_p_ftu_from_25_points() {
 #[test]
 fn the_tables_read_back_and_bad_rows_name_their_line() {
     let (machine, test) = scenario("vmc3_ballplate.toml");
-    let run = simulate(&twin(&machine, &[]), &test, 3).unwrap();
+    let run = simulate(&common::twin(&machine, &[]), &test, 3).unwrap();
     let mut bytes = Vec::new();
     run.probe.write_csv(&mut bytes).unwrap();
     let back = ProbeTable::parse(&bytes, "probe.csv").unwrap();
@@ -717,7 +703,7 @@ fn bad_sections_are_refused_with_the_key_and_line() {
 #[test]
 fn the_analyze_verb_prints_the_figures_and_stable_json() {
     let (machine, test) = scenario("vmc3_probe_ring_mesh.toml");
-    let run = simulate(&twin(&machine, &[]), &test, 1).unwrap();
+    let run = simulate(&common::twin(&machine, &[]), &test, 1).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("probe.csv");
     let mut bytes = Vec::new();
@@ -797,7 +783,7 @@ fn mesh_points_are_probed_along_the_surface_normal_and_land_on_their_facet() {
     // corner.
     let (machine, mut test) = scenario("vmc3_probe_ring_mesh.toml");
     ideal(&mut test);
-    let (_, evaluation) = run(&twin(&machine, &[]), &test);
+    let (_, evaluation) = run(&common::twin(&machine, &[]), &test);
     let json = evaluation.to_json();
     let surface = &json["mesh_points"][2]["surface_mm"];
     let p = Vector::new(

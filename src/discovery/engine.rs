@@ -3,7 +3,7 @@
 //! A [`Problem`] knows its samples, its base model and its library of effects; the engine
 //! scores any set of effects by cross-validation (every fit inside a fold sees only that
 //! fold's training samples) and adds effects one at a time while the held-out gain is larger
-//! than noise can explain ([`passes`]).
+//! than noise can explain ([`Test`]).
 
 use crate::math::Real;
 

@@ -3,8 +3,10 @@
 
 #![allow(dead_code)] // each test file uses a different subset
 
+use mtwin::errors::{ErrorFunction, ErrorModel, ErrorParameter};
 use mtwin::machine::{Axis, AxisValues, Machine};
 use mtwin::math::{Real, Vector, seeded_rng};
+use mtwin::twin::Twin;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
@@ -14,6 +16,21 @@ pub const MACHINES: [&str; 3] = ["vmc3", "trunnion5", "headtable5"];
 /// Loads `models/NAME.urdf`.
 pub fn machine(name: &str) -> Machine {
     Machine::from_urdf_file(format!("{}/models/{name}.urdf", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// The twin of `machine` with `errors` (ISO 230-1 name, function).
+pub fn twin(machine: &Machine, errors: &[(&str, ErrorFunction)]) -> Twin {
+    let parameters = errors
+        .iter()
+        .map(|(name, function)| ErrorParameter {
+            name: name.parse().unwrap(),
+            function: function.clone(),
+        })
+        .collect();
+    Twin {
+        machine: machine.clone(),
+        errors: ErrorModel::new(machine, parameters).unwrap(),
+    }
 }
 
 /// A deterministic generator for one test.

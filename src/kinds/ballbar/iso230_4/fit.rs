@@ -174,7 +174,7 @@ impl CircleData {
     /// Gauss–Newton on that column (two steps, the second from the first's ℓ), with the
     /// position-dependent and sense-dependent linear terms of `terms` beside it (the reversal
     /// terms are orthogonal to it over a full circle); it is used only when both senses of
-    /// `rows` cover a full circle and the first step is significant ([`ANGLE_LAG_SIGNIFICANCE`]), and is
+    /// `rows` cover a full circle and the first step is significant (`ANGLE_LAG_SIGNIFICANCE`), and is
     /// kept within the reversal-lag search range. 0 otherwise, and without both centre terms.
     pub fn angle_lag(&self, terms: &[Term], rows: &[usize], y: &[Real]) -> Real {
         // Full circles in both senses among the rows fitted (a held-out sector breaks the
