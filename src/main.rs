@@ -145,6 +145,19 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Compare a measured positioning table with a simulated one (e.g. `mtwin run` of the
+    /// model `mtwin discover positioning --write-model` wrote): per run and overall, the RMS,
+    /// mean and largest of measured − simulated, and how far their times and temperatures
+    /// differ.
+    Compare {
+        /// The measured table (positioning CSV).
+        measured: PathBuf,
+        /// The simulated table (positioning CSV).
+        simulated: PathBuf,
+        /// Print JSON instead of the report.
+        #[arg(long)]
+        json: bool,
+    },
     /// Score an estimate against the truth: per parameter the error, the error over its
     /// uncertainty and whether the 95 % interval covers the truth; and the volumetric
     /// deviation over the working volume before and after compensating with the estimate.
@@ -403,6 +416,36 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 say_raw(&format!("{:#}\n", plan.to_json()));
             } else {
                 say_raw(&plan.report());
+            }
+            Ok(())
+        }
+        Command::Compare {
+            measured,
+            simulated,
+            json,
+        } => {
+            use mtwin::kinds::positioning::{PositioningTable, compare::compare};
+            let (a, b) = (
+                PositioningTable::read(&measured)?,
+                PositioningTable::read(&simulated)?,
+            );
+            let comparison = compare(&a, &b).map_err(|e| {
+                anyhow::anyhow!(
+                    "{} against {}: {e}",
+                    measured.display(),
+                    simulated.display()
+                )
+            })?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&comparison.to_json())?);
+            } else {
+                print!(
+                    "{}",
+                    comparison.to_text(
+                        &measured.display().to_string(),
+                        &simulated.display().to_string()
+                    )
+                );
             }
             Ok(())
         }

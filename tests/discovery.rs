@@ -654,14 +654,20 @@ fn false_acceptance_rates_by_layout() {
 }
 
 /// The written model, loaded as a scenario extending vmc3's, gives back the axis's true error
-/// at 20 °C (profile + lost motion + cyclic error) between and at the targets.
+/// at 20 °C (profile + lost motion + cyclic error, the profile brought from the reference
+/// temperature by its written expansion term) between and at the targets.
 #[test]
 fn the_written_model_reproduces_the_true_error() {
     use mtwin::app::Scenario;
     use mtwin::machine::Direction;
     let hidden = |a: At| -a.s * 2.0 / 2.0 + 1.5 * (TAU * a.x_mm / 25.0 + 0.7).sin();
-    let d = discover(&Plan::scattered(5, 15, 1).table(hidden));
+    let table = Plan::scattered(5, 15, 1).table(hidden);
+    let d = discover(&table);
     let dir = tempfile::TempDir::new().unwrap();
+    // The table is the model's measured temperature record.
+    let mut csv = Vec::new();
+    table.write_csv(&mut csv).unwrap();
+    std::fs::write(dir.path().join("simulated.csv"), csv).unwrap();
     let base = include_str!("../scenarios/vmc3_volumetric.toml");
     let machine = format!(
         "{:?}",
@@ -686,6 +692,17 @@ fn the_written_model_reproduces_the_true_error() {
         .unwrap()
         .function
         .clone();
+    // The profile is the error at the reference temperature; the written expansion term
+    // (coefficient per metre per kelvin, reference) brings it to 20 °C.
+    let context = scenario.twin.errors.context();
+    assert_eq!(context.len(), 1, "{fragment}");
+    let (expansion, reference) = match (&context[0].terms[0].driver, &context[0].terms[0]) {
+        (mtwin::errors::Driver::Temperature { reference, .. }, term) => {
+            (term.coefficient, *reference)
+        }
+        _ => panic!("expected the expansion term first\n{fragment}"),
+    };
+    assert!((expansion - ALPHA).abs() < 1e-12, "{fragment}");
     let mut worst: f64 = 0.0;
     let mut sum = 0.0;
     let mut count = 0.0;
@@ -697,7 +714,8 @@ fn the_written_model_reproduces_the_true_error() {
                     s,
                     t_s: 0.0,
                 });
-            let model = exx.value(x * 1e-3, direction) * 1e6;
+            let model =
+                (exx.value(x * 1e-3, direction) + expansion * x * 1e-3 * (20.0 - reference)) * 1e6;
             worst = worst.max((model - truth).abs());
             sum += (model - truth).powi(2);
             count += 1.0;

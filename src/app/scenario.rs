@@ -11,15 +11,18 @@ use crate::kinds::volumetric::{self, VolumetricSpec};
 use crate::machine::Machine;
 use crate::math::sha256_hex;
 use crate::scenario::errors::error_model;
+use crate::scenario::inputs::RawInputs;
 use crate::scenario::lesson::RawLesson;
 use crate::scenario::thermal::{RawThermal, thermal_setup};
 use crate::scenario::{
     Context, ErrorSpec, Lesson, SCHEMA_VERSION, ScenarioError, ScenarioErrorKind, ThermalSetup,
 };
+use crate::thermal::{TemperatureRecord, ThermalErrors};
 use crate::twin::Twin;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use toml::Spanned;
 
 #[derive(Deserialize)]
@@ -47,6 +50,7 @@ struct RawExtension {
     description: Option<String>,
     #[serde(default)]
     errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+    inputs: Option<Spanned<RawInputs>>,
 }
 
 #[derive(Deserialize)]
@@ -61,6 +65,7 @@ struct RawScenario {
     seed: u64,
     #[serde(default)]
     errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
+    inputs: Option<Spanned<RawInputs>>,
     volumetric: Option<Spanned<volumetric::scenario::RawVolumetric>>,
     iso230_2: Option<Spanned<positioning::scenario::RawIso230_2>>,
     warmup: Option<Spanned<positioning::scenario::thermal_tests::RawWarmup>>,
@@ -124,7 +129,8 @@ impl Scenario {
     ///
     /// A scenario with `extends = "BASE.toml"` (relative to itself) is the base scenario with
     /// its own `[errors.*]` sections replacing the base's of the same name (and its
-    /// `description`, if given); nothing else may be set. This is how `mtwin discover
+    /// `description`, if given) and its `[inputs]` (a measured temperature record, see
+    /// [`crate::scenario::inputs`]); nothing else may be set. This is how `mtwin discover
     /// --write-model` hands an extended model back to `mtwin run`.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
         Scenario::load_at(path.as_ref(), 0)
@@ -226,18 +232,27 @@ impl Scenario {
         let machine = Machine::from_urdf_str(machine_source, &machine_file.display().to_string())
             .map_err(|e| machine_error(e.to_string()))?;
 
-        let (errors, error_specs) = error_model(&context, &machine, &raw.errors, None, raw.seed)?;
+        let record = temperature_record(&context, path, raw.inputs.as_ref())?;
+        let (errors, error_specs) = error_model(
+            &context,
+            &machine,
+            &raw.errors,
+            None,
+            raw.seed,
+            record.as_ref(),
+        )?;
 
         let volumetric = raw
             .volumetric
             .as_ref()
             .map(|v| volumetric::scenario::volumetric_spec(&context, &machine, v))
             .transpose()?;
-        let thermal = raw
+        let mut thermal = raw
             .thermal
             .as_ref()
             .map(|t| thermal_setup(&context, &machine, t))
             .transpose()?;
+        network_errors(&machine, raw.inputs.as_ref(), &mut thermal);
         let thermal_with_span = || thermal.as_ref().zip(raw.thermal.as_ref().map(|t| t.span()));
         let laser_test = positioning::scenario::sections(
             &context,
@@ -333,7 +348,11 @@ impl Scenario {
 
         Ok(Scenario {
             file: path.to_path_buf(),
-            sha256: sha256_hex(text.as_bytes()),
+            // A measured record is part of what the file means.
+            sha256: match &record {
+                Some(record) => sha256_hex(format!("{text}\n{}", record.sha256()).as_bytes()),
+                None => sha256_hex(text.as_bytes()),
+            },
             description: raw.description,
             seed: raw.seed,
             machine_sha256: sha256_hex(&machine_text),
@@ -377,27 +396,82 @@ impl Scenario {
         let base = Scenario::load_at(&base_path, depth + 1).map_err(|e| {
             context.error(Some(raw.extends.span()), e.kind(), format!("extends: {e}"))
         })?;
+        let own_record = temperature_record(context, path, raw.inputs.as_ref())?;
+        let record = own_record
+            .clone()
+            .or_else(|| base.twin.errors.temperature_record().cloned());
         let (errors, specs) = error_model(
             context,
             &base.twin.machine,
             &raw.errors,
             Some(&base.twin.errors),
             base.seed,
+            record.as_ref(),
         )?;
         let mut error_specs = base.error_specs;
         error_specs.extend(specs);
+        let mut thermal = base.thermal;
+        network_errors(&base.twin.machine, raw.inputs.as_ref(), &mut thermal);
         Ok(Scenario {
             file: path.to_path_buf(),
             // The base's content is part of what this file means.
-            sha256: sha256_hex(format!("{text}\n{}", base.sha256).as_bytes()),
+            sha256: sha256_hex(
+                format!(
+                    "{text}\n{}{}",
+                    base.sha256,
+                    own_record.as_ref().map_or("", |r| r.sha256())
+                )
+                .as_bytes(),
+            ),
             description: raw.description.or(base.description),
             twin: Twin {
                 machine: base.twin.machine,
                 errors,
             },
             error_specs,
+            thermal,
             ..base
         })
+    }
+}
+
+/// The measured temperature record `[inputs] temperatures` names (relative to the scenario at
+/// `path`), if any.
+fn temperature_record(
+    context: &Context<'_>,
+    path: &Path,
+    inputs: Option<&Spanned<RawInputs>>,
+) -> Result<Option<Arc<TemperatureRecord>>, ScenarioError> {
+    let Some(file) = inputs.and_then(|i| i.get_ref().temperatures.as_ref()) else {
+        return Ok(None);
+    };
+    let record_path = path.parent().unwrap_or(Path::new("")).join(file.get_ref());
+    TemperatureRecord::read(&record_path)
+        .map(|record| Some(Arc::new(record)))
+        .map_err(|e| {
+            context.error(
+                Some(file.span()),
+                ScenarioErrorKind::Value,
+                format!("inputs.temperatures: {e}"),
+            )
+        })
+}
+
+/// Switches the `[thermal]` network's error terms off when `[inputs] thermal_network_errors =
+/// false` (the scenario's temperature terms replace them; the network still drives the
+/// sensors). Without a network there is nothing to switch off.
+fn network_errors(
+    machine: &Machine,
+    inputs: Option<&Spanned<RawInputs>>,
+    thermal: &mut Option<ThermalSetup>,
+) {
+    let off = inputs
+        .and_then(|i| i.get_ref().thermal_network_errors.as_ref())
+        .is_some_and(|flag| !*flag.get_ref());
+    if let (true, Some(setup)) = (off, thermal) {
+        let nodes = setup.thermal.network.nodes().len();
+        setup.thermal.errors =
+            ThermalErrors::new(machine, nodes, Vec::new()).expect("no terms to check");
     }
 }
 
@@ -418,6 +492,16 @@ impl Scenario {
         lines.extend(self.rtest.iter().flat_map(RTest::describe));
         lines.extend(self.probe_test.iter().flat_map(ProbeTest::describe));
         lines.extend(self.spindle_test.iter().flat_map(SpindleTest::describe));
+        if let Some(record) = self.twin.errors.temperature_record() {
+            let (from, to) = record.span();
+            lines.push(format!(
+                "measured temperatures: {} ({}, {:.1}–{:.1} min)",
+                record.file(),
+                record.sensors().join(", "),
+                from / 60.0,
+                to / 60.0
+            ));
+        }
         lines
     }
 }

@@ -58,10 +58,12 @@
 //! It is applied as is on the tool branch and inverted on the workpiece branch. The tool slot
 //! sits at the `tool` frame, after the whole tool branch.
 
+mod context;
 mod dynamics;
 mod function;
 mod lu2012;
 
+pub use context::{ContextTerm, Driver, ParameterContext};
 pub use dynamics::{Dynamics, Frequency, ParameterDynamics, RandomMotion, Sinusoid};
 pub use function::{ErrorFunction, Interpolation, Table, TableError};
 pub use lu2012::{Lu2012Error, lu2012_deviation};
@@ -385,6 +387,33 @@ struct Binding {
 }
 
 impl Binding {
+    /// Where the parameter `name` acts on `machine`.
+    fn of(machine: &Machine, name: ParameterName) -> Result<Binding, ErrorModelError> {
+        Ok(match name {
+            ParameterName::Tool { .. } => Binding {
+                slot: machine.tool_slot(),
+                action: Action::Constant,
+                periodic: false,
+            },
+            ParameterName::Component { axis, .. } | ParameterName::Location { axis, .. } => {
+                let info = machine
+                    .axis(axis)
+                    .ok_or(ErrorModelError::MissingAxis { name, axis })?;
+                let action = match name {
+                    ParameterName::Component { .. } => Action::Component(axis),
+                    _ if axis.is_linear() => Action::Squareness(axis),
+                    _ if name.motion().index() == axis.coordinate() + 3 => Action::Constant,
+                    _ => Action::RotaryLocation(axis),
+                };
+                Binding {
+                    slot: info.slot,
+                    action,
+                    periodic: info.is_continuous() && matches!(action, Action::Component(_)),
+                }
+            }
+        })
+    }
+
     /// The function's argument for an axis position.
     fn argument(&self, q: Real) -> Real {
         if self.periodic {
@@ -444,6 +473,8 @@ pub struct ErrorModel {
     dynamics: Vec<ParameterDynamics>,
     /// Where each entry of `dynamics` acts.
     dynamic_bindings: Vec<DynamicBinding>,
+    /// Terms driven by measured temperatures and time.
+    context: context::ContextErrors,
 }
 
 /// Where a parameter's [`Dynamics`] act: its axis's slot and twist component, and the
@@ -475,38 +506,14 @@ impl ErrorModel {
             let name = parameter.name;
             name.check()
                 .map_err(|message| ErrorModelError::InvalidName(name, message))?;
-            let binding = match name {
-                ParameterName::Tool { .. } => Binding {
-                    slot: machine.tool_slot(),
-                    action: Action::Constant,
-                    periodic: false,
-                },
-                ParameterName::Component { axis, .. } | ParameterName::Location { axis, .. } => {
-                    let info = machine
-                        .axis(axis)
-                        .ok_or(ErrorModelError::MissingAxis { name, axis })?;
-                    let slot = info.slot;
-                    let action = match name {
-                        ParameterName::Component { .. } => Action::Component(axis),
-                        _ if axis.is_linear() => Action::Squareness(axis),
-                        _ if name.motion().index() == axis.coordinate() + 3 => Action::Constant,
-                        _ => Action::RotaryLocation(axis),
-                    };
-                    let periodic = info.is_continuous() && matches!(action, Action::Component(_));
-                    if let Some(message) = parameter
-                        .function
-                        .periodicity_problem(std::f64::consts::TAU)
-                        .filter(|_| periodic)
-                    {
-                        return Err(ErrorModelError::NotPeriodic { name, message });
-                    }
-                    Binding {
-                        slot,
-                        action,
-                        periodic,
-                    }
-                }
-            };
+            let binding = Binding::of(machine, name)?;
+            if let Some(message) = parameter
+                .function
+                .periodicity_problem(std::f64::consts::TAU)
+                .filter(|_| binding.periodic)
+            {
+                return Err(ErrorModelError::NotPeriodic { name, message });
+            }
             if !matches!(binding.action, Action::Component(_)) && !parameter.function.is_constant()
             {
                 return Err(ErrorModelError::NotConstant(name));
@@ -520,6 +527,7 @@ impl ErrorModel {
             machine_axes: axes_of(machine),
             dynamics: Vec::new(),
             dynamic_bindings: Vec::new(),
+            context: Default::default(),
         })
     }
 
@@ -532,6 +540,7 @@ impl ErrorModel {
             machine_axes: axes_of(machine),
             dynamics: Vec::new(),
             dynamic_bindings: Vec::new(),
+            context: Default::default(),
         }
     }
 
@@ -588,6 +597,29 @@ impl ErrorModel {
         &self.dynamics
     }
 
+    /// The model with terms driven by measured temperatures and time ([`ContextTerm`]) added,
+    /// replacing any it had; temperature terms read `record`, which must have their sensors.
+    pub fn with_context(
+        mut self,
+        machine: &Machine,
+        context: Vec<ParameterContext>,
+        record: Option<std::sync::Arc<crate::thermal::TemperatureRecord>>,
+    ) -> Result<ErrorModel, ErrorModelError> {
+        self.assert_bound_to(machine);
+        self.context = context::ContextErrors::new(machine, context, record)?;
+        Ok(self)
+    }
+
+    /// The terms driven by measured temperatures and time, by parameter.
+    pub fn context(&self) -> &[ParameterContext] {
+        self.context.entries()
+    }
+
+    /// The measured temperature record the model's temperature terms read, if any.
+    pub fn temperature_record(&self) -> Option<&std::sync::Arc<crate::thermal::TemperatureRecord>> {
+        self.context.record()
+    }
+
     /// Panics when `machine` is not the machine this model was bound to (other axes or sides).
     fn assert_bound_to(&self, machine: &Machine) {
         let same = self.machine_axes.len() == machine.axes().len()
@@ -619,7 +651,8 @@ impl ErrorModel {
     /// zero-position errors; `line[slot]`, the location of the axis line (translation and
     /// rotation for a rotary axis, rotation only for a linear one). Component errors with
     /// [`Dynamics`] add their asynchronous content at `state.time` and the axis's unwrapped
-    /// position, and scale by their speed factor at `state.velocity`.
+    /// position, and scale by their speed factor at `state.velocity`; [`ContextTerm`]s add
+    /// their value at `state.time`.
     pub fn slot_twists(
         &self,
         state: &MachineState,
@@ -662,6 +695,7 @@ impl ErrorModel {
             }
             relative[binding.slot][binding.component] += value;
         }
+        self.context.add(state, relative, line);
     }
 
     /// The actual tool pose seen from the workpiece: the exact chain with every slot motion.

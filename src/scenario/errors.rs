@@ -1,15 +1,18 @@
 //! The `[errors.NAME]` sections: ISO 230-1 error parameters as written (file units), checked
 //! and turned into the error model.
 
+use super::inputs::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec, context_terms};
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::errors::{
     Dynamics, ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Frequency, Interpolation,
-    ParameterDynamics, ParameterName, RandomMotion, Sinusoid, Table, TableError,
+    ParameterContext, ParameterDynamics, ParameterName, RandomMotion, Sinusoid, Table, TableError,
 };
 use crate::machine::{Axis, Machine, axis_unit_to_si};
 use crate::math::{RAD_PER_URAD, Real};
+use crate::thermal::TemperatureRecord;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use toml::Spanned;
 
 /// The largest error the small-motion model is meant for: 10 mm or 10 mrad. Larger values are
@@ -53,6 +56,15 @@ pub struct ErrorSpec {
     /// A factor on the whole parameter against the speed of its axis.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speed: Option<SpeedSpec>,
+    /// Terms driven by a measured sensor's temperature (see [`super::inputs`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub temperature: Vec<TemperatureTermSpec>,
+    /// Terms from heat sources no sensor sees.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub heating: Vec<HeatingTermSpec>,
+    /// Drifts linear in time.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drift: Vec<DriftTermSpec>,
 }
 
 /// `amplitude · sin(2π · frequency_hz · t + phase)` or `amplitude · sin(per_revolution · q +
@@ -174,9 +186,11 @@ pub(crate) fn error_model(
     errors_raw: &BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
     inherited: Option<&ErrorModel>,
     seed: u64,
+    record: Option<&Arc<TemperatureRecord>>,
 ) -> Result<(ErrorModel, BTreeMap<String, ErrorSpec>), ScenarioError> {
     let mut parameters = Vec::new();
     let mut dynamics = Vec::new();
+    let mut contexts = Vec::new();
     let mut error_specs = BTreeMap::new();
     for (name, spec) in errors_raw {
         let at = Some(name.span());
@@ -208,7 +222,7 @@ pub(crate) fn error_model(
                 format!(
                     "errors.{parameter}: no term given; expected one or more of constant_{unit}, \
                      polynomial_{unit}, reversal_{unit}, harmonic, table, asynchronous, random, \
-                     speed"
+                     speed, temperature, heating, drift"
                 ),
             ));
         }
@@ -233,6 +247,14 @@ pub(crate) fn error_model(
                     parameter.file_unit()
                 ),
             ));
+        }
+        let terms = context_terms(spec.get_ref(), parameter, record.map(|r| r.as_ref()))
+            .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
+        if !terms.is_empty() {
+            contexts.push(ParameterContext {
+                name: parameter,
+                terms,
+            });
         }
         let content = spec_to_dynamics(spec.get_ref(), parameter, seed)
             .map_err(|(kind, key, message)| key_error(kind, &key, message))?;
@@ -274,8 +296,16 @@ pub(crate) fn error_model(
         .filter(|d| !replaced(d.name))
         .collect();
     all_dynamics.extend(dynamics);
+    let mut all_contexts: Vec<ParameterContext> = inherited
+        .map(|model| model.context().to_vec())
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|c| !replaced(c.name))
+        .collect();
+    all_contexts.extend(contexts);
     let errors = ErrorModel::new(machine, all)
         .and_then(|model| model.with_dynamics(machine, all_dynamics))
+        .and_then(|model| model.with_context(machine, all_contexts, record.cloned()))
         .map_err(|e| {
             let name = e.parameter().to_string();
             let span = errors_raw

@@ -27,13 +27,14 @@
 //! their travel, or 0, 90, 180, 270° for a continuous axis.
 //!
 //! A scenario may instead extend another (`schema = 1`, `extends = "base.toml"`, then only
-//! `description` and `[errors.*]`): the base with those error sections replacing its own of the
+//! `description`, `[errors.*]` and `[inputs]`): the base with those error sections replacing its own of the
 //! same name (see [`crate::app::Scenario::load`]).
 //!
 //! This module holds what every section shares: located errors ([`ScenarioError`]), the key
 //! finder that points an error at its line ([`Context`]), the located checks of a section read
 //! with spans ([`Checker`]), where the axes a test holds stand ([`parked`]), the `[errors.*]`
-//! sections ([`errors`]), the machine's thermal model (`[thermal]`, [`thermal`]) and the
+//! sections ([`errors`]), measured inputs and the temperature, heating and drift terms they
+//! drive ([`inputs`]), the machine's thermal model (`[thermal]`, [`thermal`]) and the
 //! teaching text (`[lesson]`, [`lesson`]). Each test kind reads its own sections in its folder
 //! (`crate::kinds::<kind>::scenario`); [`crate::app::Scenario`] assembles them.
 
@@ -41,12 +42,14 @@ use std::fmt;
 
 pub mod checker;
 pub mod errors;
+pub mod inputs;
 pub mod lesson;
 pub mod parked;
 pub mod thermal;
 
 pub use checker::Checker;
 pub use errors::{ErrorSpec, HarmonicSpec, InterpolationSpec, TableSpec, function_of, spec_of};
+pub use inputs::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec};
 pub use lesson::Lesson;
 pub use thermal::ThermalSetup;
 
@@ -169,7 +172,7 @@ impl Context<'_> {
     pub fn key_line(&self, table_start: usize, key: &str) -> Option<usize> {
         let field = key.rsplit('.').next()?.split('[').next()?;
         let occurrence: usize = key
-            .split_once("harmonic[")
+            .rsplit_once('[')
             .and_then(|(_, rest)| rest.split(']').next()?.parse().ok())
             .unwrap_or(0);
         let first_line = self.text[..table_start.min(self.text.len())]

@@ -164,10 +164,8 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
             }
             None => None,
         };
-        let source = file.file_name().map_or_else(
-            || file.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        // The table is the measured temperature record of the model's temperature terms.
+        let source = crate::io::relative_path(file, path)?;
         let fragment = discovery.to_scenario_fragment(&source, base.as_deref())?;
         crate::io::write_atomically(path, fragment.as_bytes())?;
     }

@@ -13,11 +13,13 @@
 //! | [`iso230_2`] | the ISO 230-2:2014 figures |
 //! | [`thermal_series`] | the drift of each target over runs, against temperature and time |
 //! | [`discovery`] | the discovery problem on positioning tables |
+//! | [`compare`] | `mtwin compare`: a measured table against a simulated one, per run |
 //! | [`cli`] | `mtwin analyze positioning` and `mtwin discover positioning` |
 //! | `scene` | the teaching scene (feature `viz`) |
 
 pub mod air;
 pub mod cli;
+pub mod compare;
 pub mod conditions;
 pub mod discovery;
 pub mod iso230_2;

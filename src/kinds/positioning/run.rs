@@ -75,6 +75,7 @@ pub fn simulate(
                 reading.temperatures = record.readings.clone();
             }
             table.conditions = conditions(twin, test);
+            measured_sensors(twin, &mut table, &visits);
             LaserRun {
                 table,
                 visits,
@@ -87,12 +88,38 @@ pub fn simulate(
             let poses = twin.poses(&visits);
             let mut table = test.laser.measure(&visits, &poses, &test.targets, &mut rng);
             table.conditions = conditions(twin, test);
+            measured_sensors(twin, &mut table, &visits);
             LaserRun {
                 table,
                 visits,
                 poses,
                 thermal: None,
             }
+        }
+    }
+}
+
+/// With a measured temperature record (`[inputs] temperatures`), its sensors read the record
+/// at each reading's time: the column of a simulated sensor of the same name is replaced, and
+/// the record's other sensors are added.
+fn measured_sensors(twin: &Twin, table: &mut PositioningTable, visits: &[Visit]) {
+    let Some(record) = twin.errors.temperature_record() else {
+        return;
+    };
+    for (index, name) in record.sensors().iter().enumerate() {
+        let column = match table.sensors.iter().position(|s| s == name) {
+            Some(column) => column,
+            None => {
+                table.sensors.push(name.clone());
+                table
+                    .readings
+                    .iter_mut()
+                    .for_each(|r| r.temperatures.push(0.0));
+                table.sensors.len() - 1
+            }
+        };
+        for (reading, visit) in table.readings.iter_mut().zip(visits) {
+            reading.temperatures[column] = record.at(index, visit.time);
         }
     }
 }

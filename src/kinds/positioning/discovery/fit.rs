@@ -208,7 +208,7 @@ impl PositioningProblem {
 
 impl PositioningFit {
     /// The coefficients of `effect` (in SI), if it is in the fit.
-    fn coefficients_of(&self, effect: PositioningEffect) -> Option<&[Real]> {
+    pub(super) fn coefficients_of(&self, effect: PositioningEffect) -> Option<&[Real]> {
         let mut start = self.reference.knots.len();
         for &e in &self.effects {
             let end = start + e.columns();

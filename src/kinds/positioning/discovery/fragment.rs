@@ -6,10 +6,14 @@ use crate::math::{M_PER_MM, M_PER_UM, Real, fixed};
 impl PositioningDiscovery {
     /// The extended model as a scenario fragment: the axis's positioning error
     /// `E<axis><axis>` at the reference temperature (profile table, plus the accepted
-    /// reversal, cyclic and polynomial terms) and, as comments, the thermal and time terms the
-    /// scenario schema cannot express yet. With `extends` (a scenario path relative to the
-    /// fragment) the fragment is a scenario that `mtwin run` simulates: the base scenario with
-    /// this error replacing its own. `source` names the table in the header.
+    /// reversal, cyclic and polynomial terms), its temperature, heating and drift terms
+    /// ([`crate::errors::ContextTerm`]: the nominal expansion with `thermal_scale`,
+    /// `thermal_offset`, `thermal_lag`, `second_heat_source`, `time_drift`) reading the table
+    /// itself as the measured temperature record (`[inputs] temperatures = source`, the table's
+    /// path relative to the fragment), and as comments the lost-motion changes a scenario
+    /// cannot express. With `extends` (a scenario path relative to the fragment) the fragment
+    /// is a scenario that `mtwin run` simulates: the base scenario with this error replacing
+    /// its own and, when there are temperature terms, the base's thermal network errors off.
     pub fn to_scenario_fragment(
         &self,
         source: &str,
@@ -23,18 +27,9 @@ impl PositioningDiscovery {
         })?;
         let (score, fit) = self.selection.last();
         let (knots, values) = fit.profile();
-        // The profile is the error at the reference temperature; the twin's thermal model
-        // expands from 20 °C, so move it there with the base model's nominal expansion.
-        let to_20 = fit
-            .reference_temperature
-            .map_or(0.0, |t| self.problem.options.expansion * (t - 20.0));
-        let values: Vec<Real> = knots
-            .iter()
-            .zip(values)
-            .map(|(x, v)| v - to_20 * x)
-            .collect();
         let source: String = source.chars().filter(|c| !c.is_control()).collect();
         let number = |v: Real| fixed(v, 4);
+        let precise = |v: Real| fixed(v, 6);
         let list = |values: Vec<Real>| {
             values
                 .into_iter()
@@ -42,6 +37,7 @@ impl PositioningDiscovery {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
+        let thermal = self.thermal_terms(fit);
         let mut out = String::new();
         out.push_str(&format!(
             "# Extended model found by `mtwin discover positioning {source}`:\n# {} (held-out RMS {} µm; base model {} µm).\n",
@@ -51,9 +47,8 @@ impl PositioningDiscovery {
         ));
         if let Some(t) = fit.reference_temperature {
             out.push_str(&format!(
-                "# E{axis}{axis} below is the error at 20 °C: the profile at the reference run's {} °C less\n# the nominal expansion ({} µm/(m·°C)) between the two.\n",
+                "# E{axis}{axis} below is the error at the reference run's {} °C; its temperature terms read\n# the measured record (the table itself), so `mtwin run` replays the file's conditions.\n",
                 fixed(t, 2),
-                fixed(self.problem.options.expansion * 1e6, 2)
             ));
         }
         if let Some(base) = extends {
@@ -64,6 +59,15 @@ impl PositioningDiscovery {
         } else {
             out.push_str(
                 "# Add `schema = 1` and `extends = \"<the machine's scenario>\"` to run it.\n",
+            );
+        }
+        if !thermal.is_empty() {
+            out.push_str(&format!(
+                "\n[inputs]\ntemperatures = {}\n",
+                toml::Value::String(source.replace('\\', "/"))
+            ));
+            out.push_str(
+                "# The terms below are the whole thermal model of this axis: the thermal network's own\n# error terms are off (the network still runs and drives the sensors the record lacks).\nthermal_network_errors = false\n",
             );
         }
         out.push_str(&format!("\n[errors.E{axis}{axis}]\n"));
@@ -78,6 +82,10 @@ impl PositioningDiscovery {
                 list(values.iter().map(um).collect())
             ));
         }
+        for line in &thermal {
+            out.push_str(line);
+            out.push('\n');
+        }
         let mut comments = Vec::new();
         for &effect in &fit.effects {
             let p = fit.params(effect);
@@ -87,9 +95,9 @@ impl PositioningDiscovery {
                 }
                 PositioningEffect::Periodic => out.push_str(&format!(
                     "harmonic = [{{ period_mm = {}, amplitude_um = {}, phase_deg = {} }}]\n",
-                    number(p["period_mm"]),
+                    precise(p["period_mm"]),
                     number(p["amplitude_um"]),
-                    number(p["phase_deg"])
+                    precise(p["phase_deg"])
                 )),
                 PositioningEffect::NonlinearScale => {
                     // q2·ξ² + q3·ξ³ with ξ = (x − c)/h, expanded in powers of x (mm).
@@ -113,19 +121,27 @@ impl PositioningDiscovery {
                             .join(", ")
                     ));
                 }
-                _ => comments.push(format!(
-                    "#   {}: {}",
-                    effect.id(),
-                    p.iter()
-                        .map(|(k, v)| format!("{k} = {}", number(*v)))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )),
+                PositioningEffect::ReversalPosition | PositioningEffect::ReversalThermal => {
+                    comments.push(format!(
+                        "#   {}: {}",
+                        effect.id(),
+                        p.iter()
+                            .map(|(k, v)| format!("{k} = {}", number(*v)))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ))
+                }
+                // Written as temperature, heating and drift terms above.
+                PositioningEffect::ThermalLag
+                | PositioningEffect::ThermalScale
+                | PositioningEffect::ThermalOffset
+                | PositioningEffect::SecondHeatSource
+                | PositioningEffect::TimeDrift => {}
             }
         }
         if !comments.is_empty() {
             out.push_str(
-                "\n# Found but not expressible in a scenario yet (the twin's thermal network is not fitted\n# by discovery, and error functions have no temperature or time input):\n",
+                "\n# Found but not expressible in a scenario yet (lost motion is a constant of the error\n# function; it has no position or temperature dependence), so `mtwin run` leaves them out:\n",
             );
             for line in comments {
                 out.push_str(&line);
@@ -133,5 +149,66 @@ impl PositioningDiscovery {
             }
         }
         Ok(out)
+    }
+
+    /// The fit's temperature and time terms as `[errors.*]` keys: the expansion (nominal plus
+    /// `thermal_scale`) and `thermal_offset` on the measured sensor, through `thermal_lag`'s
+    /// lag, from the fit's reference temperature; `second_heat_source` as heating from the first
+    /// reading; `time_drift` as a drift from the reference run's mean time. Empty without a
+    /// temperature column (the base model then has no thermal term).
+    fn thermal_terms(&self, fit: &super::PositioningFit) -> Vec<String> {
+        let precise = |v: Real| fixed(v, 6);
+        let coefficient = |effect| {
+            fit.effects
+                .contains(&effect)
+                .then(|| fit.coefficients_of(effect).expect("in the fit")[0])
+        };
+        let mut lines = Vec::new();
+        if let (Some(sensor), Some(reference)) = (&self.problem.sensor, fit.reference_temperature) {
+            let lag = fit
+                .effects
+                .contains(&PositioningEffect::ThermalLag)
+                .then_some(fit.searched.lag_tau)
+                .flatten()
+                .map_or_else(String::new, |tau| {
+                    format!(", lag_min = {}", precise(tau / 60.0))
+                });
+            let head = format!(
+                "{{ sensor = {}, reference_degc = {}",
+                toml::Value::String(sensor.clone()),
+                precise(reference)
+            );
+            let expansion = self.problem.options.expansion
+                + coefficient(PositioningEffect::ThermalScale).unwrap_or(0.0);
+            let mut terms = vec![format!(
+                "{head}, um_per_m_per_degc = {}{lag} }}",
+                precise(expansion * 1e6)
+            )];
+            if let Some(c) = coefficient(PositioningEffect::ThermalOffset) {
+                terms.push(format!(
+                    "{head}, um_per_degc = {}{lag} }}",
+                    precise(c * 1e6)
+                ));
+            }
+            lines.push(format!("temperature = [\n  {},\n]", terms.join(",\n  ")));
+        }
+        let time = |i: usize| self.problem.time.as_ref().map_or(0.0, |t| t[i]);
+        if let Some(b) = coefficient(PositioningEffect::SecondHeatSource) {
+            let tau = fit.searched.heat_tau.expect("searched with the effect");
+            lines.push(format!(
+                "heating = [{{ um_per_m = {}, tau_min = {}, from_min = {} }}]",
+                precise(b * 1e6),
+                precise(tau / 60.0),
+                precise(time(self.problem.order[0]) / 60.0)
+            ));
+        }
+        if let Some(d) = coefficient(PositioningEffect::TimeDrift) {
+            lines.push(format!(
+                "drift = [{{ um_per_h = {}, from_min = {} }}]",
+                precise(d * 1e6),
+                precise(fit.reference.time / 60.0)
+            ));
+        }
+        lines
     }
 }
