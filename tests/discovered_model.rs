@@ -253,3 +253,30 @@ fn discover_write_run_and_compare_give_back_the_fit() {
     assert_eq!(report["overall"]["largest_time_difference_s"], 0.0);
     assert_eq!(report["runs"].as_array().unwrap().len(), 7);
 }
+
+/// `mtwin compare` on a missing file or a table that is not a positioning table: an error
+/// naming the file, a non-zero exit, nothing on standard output.
+#[test]
+fn compare_refuses_what_it_cannot_read() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let good = dir.path().join("good.csv");
+    std::fs::write(&good, "run,direction,target_mm,deviation_um\n1,+,0,1.0\n").unwrap();
+    let other = dir.path().join("other.csv");
+    std::fs::write(&other, "time_min,temp_nut_degc\n0,20\n").unwrap();
+    let missing = dir.path().join("missing.csv");
+    for (a, b, expected) in [
+        (&good, &missing, "missing.csv"),
+        (&good, &other, "other.csv"),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_mtwin"))
+            .args(["compare"])
+            .arg(a)
+            .arg(b)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{stderr}");
+        assert!(output.stdout.is_empty());
+        assert!(stderr.contains(expected), "{stderr}");
+    }
+}
