@@ -13,13 +13,24 @@ use std::hint::black_box;
 use std::time::Duration;
 
 fn warmup_discovery(c: &mut Criterion) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/vmc3_warmup_laser.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/vmc3_warmup_laser.toml"
+    );
     let scenario = Scenario::load(path).expect("the bundled scenario loads");
     let test = scenario.laser_test.as_ref().expect("a laser test");
-    let table = simulate(&scenario.twin, test, scenario.thermal.as_ref(), scenario.seed).table;
+    let table = simulate(
+        &scenario.twin,
+        test,
+        scenario.thermal.as_ref(),
+        scenario.seed,
+    )
+    .table;
     assert_eq!(table.readings.len(), 224);
     let mut group = c.benchmark_group("positioning_discovery");
-    group.sample_size(10).measurement_time(Duration::from_secs(20));
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
     group.bench_function("warmup_7x16", |b| {
         b.iter(|| {
             discover_positioning(black_box(&table), PositioningOptions::default(), |_| {})
