@@ -8,6 +8,9 @@ use mtwin::machine::{Axis, MachineState};
 use std::path::Path;
 use std::process::Command;
 
+mod common;
+use common::mtwin;
+
 fn machine_path() -> String {
     format!(
         "{:?}",
@@ -163,19 +166,6 @@ fn bad_context_terms_and_records_are_refused_with_file_line_and_key() {
         e.contains("record.csv:4:") && e.contains("must increase"),
         "{e}"
     );
-}
-
-fn mtwin(args: &[&str]) -> String {
-    let output = Command::new(env!("CARGO_BIN_EXE_mtwin"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "mtwin {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout).unwrap()
 }
 
 /// The round trip of the issue: the warm-up laser test simulated; discovered (lost motion,

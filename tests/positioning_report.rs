@@ -3,20 +3,9 @@
 
 use mtwin::kinds::positioning::PositioningTable;
 use mtwin::kinds::positioning::iso230_2::evaluate;
-use std::process::Command;
 
-fn mtwin(args: &[&str]) -> String {
-    let output = Command::new(env!("CARGO_BIN_EXE_mtwin"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout).unwrap()
-}
+mod common;
+use common::mtwin;
 
 fn simulate(name: &str, dir: &std::path::Path) -> String {
     let scenario = format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"));

@@ -111,3 +111,18 @@ pub fn describe(position: &AxisValues) -> String {
         .collect::<Vec<_>>()
         .join(" ")
 }
+
+/// Runs the `mtwin` binary with `args`; panics with its standard error when it fails, else
+/// returns its standard output.
+pub fn mtwin(args: &[&str]) -> String {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_mtwin"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "mtwin {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
