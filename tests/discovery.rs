@@ -804,3 +804,159 @@ fn three_runs_of_noise_accept_nothing() {
         assert!(d.accepted().is_empty(), "seed {seed}:\n{}", d.to_text());
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Issue 15 item 5: a search that can back out of a wrong first step.
+
+/// The table `mtwin run` writes for a bundled scenario, read back as `mtwin discover` reads it.
+fn bundled_table(scenario: &str) -> PositioningTable {
+    let dir = tempfile::TempDir::new().unwrap();
+    let scenario = format!("{}/scenarios/{scenario}", env!("CARGO_MANIFEST_DIR"));
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_mtwin"))
+        .args(["run", &scenario, "--out", dir.path().to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let csv = std::fs::read(dir.path().join("positioning.csv")).unwrap();
+    PositioningTable::parse(&csv, "positioning.csv").unwrap()
+}
+
+/// Forward selection alone (the engine's, on the same problem): its effects and held-out RMS.
+fn forward_only(table: &PositioningTable) -> (Vec<PositioningEffect>, f64) {
+    use mtwin::discovery::engine::forward_selection;
+    use mtwin::kinds::positioning::discovery::PositioningProblem;
+    let problem = PositioningProblem::new(table, PositioningOptions::default()).unwrap();
+    let selection = forward_selection(&problem, |_| {});
+    (selection.effects(), selection.last().0.cv_rms)
+}
+
+/// The warm-up lesson (`scenarios/teach_warmup.toml`: 4 runs of the X axis, lost motion
+/// 3 µm, the screw warming from its thrust bearing at 760 mm, a nut sensor read to 0.1 °C).
+/// Forward selection takes thermal_lag with reversal as a pair (no single effect passes) and
+/// then rejects thermal_scale (held-out 0.757 → 0.276 µm, but z 3.3 and 2.3 without its best
+/// fold, against 2.64: the residual is still smooth, so mid-selection the test is weak). No
+/// single effect passes on this file, so the search scores blocks: the three together pass
+/// against the base model (z 23.9) and each lowers the block's held-out RMS by 5 % or more,
+/// and they have the lowest held-out RMS of the blocks that pass. The lost motion comes back
+/// at the injected 3 µm.
+#[test]
+fn teach_warmup_ends_with_the_expansion_change_in_the_model() {
+    let table = bundled_table("teach_warmup.toml");
+    let (forward, forward_cv) = forward_only(&table);
+    println!(
+        "forward selection: {forward:?}, held-out RMS {:.3} µm",
+        forward_cv * 1e6
+    );
+    assert!(!forward.contains(&PositioningEffect::ThermalScale));
+    let d = discover(&table);
+    let mut accepted = d.accepted();
+    accepted.sort();
+    assert_eq!(
+        accepted,
+        vec![
+            PositioningEffect::Reversal,
+            PositioningEffect::ThermalLag,
+            PositioningEffect::ThermalScale
+        ],
+        "{}",
+        d.to_text()
+    );
+    let cv_um = d.final_score().cv_rms * 1e6;
+    println!("stepwise search: held-out RMS {cv_um:.3} µm");
+    assert!(cv_um <= 0.3, "{}", d.to_text());
+    within(
+        param(&d, PositioningEffect::Reversal, "lost_motion_um"),
+        3.0,
+        0.3,
+        "lost motion",
+    );
+}
+
+/// Issue 15: a warm-up record with several thermal terms at once — the expansion twice the
+/// nominal, an origin drift of −3 µm/°C, 3 µm of lost motion, the screw following the true
+/// temperature through a 40 min lag (so the drift and the expansion follow the lagged
+/// temperature too). On five runs forward selection accepts nothing: no single effect and no
+/// pair passes (alone, thermal_scale or thermal_offset make the held-out RMS worse: they only
+/// work together with the lag). The search finds the block of three thermal terms, then the
+/// lost motion, and explains the record to the noise with every parameter recovered.
+#[test]
+fn several_thermal_terms_that_only_work_together_are_found() {
+    let tau = 40.0 * 60.0;
+    let hidden = move |a: At| {
+        let x_m = a.x_mm * 1e-3;
+        let lagged = lagged_temperature(a.t_s, tau) - 20.0;
+        // The table already holds the nominal expansion on the true temperature.
+        -a.s * 3.0 / 2.0
+            + ALPHA * 1e6 * x_m * (lagged - (temperature(a.t_s) - 20.0))
+            + ALPHA * 1e6 * x_m * lagged
+            - 3.0 * lagged
+    };
+    for seed in 1..=3 {
+        let table = Plan::iso(5, seed).table(hidden);
+        let (forward, forward_cv) = forward_only(&table);
+        println!(
+            "seed {seed}: forward selection {forward:?}, held-out RMS {:.3} µm",
+            forward_cv * 1e6
+        );
+        assert!(forward.is_empty(), "seed {seed}: {forward:?}");
+        let d = discover(&table);
+        let mut accepted = d.accepted();
+        accepted.sort();
+        assert_eq!(
+            accepted,
+            vec![
+                PositioningEffect::Reversal,
+                PositioningEffect::ThermalLag,
+                PositioningEffect::ThermalScale,
+                PositioningEffect::ThermalOffset
+            ],
+            "seed {seed}:\n{}",
+            d.to_text()
+        );
+        assert_explained(&d);
+        within(
+            param(&d, PositioningEffect::Reversal, "lost_motion_um"),
+            3.0,
+            0.3,
+            "lost motion",
+        );
+        within(
+            param(&d, PositioningEffect::ThermalOffset, "offset_um_per_degc"),
+            -3.0,
+            0.3,
+            "origin drift",
+        );
+        // The same tolerances as the single-effect tests: τ within 20 %, the expansion
+        // change (11.7 ppm/°C: twice the nominal) within 10 %.
+        within(
+            param(&d, PositioningEffect::ThermalLag, "tau_min"),
+            40.0,
+            8.0,
+            "tau",
+        );
+        within(
+            param(
+                &d,
+                PositioningEffect::ThermalScale,
+                "expansion_change_ppm_per_degc",
+            ),
+            ALPHA * 1e6,
+            0.1 * ALPHA * 1e6,
+            "expansion change",
+        );
+        println!(
+            "seed {seed}: held-out RMS {:.3} µm, τ {:.1} min, expansion change {:.2} ppm/°C",
+            d.final_score().cv_rms * 1e6,
+            param(&d, PositioningEffect::ThermalLag, "tau_min"),
+            param(
+                &d,
+                PositioningEffect::ThermalScale,
+                "expansion_change_ppm_per_degc"
+            )
+        );
+    }
+}

@@ -321,6 +321,58 @@ fn a_clean_trace_gets_nothing_added() {
     assert_eq!(false_acceptances, 0);
 }
 
+/// Issue 15, item 2: every effect the table can test is scored (accepted, or rejected with
+/// its held-out score in the last round, which scores every testable effect not yet in the
+/// model); the others are listed with the reason. Both senses (everything testable) and one
+/// sense (the sense-dependent effects untestable).
+#[test]
+fn every_effect_is_scored_or_the_report_says_why_not() {
+    let hidden = Hidden {
+        backlash: [0.0, 3.0 * UM],
+        ..Hidden::default()
+    };
+    let table = simulate(&hidden, 6);
+    let ccw = BallbarTable {
+        readings: table
+            .readings
+            .iter()
+            .filter(|r| r.sense == Sense::Ccw)
+            .copied()
+            .collect(),
+        ..Default::default()
+    };
+    for (table, untestable) in [(table, 0), (ccw, 4)] {
+        let found = discover_ballbar(&table, &xy(), |_| {}).unwrap();
+        assert_eq!(found.untestable().len(), untestable);
+        assert!(found.untestable().iter().all(|(_, why)| !why.is_empty()));
+        let mut seen: Vec<BallbarEffect> = found.accepted();
+        seen.extend(found.rejected().iter().map(|r| r.effect));
+        seen.extend(found.untestable().iter().map(|(e, _)| *e));
+        seen.sort();
+        assert_eq!(seen, BallbarEffect::ALL, "each effect once");
+        // A rejected effect's held-out RMS is a real score, near the final model's.
+        let last = found.final_score().cv_rms;
+        for r in found.rejected() {
+            assert!(
+                r.cv_rms.is_finite() && (r.cv_rms - last).abs() < 0.2 * last,
+                "{:?}: {} against {last}",
+                r.effect,
+                r.cv_rms
+            );
+        }
+        let json = found.to_json();
+        let listed = json["steps"].as_array().unwrap().len()
+            + json["rejected"].as_array().unwrap().len()
+            + json["untestable"].as_array().unwrap().len();
+        assert_eq!(listed, BallbarEffect::ALL.len());
+        assert!(
+            found
+                .to_text()
+                .contains("Every effect this table can test was scored")
+        );
+    }
+}
+
 #[test]
 fn one_sense_cannot_test_the_sense_dependent_effects() {
     let table = simulate(&Hidden::default(), 4);

@@ -1,10 +1,17 @@
 //! The joint fit of a model to the readings ([`CircleData::fit`]): the searched parameters in
 //! turn (see `search.rs`), then the linear coefficients by least squares; and its result
-//! ([`ModelFit`]).
+//! ([`ModelFit`]). The fits run on a [`Blocks`] of the readings in normal-equation form
+//! (`normal.rs`), so that fits of unions of the same blocks share what depends on the data
+//! alone.
 
+use super::blocks::Blocks;
+use super::blocks::angle_lag_derivative;
 use super::linalg::{Projection, gram, gram_pinv};
+use super::normal::{Column, Dense, Fitter};
+use super::profile::LagProfile;
 use super::{CircleData, Shape, Term, covered_arc, diagnostic_column};
 use crate::math::Real;
+use std::f64::consts::TAU;
 
 /// The angle lag must reach this many standard uncertainties to be used: one parameter
 /// tested, noise alone passes 0.27 % of the time, so traces whose angles are already the axes'
@@ -29,141 +36,19 @@ impl CircleData {
     /// one with the smaller residual sum of squares is kept; with backlash of both axes, also
     /// each axis back at the step. Residuals are given for every reading.
     pub fn fit(&self, terms: &[Term], train: &[bool]) -> ModelFit {
-        let rows: Vec<usize> = (0..self.len()).filter(|&i| train[i]).collect();
-        let y: Vec<Real> = rows.iter().map(|&i| self.deviation[i]).collect();
-        let start = Shape {
-            angle_lag: self.angle_lag(terms, &rows, &y),
-            ..Shape::default()
-        };
-        let step = self.search_shapes(terms, &rows, &y, start);
-        let mut best = (step, self.fixed_fit(terms, &step, &rows, &y).rss);
-        let backlash: Vec<(usize, Term)> = [(0, Term::BacklashP), (1, Term::BacklashQ)]
-            .into_iter()
-            .filter(|(_, t)| terms.contains(t))
-            .collect();
-        let gaps = |shape: &Shape| -> [Real; 2] {
-            let fit = self.fixed_fit(terms, shape, &rows, &y);
-            let mut gaps = [0.0; 2];
-            for &(axis, term) in &backlash {
-                gaps[axis] = coefficient(terms, term, &fit.coefficients).abs();
-            }
-            gaps
-        };
-        let first = gaps(&step);
-        if first.iter().any(|g| *g > 0.0) {
-            let mut play = self.search_shapes(
-                terms,
-                &rows,
-                &y,
-                Shape {
-                    play: first,
-                    ..start
-                },
-            );
-            for _ in 0..PLAY_REFITS {
-                let next = gaps(&play);
-                let change = (0..2)
-                    .map(|a| (next[a] - play.play[a]).abs())
-                    .fold(0.0, Real::max);
-                play.play = next;
-                if change <= 1e-4 * next.iter().copied().fold(0.0, Real::max) {
-                    break;
-                }
-            }
-            let mut candidates = vec![play];
-            if backlash.len() == 2 {
-                for axis in 0..2 {
-                    let mut mixed = play;
-                    mixed.play[axis] = 0.0;
-                    mixed.lag[axis] = step.lag[axis];
-                    candidates.push(mixed);
-                }
-            }
-            for candidate in candidates {
-                let rss = self.fixed_fit(terms, &candidate, &rows, &y).rss;
-                if rss < best.1 {
-                    best = (candidate, rss);
-                }
-            }
-        }
-        let shape = best.0;
-        let all: Vec<usize> = (0..self.len()).collect();
-        let columns = self.columns_on(terms, &shape, &all);
-        let training: Vec<Vec<Real>> = columns
-            .iter()
-            .map(|c| rows.iter().map(|&i| c[i]).collect())
-            .collect();
-        let coefficients = Projection::new(training, &y).coefficients;
-        let residuals = (0..self.len())
-            .map(|i| {
-                self.deviation[i]
-                    - columns
-                        .iter()
-                        .zip(&coefficients)
-                        .map(|(c, k)| c[i] * k)
-                        .sum::<Real>()
-            })
-            .collect();
-        ModelFit {
-            terms: terms.to_vec(),
-            shape,
-            coefficients,
-            residuals,
-        }
+        let blocks = Blocks::training(self, train);
+        self.fit_blocks(&blocks, terms, &[true, false])
     }
 
-    /// The linear fit of `terms` at `shape` over `rows`.
-    fn fixed_fit(&self, terms: &[Term], shape: &Shape, rows: &[usize], y: &[Real]) -> Projection {
-        Projection::new(self.columns_on(terms, shape, rows), y)
+    /// [`CircleData::fit`] to the readings of the `included` blocks of `blocks` (made from
+    /// these data): fits of unions of the same blocks (cross-validation folds) share the
+    /// sums that depend on the data alone.
+    pub fn fit_blocks(&self, blocks: &Blocks, terms: &[Term], included: &[bool]) -> ModelFit {
+        Fitter::new(self, blocks, included.to_vec()).fit(terms)
     }
 
-    /// Every searched parameter of `terms` from `start` (its play and angle lag kept): the
-    /// reversal lag of each axis with a reversal term, then the searched terms' shapes in the
-    /// order of `terms`; twice over when there are several, each with the others held.
-    fn search_shapes(&self, terms: &[Term], rows: &[usize], y: &[Real], start: Shape) -> Shape {
-        let mut shape = start;
-        let mut searches: Vec<Search> = (0..2)
-            .filter(|&a| terms.iter().any(|t| t.reversal_axis() == Some(a)))
-            .map(Search::Lag)
-            .collect();
-        searches.extend(
-            terms
-                .iter()
-                .copied()
-                .filter(|t| t.searched())
-                .map(Search::Shape),
-        );
-        let linear: Vec<Term> = terms.iter().copied().filter(|t| !t.searched()).collect();
-        let mut done: Vec<Term> = Vec::new();
-        let passes = if searches.len() > 1 { 2 } else { 1 };
-        for pass in 0..passes {
-            for &search in &searches {
-                match search {
-                    Search::Lag(axis) => {
-                        let (fixed, moving) = self.split_reversal(axis, terms, &shape, rows, y);
-                        let profile = self.lag_profile(axis, &moving, &fixed, rows, &shape);
-                        shape.lag[axis] = self.search_lag(&profile);
-                    }
-                    Search::Shape(term) => {
-                        let fixed_terms: Vec<Term> = linear
-                            .iter()
-                            .chain(done.iter().filter(|&&t| t != term))
-                            .copied()
-                            .collect();
-                        let fixed = Projection::new(self.columns_on(&fixed_terms, &shape, rows), y);
-                        self.search(term, &fixed, rows, &mut shape, pass > 0);
-                        if !done.contains(&term) {
-                            done.push(term);
-                        }
-                    }
-                }
-            }
-        }
-        shape
-    }
-
-    /// The angle lag ℓ (s) of the position-dependent terms over `rows`: how far the trace's
-    /// angles lead the direction the axes actually reach, σ·v·ℓ/R.
+    /// The angle lag ℓ (s) of the position-dependent terms over `rows` (`y` the deviations
+    /// there): how far the trace's angles lead the direction the axes actually reach, σ·v·ℓ/R.
     ///
     /// Derivation: a trace whose angles are the programmed ones at the sampling time (not
     /// timed from the machine's motion) runs the lagging axes' direction θ_a = θ − σ·v·ℓ/R,
@@ -187,7 +72,15 @@ impl CircleData {
                 .collect();
             covered_arc(&angles).1 >= ANGLE_LAG_SPAN
         });
-        if !(full && terms.contains(&Term::CentreP) && terms.contains(&Term::CentreQ)) {
+        if !full {
+            return 0.0;
+        }
+        self.angle_lag_steps(terms, rows, y)
+    }
+
+    /// The Gauss–Newton steps of [`CircleData::angle_lag`] once both senses are full circles.
+    fn angle_lag_steps(&self, terms: &[Term], rows: &[usize], y: &[Real]) -> Real {
+        if !(terms.contains(&Term::CentreP) && terms.contains(&Term::CentreQ)) {
             return 0.0;
         }
         let base: Vec<Term> = terms
@@ -236,6 +129,172 @@ impl CircleData {
             lag += change;
         }
         lag.clamp(self.ranges.lag.0, self.ranges.lag.1)
+    }
+}
+
+impl Fitter<'_> {
+    /// [`CircleData::fit`] over the fitted readings.
+    pub(super) fn fit(&self, terms: &[Term]) -> ModelFit {
+        let start = Shape {
+            angle_lag: self.angle_lag(terms),
+            ..Shape::default()
+        };
+        let step = self.search_shapes(terms, start);
+        let mut best = (step, self.project(&self.columns(terms, &step)).rss);
+        let backlash: Vec<(usize, Term)> = [(0, Term::BacklashP), (1, Term::BacklashQ)]
+            .into_iter()
+            .filter(|(_, t)| terms.contains(t))
+            .collect();
+        let gaps = |shape: &Shape| -> [Real; 2] {
+            let fit = self.project(&self.columns(terms, shape));
+            let mut gaps = [0.0; 2];
+            for &(axis, term) in &backlash {
+                gaps[axis] = coefficient(terms, term, &fit.coefficients).abs();
+            }
+            gaps
+        };
+        let first = gaps(&step);
+        if first.iter().any(|g| *g > 0.0) {
+            let mut play = self.search_shapes(
+                terms,
+                Shape {
+                    play: first,
+                    ..start
+                },
+            );
+            for _ in 0..PLAY_REFITS {
+                let next = gaps(&play);
+                let change = (0..2)
+                    .map(|a| (next[a] - play.play[a]).abs())
+                    .fold(0.0, Real::max);
+                play.play = next;
+                if change <= 1e-4 * next.iter().copied().fold(0.0, Real::max) {
+                    break;
+                }
+            }
+            let mut candidates = vec![play];
+            if backlash.len() == 2 {
+                for axis in 0..2 {
+                    let mut mixed = play;
+                    mixed.play[axis] = 0.0;
+                    mixed.lag[axis] = step.lag[axis];
+                    candidates.push(mixed);
+                }
+            }
+            for candidate in candidates {
+                let rss = self.project(&self.columns(terms, &candidate)).rss;
+                if rss < best.1 {
+                    best = (candidate, rss);
+                }
+            }
+        }
+        let shape = best.0;
+        let columns = self.columns(terms, &shape);
+        let coefficients = self.project(&columns).coefficients;
+        let residuals = self.residuals(&columns, &coefficients);
+        ModelFit {
+            terms: terms.to_vec(),
+            shape,
+            coefficients,
+            residuals,
+        }
+    }
+
+    /// [`CircleData::angle_lag`] over the fitted readings, its columns (static columns at the
+    /// angle lag, and the derivative in it) combinations of the table's static columns.
+    fn angle_lag(&self, terms: &[Term]) -> Real {
+        let full = (0..2)
+            .all(|sense| TAU - self.blocks.largest_gap(sense, &self.included) >= ANGLE_LAG_SPAN);
+        if !(full && terms.contains(&Term::CentreP) && terms.contains(&Term::CentreQ)) {
+            return 0.0;
+        }
+        let test = &self.data.test;
+        let base: Vec<Term> = terms
+            .iter()
+            .copied()
+            .filter(|t| !t.searched() && t.reversal_axis().is_none())
+            .collect();
+        let mut lag = 0.0;
+        for step in 0..2 {
+            let shape = Shape {
+                angle_lag: lag,
+                ..Shape::default()
+            };
+            let mut columns = self.columns(&base, &shape);
+            let centre = self.project(&columns).coefficients;
+            let (cp, cq) = (
+                coefficient(&base, Term::CentreP, &centre),
+                coefficient(&base, Term::CentreQ, &centre),
+            );
+            // ∂/∂ℓ of c_p·cos θ_a + c_q·sin θ_a.
+            columns.push(Column::dense(Dense::Mix(
+                angle_lag_derivative((cp, cq), &shape, test).into(),
+            )));
+            let fit = self.project(&columns);
+            let k = fit.coefficients.len();
+            let change = fit.coefficients[k - 1];
+            if step == 0 {
+                let variance = fit.rss / (self.rows.len().saturating_sub(k).max(1)) as Real;
+                let u = (fit.pinv[(k - 1, k - 1)] * variance).max(0.0).sqrt();
+                if !(change.is_finite() && change.abs() >= ANGLE_LAG_SIGNIFICANCE * u && u > 0.0) {
+                    return 0.0;
+                }
+            }
+            if !change.is_finite() {
+                break;
+            }
+            lag += change;
+        }
+        lag.clamp(self.data.ranges.lag.0, self.data.ranges.lag.1)
+    }
+
+    /// Every searched parameter of `terms` from `start` (its play and angle lag kept): the
+    /// reversal lag of each axis with a reversal term, then the searched terms' shapes in the
+    /// order of `terms`; twice over when there are several, each with the others held.
+    fn search_shapes(&self, terms: &[Term], start: Shape) -> Shape {
+        let mut shape = start;
+        let mut searches: Vec<Search> = (0..2)
+            .filter(|&a| terms.iter().any(|t| t.reversal_axis() == Some(a)))
+            .map(Search::Lag)
+            .collect();
+        searches.extend(
+            terms
+                .iter()
+                .copied()
+                .filter(|t| t.searched())
+                .map(Search::Shape),
+        );
+        let linear: Vec<Term> = terms.iter().copied().filter(|t| !t.searched()).collect();
+        let mut done: Vec<Term> = Vec::new();
+        let passes = if searches.len() > 1 { 2 } else { 1 };
+        for pass in 0..passes {
+            for &search in &searches {
+                match search {
+                    Search::Lag(axis) => {
+                        let (moving, fixed): (Vec<Term>, Vec<Term>) = terms
+                            .iter()
+                            .copied()
+                            .partition(|t| t.reversal_axis() == Some(axis));
+                        let columns = self.columns(&fixed, &shape);
+                        let profile = LagProfile::new(self, axis, &moving, &columns, &shape);
+                        shape.lag[axis] = self.search_lag(&profile);
+                    }
+                    Search::Shape(term) => {
+                        let fixed_terms: Vec<Term> = linear
+                            .iter()
+                            .chain(done.iter().filter(|&&t| t != term))
+                            .copied()
+                            .collect();
+                        let columns = self.columns(&fixed_terms, &shape);
+                        self.search(term, &columns, &mut shape, pass > 0);
+                        if !done.contains(&term) {
+                            done.push(term);
+                        }
+                    }
+                }
+            }
+        }
+        shape
     }
 }
 

@@ -111,18 +111,28 @@
 
 // Read top-down in this order: model (terms and their columns), data (the prepared table),
 // identify (what the data can give), fit (the joint fit), search (its searched parameters),
-// linalg (the least-squares algebra), diagnose (the diagnostics), figures (G, H, F and
-// `evaluate`), report (text and JSON).
+// blocks (the readings cut into blocks, with the sums fits share), normal (least squares from
+// cross products), reversal (the reversal terms at a shape), profile (the lag profile), spectral (cyclic and
+// lobe columns by their moments and transforms), linalg (the least-squares algebra), diagnose
+// (the diagnostics), figures (G, H, F and `evaluate`), report (text and JSON).
+mod blocks;
 mod data;
 mod diagnose;
+#[cfg(test)]
+mod equivalence;
 mod figures;
 mod fit;
 mod identify;
 mod linalg;
 mod model;
+mod normal;
+mod profile;
 mod report;
+mod reversal;
 mod search;
+mod spectral;
 
+pub use blocks::Blocks;
 pub use data::{CircleData, SearchRanges, covered_arc};
 pub use diagnose::{Diagnostics, TermEstimate};
 pub use figures::{BallbarEvaluation, evaluate};

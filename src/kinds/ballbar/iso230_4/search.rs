@@ -1,14 +1,22 @@
 //! The searched parameters of the joint fit, each on the joint residual sum of squares: an
-//! axis's reversal lag (a windowed profile, [`LagProfile`]) and its uncertainty, the spike
+//! axis's reversal lag (a profile over the lag, `reversal.rs`) and its uncertainty, the spike
 //! decays, the cyclic periods and the lobe count (periodograms); and the significance a
-//! searched amplitude must reach.
+//! searched amplitude must reach. Every trial is scored against the fit of the other columns
+//! from cross products alone: the readings a spike lives on, the cyclic columns' moments
+//! about a grid frequency, the lobe columns' sums (`spectral.rs`).
 
-use super::linalg::{Projection, dot};
-use super::model::{SPIKE_DECAYS, spike, take_up_arc};
-use super::{CircleData, ModelFit, Shape, Term, arc_since_reversal};
+use super::blocks::{Blocks, Y};
+use super::linalg::Projection;
+use super::model::SPIKE_DECAYS;
+use super::normal::{Column, Dense, Fitter, NormalFit};
+use super::profile::LagProfile;
+use super::reversal::Reversal;
+use super::spectral::offset_series;
+use super::{CircleData, ModelFit, Shape, Term};
 use crate::math::{Real, golden_minimum};
 use nalgebra::DMatrix;
-use std::f64::consts::{PI, TAU};
+use rustfft::num_complex::Complex;
+use std::f64::consts::TAU;
 
 /// Grid points of the reversal-lag search (every 5 ms over ±200 ms).
 const LAG_GRID: usize = 81;
@@ -22,95 +30,14 @@ const SIGNIFICANCE: Real = 2.0;
 /// The false-alarm probability a searched amplitude's threshold allows over its search.
 const FALSE_ALARM: Real = 0.05;
 
-impl CircleData {
-    /// The fit of every term of `terms` but `axis`'s reversal terms (over `rows`), and those
-    /// reversal terms.
-    pub(super) fn split_reversal(
-        &self,
-        axis: usize,
-        terms: &[Term],
-        shape: &Shape,
-        rows: &[usize],
-        y: &[Real],
-    ) -> (Projection, Vec<Term>) {
-        let (moving, fixed): (Vec<Term>, Vec<Term>) = terms
-            .iter()
-            .copied()
-            .partition(|t| t.reversal_axis() == Some(axis));
-        (
-            Projection::new(self.columns_on(&fixed, shape, rows), y),
-            moving,
-        )
-    }
-
-    /// The joint residual sum of squares of `axis`'s reversal terms `moving` against `fixed`
-    /// as a function of the axis's lag. A lag moves these columns only on the rows within
-    /// the longest lag (and the spike's window) after a programmed reversal or the most
-    /// negative lag before one: the sums over the other rows are taken once.
-    pub(super) fn lag_profile<'a>(
-        &'a self,
-        axis: usize,
-        moving: &'a [Term],
-        fixed: &'a Projection,
-        rows: &'a [usize],
-        shape: &Shape,
-    ) -> LagProfile<'a> {
-        let unlagged = Shape {
-            lag: [0.0; 2],
-            ..*shape
-        };
-        let rate = self.test.feed / self.test.radius;
-        let spike = if moving.iter().any(|t| t.searched()) {
-            SPIKE_DECAYS * shape.decay[axis]
-        } else {
-            0.0
-        };
-        // With play the backlash column takes the gap up (and the spike starts) over the
-        // take-up arc after the reversal: those rows move with the lag too.
-        let after = rate * (self.ranges.lag.1.max(0.0) + spike)
-            + take_up_arc(shape.play[axis], self.test.radius);
-        let before = rate * (-self.ranges.lag.0).max(0.0);
-        let (near, far): (Vec<usize>, Vec<usize>) = (0..rows.len()).partition(|&j| {
-            let arc = arc_since_reversal(axis, &self.points[rows[j]], &self.test, &unlagged);
-            arc <= after || arc >= PI - before
-        });
-        let far_rows: Vec<usize> = far.iter().map(|&j| rows[j]).collect();
-        let columns = self.columns_on(moving, shape, &far_rows);
-        let (k, m) = (fixed.columns.len(), columns.len());
-        let fb = DMatrix::from_fn(k, m, |i, c| {
-            far.iter()
-                .zip(&columns[c])
-                .map(|(&j, v)| fixed.columns[i][j] * v)
-                .sum()
-        });
-        let bb = DMatrix::from_fn(m, m, |a, b| dot(&columns[a], &columns[b]));
-        let br = (0..m)
-            .map(|c| {
-                far.iter()
-                    .zip(&columns[c])
-                    .map(|(&j, v)| fixed.residual[j] * v)
-                    .sum()
-            })
-            .collect();
-        LagProfile {
-            data: self,
-            axis,
-            moving,
-            fixed,
-            rows,
-            shape: *shape,
-            near,
-            far: (fb, bb, br),
-        }
-    }
-
+impl Fitter<'_> {
     /// Searches `axis`'s reversal lag (s): a grid of [`LAG_GRID`] points over the range,
     /// golden section between the best point's neighbours, then the middle of the interval
     /// where the residual sum of squares stays at that minimum. A sampled trace cannot tell
     /// where between two samples an axis reversed (a step, or a spike's onset, reads the
     /// same): the middle is the unbiased choice.
     pub(super) fn search_lag(&self, profile: &LagProfile<'_>) -> Real {
-        let (low, high) = self.ranges.lag;
+        let (low, high) = self.data.ranges.lag;
         let grid: Vec<Real> = (0..LAG_GRID)
             .map(|k| low + (high - low) * k as Real / (LAG_GRID - 1) as Real)
             .collect();
@@ -130,126 +57,351 @@ impl CircleData {
         };
         let flat = value + 1e-9 * profile.fixed.rss;
         let (from, to) = interval(|g| profile.rss(g), lag, flat, low, high);
+        if std::env::var("MTWIN_DEBUG").is_ok() {
+            eprintln!(
+                "lag search: best grid {} ({:.12e}), refined {:.9e} {:.12e}, chosen {lag:.9e} {value:.12e}, interval {from:.9e} {to:.9e} fixed {:.12e}",
+                grid[best],
+                values[best],
+                refined,
+                profile.rss(refined),
+                profile.fixed.rss
+            );
+            if std::env::var("MTWIN_DEBUG").unwrap() == "grid" {
+                for k in 0..61 {
+                    let g = -3e-3 + 1e-4 * k as Real;
+                    eprintln!("  {g:.5} {:.15e}", profile.rss(g) - value);
+                }
+            }
+        }
         (from + to) / 2.0
     }
 
+    /// Searches `term`'s shape parameter on the joint residual sum of squares with `fixed`
+    /// (the other columns); `refine` only polishes the current value.
+    pub(super) fn search(&self, term: Term, fixed: &[Column], shape: &mut Shape, refine: bool) {
+        let fit = self.project(fixed);
+        match term {
+            Term::ReversalSpikeP | Term::ReversalSpikeQ => {
+                let axis = usize::from(term == Term::ReversalSpikeQ);
+                self.search_decay(axis, fixed, &fit, shape);
+            }
+            Term::CyclicP | Term::CyclicQ => {
+                let axis = usize::from(term == Term::CyclicQ);
+                self.search_period(axis, fixed, &fit, shape, refine);
+            }
+            Term::Lobes => self.search_lobes(fixed, &fit, shape, refine),
+            _ => {}
+        }
+    }
+
+    /// The spike decay of `axis`: a log grid of [`DECAY_GRID`] decays, then golden section
+    /// between the best one's neighbours. The column is zero but within the longest decay's
+    /// window after a crossed reversal: only those readings are evaluated.
+    fn search_decay(&self, axis: usize, fixed: &[Column], fit: &NormalFit, shape: &mut Shape) {
+        let ranges = self.data.ranges;
+        let reversal = Reversal::new(axis, shape, &self.data.test);
+        let window = reversal.spike_window(self, ranges.decay.1);
+        let rows: Vec<usize> = window.iter().map(|w| w.0).collect();
+        let k = fixed.len();
+        let values = self.values_at(fixed, &rows);
+        let at = |tau: Real| {
+            let mut fb = DMatrix::zeros(k, 1);
+            let (mut bb, mut by) = (0.0, 0.0);
+            let column = fb.as_mut_slice();
+            for ((_, weight, dt), row) in window.iter().zip(values.chunks(k + 1)) {
+                if *dt >= SPIKE_DECAYS * tau {
+                    break;
+                }
+                let v = weight * (-dt / tau).exp();
+                for (f, x) in column.iter_mut().zip(row) {
+                    *f += v * x;
+                }
+                by += v * row[k];
+                bb += v * v;
+            }
+            fit.rss_from(&fb, &DMatrix::from_element(1, 1, bb), &[by])
+        };
+        let (low, high) = (ranges.decay.0.ln(), ranges.decay.1.ln());
+        let grid: Vec<Real> = (0..DECAY_GRID)
+            .map(|k| low + (high - low) * k as Real / (DECAY_GRID - 1) as Real)
+            .collect();
+        let values: Vec<Real> = grid.iter().map(|g| at(g.exp())).collect();
+        let best = (0..DECAY_GRID)
+            .min_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .unwrap_or(0);
+        let (a, b) = (
+            grid[best.saturating_sub(1)],
+            grid[(best + 1).min(DECAY_GRID - 1)],
+        );
+        let (refined, value) = golden_minimum(|g| at(g.exp()), a, b, GOLDEN_ITERATIONS);
+        shape.decay[axis] = if value < values[best] {
+            refined.exp()
+        } else {
+            grid[best].exp()
+        };
+    }
+
+    /// The cyclic period of `axis`: the periodogram's peak of the fixed fit's residual on the
+    /// first pass (the current period on the next), then golden section within a grid step
+    /// either side. Trials are scored from the columns' moments about the grid frequency
+    /// nearest to the middle of that interval.
+    fn search_period(
+        &self,
+        axis: usize,
+        fixed: &[Column],
+        fit: &NormalFit,
+        shape: &mut Shape,
+        refine: bool,
+    ) {
+        let grid = self.data.frequency_grid();
+        let peak = if refine {
+            1.0 / shape.period[axis]
+        } else {
+            1.0 / self
+                .fit_periodogram(axis, fixed, &fit.coefficients, fit.rss)
+                .0
+        };
+        let (from, to) = (
+            (peak - grid.step).max(grid.low),
+            (peak + grid.step).min(grid.high),
+        );
+        let at = self.cyclic_trials(axis, fixed, fit, (from + to) / 2.0);
+        let (refined, value) = golden_minimum(&at, from, to, GOLDEN_ITERATIONS);
+        shape.period[axis] = if value < at(peak) {
+            1.0 / refined
+        } else {
+            1.0 / peak
+        };
+    }
+
+    /// The residual sum of squares of `fit` (of `fixed`) with `axis`'s cyclic columns at a
+    /// trial frequency (1/m) near `middle`: from moments about the grid frequency nearest to
+    /// it, or column by column when `middle` is off the grid's reach.
+    fn cyclic_trials<'b>(
+        &'b self,
+        axis: usize,
+        fixed: &'b [Column],
+        fit: &'b NormalFit,
+        middle: Real,
+    ) -> Box<dyn Fn(Real) -> Real + 'b> {
+        let column = move |f: Real, index: usize| {
+            Column::dense(Dense::Cyclic {
+                axis,
+                period: 1.0 / f,
+                index,
+            })
+        };
+        let Some(k) = self.centre_of(middle) else {
+            return Box::new(move |f| {
+                let extra = [column(f, 0), column(f, 1)];
+                self.rss_with(fit, fixed, &extra)
+            });
+        };
+        let moments = self.combined(axis, k);
+        let centre = moments.frequency;
+        // Every fixed column's moments: its static part's from the blocks' sums, the rest
+        // reading by reading.
+        let rows: Vec<Vec<Complex<Real>>> = fixed
+            .iter()
+            .map(|c| {
+                let mut m = match &c.dense {
+                    Dense::Zero | Dense::Static(_) | Dense::Mix(_) => {
+                        vec![Complex::new(0.0, 0.0); super::spectral::ORDER]
+                    }
+                    Dense::Lobe { k: count, index } => self.lobe_moments(axis, k, *count, *index),
+                    dense => {
+                        let values = self.dense_values(dense);
+                        self.moments_of(axis, &moments, self.rows.iter().map(|&i| (i, values[i])))
+                    }
+                };
+                let sparse = self.moments_of(
+                    axis,
+                    &moments,
+                    c.sparse
+                        .rows
+                        .iter()
+                        .zip(&c.sparse.values)
+                        .map(|(&i, &v)| (i as usize, v)),
+                );
+                for (a, b) in m.iter_mut().zip(sparse) {
+                    *a += b;
+                }
+                m
+            })
+            .collect();
+        let statics: Vec<Vec<(usize, Real)>> = fixed
+            .iter()
+            .map(|c| match &c.dense {
+                Dense::Static(j) => vec![(*j, 1.0)],
+                Dense::Mix(mix) => mix.to_vec(),
+                _ => Vec::new(),
+            })
+            .collect();
+        let radius = self.data.test.radius;
+        Box::new(move |f: Real| {
+            let (series, double) = offset_series(radius, f - centre);
+            let n = fixed.len();
+            let mut fb = DMatrix::zeros(n, 2);
+            for i in 0..n {
+                let sum: Complex<Real> = rows[i].iter().zip(&series).map(|(m, e)| m * e).sum();
+                let (mut sin, mut cos) = (sum.im, sum.re);
+                for &(j, w) in &statics[i] {
+                    let (s, c) = moments.with_table(j, &series);
+                    sin += w * s;
+                    cos += w * c;
+                }
+                fb[(i, 0)] = sin;
+                fb[(i, 1)] = cos;
+            }
+            let (ys, yc) = moments.with_table(Y, &series);
+            let (ss, cc, sc) = moments.own(&double);
+            let bb = DMatrix::from_row_slice(2, 2, &[ss, sc, sc, cc]);
+            fit.rss_from(&fb, &bb, &[ys, yc])
+        })
+    }
+
+    /// The residual sum of squares of `fit` (of `fixed`) with `extra` columns added, their
+    /// cross products taken column by column.
+    fn rss_with(&self, fit: &NormalFit, fixed: &[Column], extra: &[Column]) -> Real {
+        let (k, m) = (fixed.len(), extra.len());
+        let fb = DMatrix::from_fn(k, m, |i, j| self.cross(&fixed[i], &extra[j]));
+        let bb = DMatrix::from_fn(m, m, |i, j| self.cross(&extra[i], &extra[j]));
+        let by: Vec<Real> = extra.iter().map(|c| self.cross_y(c)).collect();
+        fit.rss_from(&fb, &bb, &by)
+    }
+
+    /// The lobe count: every count on the first pass, two either side of the current one
+    /// after.
+    fn search_lobes(&self, fixed: &[Column], fit: &NormalFit, shape: &mut Shape, refine: bool) {
+        let ranges = self.data.ranges;
+        let (low, high) = if refine {
+            (
+                shape.lobes.saturating_sub(2).max(ranges.lobes.0),
+                (shape.lobes + 2).min(ranges.lobes.1),
+            )
+        } else {
+            ranges.lobes
+        };
+        if low > high {
+            return;
+        }
+        let counts = (high - low + 1) as usize;
+        let k = fixed.len();
+        // Per count, the fixed columns' cross products with sin kθ and cos kθ beyond what
+        // the blocks' lobe sums hold (their dense parts other than static ones, their sparse
+        // changes), reading by reading with the phasors advanced by recurrence.
+        let mut extra = vec![0.0; counts * k * 2];
+        let dense: Vec<(usize, std::rc::Rc<Vec<Real>>)> = fixed
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.dense.statics().is_none())
+            .map(|(j, c)| (j, self.dense_values(&c.dense)))
+            .collect();
+        let mut sparse: std::collections::BTreeMap<usize, Vec<(usize, Real)>> = Default::default();
+        for (j, c) in fixed.iter().enumerate() {
+            for (&i, &v) in c.sparse.rows.iter().zip(&c.sparse.values) {
+                if self.fitted(i as usize) {
+                    sparse.entry(i as usize).or_default().push((j, v));
+                }
+            }
+        }
+        // Dense columns (cyclic ones) by a transform over the angles when every count is
+        // wanted; the rest reading by reading.
+        let transformed = !refine && !dense.is_empty();
+        if transformed {
+            for (j, values) in &dense {
+                for (n, (s, c)) in self.lobe_products(values).into_iter().enumerate() {
+                    extra[(n * k + j) * 2] += s;
+                    extra[(n * k + j) * 2 + 1] += c;
+                }
+            }
+        }
+        let rows: Vec<usize> = if dense.is_empty() || transformed {
+            sparse.keys().copied().collect()
+        } else {
+            self.rows.clone()
+        };
+        let mut weights: Vec<(usize, Real)> = Vec::with_capacity(k);
+        for i in rows {
+            weights.clear();
+            if !transformed {
+                weights.extend(dense.iter().map(|(j, values)| (*j, values[i])));
+            }
+            if let Some(entries) = sparse.get(&i) {
+                weights.extend_from_slice(entries);
+            }
+            let point = &self.data.points[i];
+            let (ds, dc) = point.sin_cos;
+            let (mut s, mut co) = (Real::from(low) * point.angle).sin_cos();
+            for n in 0..counts {
+                let out = &mut extra[n * k * 2..(n + 1) * k * 2];
+                for &(j, v) in &weights {
+                    out[2 * j] += v * s;
+                    out[2 * j + 1] += v * co;
+                }
+                (s, co) = (s * dc + co * ds, co * dc - s * ds);
+            }
+        }
+        let mut best = (low, Real::INFINITY);
+        for (n, count) in (low..=high).enumerate() {
+            let lobe = |index: usize| Column::dense(Dense::Lobe { k: count, index });
+            let columns = [lobe(0), lobe(1)];
+            let value = match (self.lobe_self(count, 0, 0), self.lobe_self(count, 1, 1)) {
+                (Some(ss), Some(cc)) => {
+                    let sc = self.lobe_self(count, 0, 1).unwrap_or(0.0);
+                    let mut fb = DMatrix::zeros(k, 2);
+                    for (j, c) in fixed.iter().enumerate() {
+                        for index in 0..2 {
+                            let held: Real = match &c.dense {
+                                Dense::Static(t) => self.lobe_with(count, index, *t).unwrap_or(0.0),
+                                Dense::Mix(mix) => mix
+                                    .iter()
+                                    .map(|(t, w)| {
+                                        w * self.lobe_with(count, index, *t).unwrap_or(0.0)
+                                    })
+                                    .sum(),
+                                _ => 0.0,
+                            };
+                            fb[(j, index)] = held + extra[(n * k + j) * 2 + index];
+                        }
+                    }
+                    let by = [
+                        self.lobe_with(count, 0, Y).unwrap_or(0.0),
+                        self.lobe_with(count, 1, Y).unwrap_or(0.0),
+                    ];
+                    let bb = DMatrix::from_row_slice(2, 2, &[ss, sc, sc, cc]);
+                    fit.rss_from(&fb, &bb, &by)
+                }
+                _ => self.rss_with(fit, fixed, &columns),
+            };
+            if value < best.1 {
+                best = (count, value);
+            }
+        }
+        shape.lobes = best.0;
+    }
+}
+
+impl CircleData {
     /// The standard uncertainty of `axis`'s reversal lag in `fit` (s): half the width of the
     /// profile-likelihood interval where the residual sum of squares stays within `variance`
     /// (σ̂²) of its minimum (Δχ² = 1), each side found by bisection. For a step sampled every
     /// Δt it is at least about Δt/2: the data cannot place the step better.
     pub(super) fn lag_uncertainty(&self, axis: usize, fit: &ModelFit, variance: Real) -> Real {
-        let rows: Vec<usize> = (0..self.len()).collect();
-        let (fixed, moving) =
-            self.split_reversal(axis, &fit.terms, &fit.shape, &rows, &self.deviation);
-        let profile = self.lag_profile(axis, &moving, &fixed, &rows, &fit.shape);
+        let blocks = Blocks::training(self, &vec![true; self.len()]);
+        let fitter = Fitter::new(self, &blocks, vec![true, false]);
+        let (moving, fixed): (Vec<Term>, Vec<Term>) = fit
+            .terms
+            .iter()
+            .copied()
+            .partition(|t| t.reversal_axis() == Some(axis));
+        let columns = fitter.columns(&fixed, &fit.shape);
+        let profile = LagProfile::new(&fitter, axis, &moving, &columns, &fit.shape);
         let best = fit.shape.lag[axis];
         let target = profile.rss(best) + variance;
         let (low, high) = self.ranges.lag;
         let (from, to) = interval(|g| profile.rss(g), best, target, low, high);
         (to - from) / 2.0
-    }
-
-    /// Searches `term`'s shape parameter on the joint residual sum of squares with `fixed`
-    /// (the other columns); `refine` only polishes the current value.
-    pub(super) fn search(
-        &self,
-        term: Term,
-        fixed: &Projection,
-        rows: &[usize],
-        shape: &mut Shape,
-        refine: bool,
-    ) {
-        let rss = |trial: &Shape| -> Real {
-            let columns: Vec<Vec<Real>> = (0..term.columns())
-                .map(|k| self.column_on(term, k, trial, rows))
-                .collect();
-            let views: Vec<&[Real]> = columns.iter().map(Vec::as_slice).collect();
-            fixed.rss_with(&views)
-        };
-        match term {
-            Term::ReversalSpikeP | Term::ReversalSpikeQ => {
-                let axis = usize::from(term == Term::ReversalSpikeQ);
-                // The column is zero but within the longest decay's window after a crossed
-                // reversal: only those rows are evaluated.
-                let longest = Shape {
-                    decay: [self.ranges.decay.1; 2],
-                    ..*shape
-                };
-                let window: Vec<usize> = (0..rows.len())
-                    .filter(|&j| spike(axis, &self.points[rows[j]], &self.test, &longest).is_some())
-                    .collect();
-                let window_rows: Vec<usize> = window.iter().map(|&j| rows[j]).collect();
-                let at = |tau: Real| {
-                    let mut trial = *shape;
-                    trial.decay[axis] = tau;
-                    let column = self.column_on(term, 0, &trial, &window_rows);
-                    fixed.rss_with_sparse(&window, &column)
-                };
-                let (low, high) = (self.ranges.decay.0.ln(), self.ranges.decay.1.ln());
-                let grid: Vec<Real> = (0..DECAY_GRID)
-                    .map(|k| low + (high - low) * k as Real / (DECAY_GRID - 1) as Real)
-                    .collect();
-                let values: Vec<Real> = grid.iter().map(|g| at(g.exp())).collect();
-                let best = (0..DECAY_GRID)
-                    .min_by(|&a, &b| values[a].total_cmp(&values[b]))
-                    .unwrap_or(0);
-                let (a, b) = (
-                    grid[best.saturating_sub(1)],
-                    grid[(best + 1).min(DECAY_GRID - 1)],
-                );
-                let (refined, value) = golden_minimum(|g| at(g.exp()), a, b, GOLDEN_ITERATIONS);
-                shape.decay[axis] = if value < values[best] {
-                    refined.exp()
-                } else {
-                    grid[best].exp()
-                };
-            }
-            Term::CyclicP | Term::CyclicQ => {
-                let axis = usize::from(term == Term::CyclicQ);
-                let (f_low, f_high, step, _) = self.frequency_grid();
-                let peak = if refine {
-                    1.0 / shape.period[axis]
-                } else {
-                    1.0 / self.cyclic_periodogram(term, rows, &fixed.residual).0
-                };
-                let at = |f: Real| {
-                    let mut trial = *shape;
-                    trial.period[axis] = 1.0 / f;
-                    rss(&trial)
-                };
-                let (refined, value) = golden_minimum(
-                    at,
-                    (peak - step).max(f_low),
-                    (peak + step).min(f_high),
-                    GOLDEN_ITERATIONS,
-                );
-                shape.period[axis] = if value < at(peak) {
-                    1.0 / refined
-                } else {
-                    1.0 / peak
-                };
-            }
-            Term::Lobes => {
-                // All counts on the first pass; two either side of the current one after.
-                let (low, high) = if refine {
-                    (
-                        shape.lobes.saturating_sub(2).max(self.ranges.lobes.0),
-                        (shape.lobes + 2).min(self.ranges.lobes.1),
-                    )
-                } else {
-                    self.ranges.lobes
-                };
-                let mut best = (low, Real::INFINITY);
-                self.each_lobe_count(rows, low, high, |k, sin, cos| {
-                    let value = fixed.rss_with(&[sin, cos]);
-                    if value < best.1 {
-                        best = (k, value);
-                    }
-                });
-                shape.lobes = best.0;
-            }
-            _ => {}
-        }
     }
 
     /// How many standard uncertainties a searched amplitude must reach to be significant: the
@@ -261,7 +413,7 @@ impl CircleData {
     /// spike of an axis without backlash significant in most traces.
     pub fn significance(&self, term: Term) -> Real {
         let tested = match term {
-            Term::CyclicP | Term::CyclicQ => self.frequency_grid().3,
+            Term::CyclicP | Term::CyclicQ => self.frequency_grid().count,
             Term::ReversalSpikeP | Term::ReversalSpikeQ => LAG_GRID * DECAY_GRID,
             _ => return SIGNIFICANCE,
         };
@@ -270,26 +422,18 @@ impl CircleData {
             .max(SIGNIFICANCE)
     }
 
-    /// The cyclic search's frequencies (1/m): lowest, highest, step (4 per 1/(2R), the
-    /// resolution over the diameter) and how many.
-    fn frequency_grid(&self) -> (Real, Real, Real, usize) {
-        let (low, high) = self.ranges.period;
-        let (f_low, f_high) = (1.0 / high, 1.0 / low);
-        let step = 1.0 / (8.0 * self.test.radius);
-        let count = ((f_high - f_low) / step * (1.0 + 1e-12)).floor().max(0.0) as usize + 1;
-        (f_low, f_high, step, count)
-    }
-
     /// The period (m) of `term` (cyclic p or q) whose two columns alone remove the largest
-    /// fraction of `residual` (over `rows`), and that fraction: a periodogram over the
-    /// frequency grid, phasors advanced by recurrence.
+    /// fraction of `residual` (over `rows`, `residual[j]` at `rows[j]`), and that fraction: a
+    /// periodogram over the frequency grid, phasors advanced by recurrence. (Fits use the same
+    /// periodogram by a non-uniform Fourier transform, `spectral.rs`.)
     pub fn cyclic_periodogram(
         &self,
         term: Term,
         rows: &[usize],
         residual: &[Real],
     ) -> (Real, Real) {
-        let (f_low, _, step, count) = self.frequency_grid();
+        let grid = self.frequency_grid();
+        let (f_low, step, count) = (grid.low, grid.step, grid.count);
         let m = rows.len();
         let (mut zr, mut zi, mut wr, mut wi) =
             (vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
@@ -398,135 +542,4 @@ fn interval(
         (inside + outside) / 2.0
     };
     (edge(low), edge(high))
-}
-
-/// The residual sum of squares as a function of one axis's reversal lag
-/// ([`CircleData::lag_profile`]).
-pub(super) struct LagProfile<'a> {
-    data: &'a CircleData,
-    axis: usize,
-    moving: &'a [Term],
-    fixed: &'a Projection,
-    rows: &'a [usize],
-    shape: Shape,
-    /// Positions in `rows` near the reversals, where the lag moves the columns.
-    near: Vec<usize>,
-    /// Fᵀ·B, Bᵀ·B and Bᵀ·r over the other rows.
-    far: (DMatrix<Real>, DMatrix<Real>, Vec<Real>),
-}
-
-impl LagProfile<'_> {
-    /// The residual sum of squares at `lag` (s).
-    fn rss(&self, lag: Real) -> Real {
-        let mut trial = self.shape;
-        trial.lag[self.axis] = lag;
-        let near_rows: Vec<usize> = self.near.iter().map(|&j| self.rows[j]).collect();
-        let columns = self.data.columns_on(self.moving, &trial, &near_rows);
-        let (fb, bb, br) = &self.far;
-        let fixed = self.fixed;
-        let fb = fb
-            + DMatrix::from_fn(fb.nrows(), fb.ncols(), |i, c| {
-                self.near
-                    .iter()
-                    .zip(&columns[c])
-                    .map(|(&j, v)| fixed.columns[i][j] * v)
-                    .sum::<Real>()
-            });
-        let bb =
-            bb + DMatrix::from_fn(bb.nrows(), bb.ncols(), |a, b| dot(&columns[a], &columns[b]));
-        let br: Vec<Real> = br
-            .iter()
-            .zip(&columns)
-            .map(|(far, column)| {
-                far + self
-                    .near
-                    .iter()
-                    .zip(column)
-                    .map(|(&j, v)| fixed.residual[j] * v)
-                    .sum::<Real>()
-            })
-            .collect();
-        fixed.rss_from(&fb, &bb, &br)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::kinds::ballbar::iso230_4::{BasisPoint, CircularTest, diagnostic_column};
-    use crate::kinds::ballbar::table::BallbarTable;
-    use crate::machine::Plane;
-
-    #[test]
-    fn the_windowed_lag_profile_equals_a_full_refit() {
-        // A circle with backlash and a spike of p at a ±25 ms lag, plus a wobble the model
-        // lacks: the windowed residual sum of squares at every trial lag equals the one of
-        // the full columns.
-        let test = CircularTest {
-            plane: Plane::XY,
-            radius: 0.1,
-            feed: 0.01,
-        };
-        // Lagging (25 ms after the programmed reversal) and leading (25 ms before it).
-        for truth_lag in [0.025, -0.025] {
-            let truth = Shape {
-                lag: [truth_lag, 0.0],
-                ..Shape::default()
-            };
-            let n = 4000;
-            let mut readings = Vec::new();
-            for (sense, sign) in [
-                (crate::kinds::ballbar::table::Sense::Ccw, 1.0),
-                (crate::kinds::ballbar::table::Sense::Cw, -1.0),
-            ] {
-                for k in 0..n {
-                    let angle = (sign * TAU * (k as Real + 0.5) / n as Real).rem_euclid(TAU);
-                    let at = BasisPoint::new(angle, sign, 0.0, [true; 2]);
-                    let deviation = 2e-6
-                        * diagnostic_column(Term::BacklashP, 0, &at, &test, &truth)
-                        + 3e-6 * diagnostic_column(Term::ReversalSpikeP, 0, &at, &test, &truth)
-                        + 1e-7 * (7.0 * angle).sin();
-                    readings.push(crate::kinds::ballbar::table::BallbarReading {
-                        sense,
-                        angle,
-                        deviation,
-                        time: None,
-                    });
-                }
-            }
-            let data = CircleData::new(
-                &BallbarTable {
-                    readings,
-                    ..Default::default()
-                },
-                &test,
-            )
-            .unwrap();
-            let terms = [Term::Radius, Term::BacklashP, Term::ReversalSpikeP];
-            let rows: Vec<usize> = (0..data.len()).collect();
-            let shape = Shape::default();
-            let (fixed, moving) = data.split_reversal(0, &terms, &shape, &rows, &data.deviation);
-            let profile = data.lag_profile(0, &moving, &fixed, &rows, &shape);
-            for lag in [-0.2, -0.0371, -0.004, 0.0, 0.004, 0.025, 0.0371, 0.2] {
-                let trial = Shape {
-                    lag: [lag, 0.0],
-                    ..shape
-                };
-                let columns = data.columns_on(&moving, &trial, &rows);
-                let views: Vec<&[Real]> = columns.iter().map(Vec::as_slice).collect();
-                let full = fixed.rss_with(&views);
-                assert!(
-                    (profile.rss(lag) - full).abs() <= 1e-9 * full,
-                    "{lag}: {} vs {full}",
-                    profile.rss(lag)
-                );
-            }
-            // And the search finds the lag the data were made with (to the 1/4000-turn sampling).
-            let found = data.search_lag(&profile);
-            assert!(
-                (found - truth_lag).abs() < 0.1 * TAU / 4000.0 / 0.01,
-                "{found}"
-            );
-        }
-    }
 }

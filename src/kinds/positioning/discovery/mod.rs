@@ -136,13 +136,16 @@ pub struct PositioningDiscovery {
     selection: Selection<PositioningEffect, PositioningFit>,
 }
 
-/// Runs discovery on a positioning table; `progress` hears which candidate is being tested.
+/// Runs discovery on a positioning table by the engine's stepwise search
+/// ([`engine::stepwise_selection`]: forward steps, blocks of up to three effects when no single
+/// one passes, removal of an effect that no longer helps, exchanges, and the alternatives the
+/// data cannot rule out); `progress` hears which model is being tested.
 pub fn discover_positioning(
     table: &PositioningTable,
     options: PositioningOptions,
     progress: impl FnMut(&str),
 ) -> Result<PositioningDiscovery, DiscoveryError> {
     let problem = PositioningProblem::new(table, options)?;
-    let selection = engine::forward_selection(&problem, progress);
+    let selection = engine::stepwise_selection(&problem, progress);
     Ok(PositioningDiscovery { problem, selection })
 }

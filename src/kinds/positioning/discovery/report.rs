@@ -54,6 +54,18 @@ impl PositioningDiscovery {
         &self.selection.rejected
     }
 
+    /// Every move of the search in order (additions, and the removals and exchanges that
+    /// backed out of earlier steps).
+    pub fn moves(&self) -> &[engine::Move<PositioningEffect>] {
+        &self.selection.moves
+    }
+
+    /// The exchanges of one final effect for another candidate that the held-out data cannot
+    /// rule out, lowest held-out RMS first.
+    pub fn alternatives(&self) -> &[engine::Alternative<PositioningEffect>] {
+        &self.selection.alternatives
+    }
+
     /// The effects the file cannot show, with why.
     pub fn untestable(&self) -> &[(PositioningEffect, String)] {
         self.problem.untestable()
@@ -99,6 +111,7 @@ impl PositioningDiscovery {
             let json = json!({
                 "effect": step.effect.id(),
                 "together_with": step.together_with.map(PositioningEffect::id),
+                "together": step.together.iter().map(|e| e.id()).collect::<Vec<_>>(),
                 "cause": step.effect.cause(),
                 "params": params_json(&step.fit.params(step.effect)),
             });
@@ -119,7 +132,7 @@ impl PositioningDiscovery {
             "validation": {
                 "scheme": self.problem.folds.scheme,
                 "folds": self.problem.folds.count,
-                "rule": engine::RULE,
+                "rule": engine::STEPWISE_RULE,
             },
             "baseline": {
                 "model": self.base_name(),
@@ -134,7 +147,9 @@ impl PositioningDiscovery {
                 "fold_cv_rms_um": engine::folds_json(base_score),
             },
             "steps": steps,
+            "moves": self.selection.moves_json(|e| e.id().into()),
             "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
+            "alternatives": self.selection.alternatives_json(|e| e.id().into()),
             "untestable": self.problem.untestable.iter().map(|(e, why)| json!({
                 "effect": e.id(),
                 "reason": why,
@@ -219,7 +234,7 @@ impl PositioningDiscovery {
             "Held-out data: {} ({} folds); {}.\n\n",
             self.problem.folds.scheme,
             self.problem.folds.count,
-            engine::RULE
+            engine::STEPWISE_RULE
         ));
         out.push_str(&format!(
             "Base model: {} — profile through {} targets of run {}",
@@ -246,18 +261,25 @@ impl PositioningDiscovery {
                 out.push_str(&format!("  {:<19} {text}\n", effect.id()));
             }
         }
+        out.push_str(&self.selection.moves_text(|e| e.id().into(), 3));
         out.push_str("\nAccepted, in order:\n");
         if self.selection.steps.is_empty() {
             out.push_str("  nothing: no effect lowers the held-out RMS more than noise can\n");
         }
         for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
             let params = engine::params_text(&step.fit.params(step.effect));
-            let together = step.together_with.map_or_else(String::new, |other| {
+            let together = if step.together.is_empty() {
+                String::new()
+            } else {
                 format!(
-                    " (accepted together with {}: neither passes alone)",
-                    other.id()
+                    " (entered together with {}: the block passed its test as a whole)",
+                    step.together
+                        .iter()
+                        .map(|e| e.id())
+                        .collect::<Vec<_>>()
+                        .join(" and ")
                 )
-            });
+            };
             out.push_str(&format!(
                 "  + {}{together}: {params} at acceptance\n      cause: {}\n      held-out RMS {:.3} µm (gain {:.3} µm, {:.1} %; {}; {})\n",
                 step.effect.id(),
@@ -274,6 +296,7 @@ impl PositioningDiscovery {
             |e| e.id().into(),
             3,
         ));
+        out.push_str(&self.selection.alternatives_text(|e| e.id().into(), 3));
         if !self.problem.untestable.is_empty() {
             out.push_str("\nCannot be tested with this file:\n");
             for (effect, why) in &self.problem.untestable {
