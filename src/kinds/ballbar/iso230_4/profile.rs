@@ -232,9 +232,8 @@ impl<'a> LagProfile<'a> {
             let lateral = slots.iter().position(|&s| s == 1);
             // The readings some trial's take-up arc covers.
             let first = arcs.partition_point(|&a| a < reversal.at_lag(low).shift());
-            let last = arcs.partition_point(|&a| {
-                a < reversal.at_lag(high).shift() + reversal.take_up()
-            });
+            let last =
+                arcs.partition_point(|&a| a < reversal.at_lag(high).shift() + reversal.take_up());
             let w = k + 1;
             let width = 5 * w + 12;
             let mut sums = vec![0.0; width];
@@ -448,7 +447,10 @@ impl LagProfile<'_> {
     ) {
         let (k, w) = (self.k, self.k + 1);
         let last = sums.first + sums.sums.len() / sums.width - 1;
-        let start = self.arcs.partition_point(|&a| a < phi).clamp(sums.first, last);
+        let start = self
+            .arcs
+            .partition_point(|&a| a < phi)
+            .clamp(sums.first, last);
         let end = self
             .arcs
             .partition_point(|&a| a < phi + take_up)

@@ -1,0 +1,196 @@
+//! The measurement-independent part of discovery: held-out scoring, forward selection and the
+//! stepwise search that can back out of a wrong step.
+//!
+//! A [`Problem`] knows its samples, its base model and its library of effects; the engine
+//! scores any set of effects by cross-validation (every fit inside a fold sees only that
+//! fold's training samples). [`forward_selection`] adds effects one at a time (a pair when no
+//! single one passes) while the held-out gain is larger than noise can explain ([`Test`]).
+//! [`stepwise_selection`] moves by the same test but can also add a block of up to three
+//! effects, remove an effect that no longer helps and exchange one for another, and reports
+//! the exchanges the data cannot rule out ([`Alternative`]).
+
+mod book;
+mod forward;
+mod report;
+mod selection;
+mod stepwise;
+mod test;
+#[cfg(test)]
+mod tests;
+
+pub use forward::forward_selection;
+pub(crate) use report::{
+    FINAL_VALUES, folds_text, params_json, params_text, rejected_text, test_text,
+};
+pub use report::{folds_json, rejected_json, round_json};
+pub use selection::{Accepted, Action, Alternative, Move, Rejected, ResidualStep, Selection};
+pub use stepwise::{LARGEST_BLOCK, STEPWISE_RULE, stepwise_selection};
+pub use test::{RULE, Test, normal_quantile};
+
+use crate::math::Real;
+
+/// How samples are split for cross-validation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Folds {
+    /// What the split is, for reports (e.g. `leave-one-run-out`).
+    pub scheme: String,
+    /// The fold of every sample.
+    pub of_sample: Vec<usize>,
+    /// The number of folds.
+    pub count: usize,
+    /// Every sample in the order it was taken: neighbours in it that share a fold are where
+    /// the acceptance test looks for correlated residuals ([`Test`]).
+    pub sequence: Vec<usize>,
+}
+
+impl Folds {
+    /// Folds given by the fold of every sample, the samples taken in the table's order.
+    pub fn new(scheme: String, of_sample: Vec<usize>, count: usize) -> Folds {
+        let sequence = (0..of_sample.len()).collect();
+        Folds {
+            scheme,
+            of_sample,
+            count,
+            sequence,
+        }
+    }
+
+    /// One fold per group (e.g. per run), the samples taken in the table's order.
+    pub fn leave_one_group_out(groups: &[usize], scheme: &str) -> Folds {
+        Folds::new(
+            scheme.into(),
+            groups.to_vec(),
+            groups.iter().max().map_or(0, |g| g + 1),
+        )
+    }
+
+    /// `k` contiguous blocks of `order` (sample indices in the order they were taken), as
+    /// equal as possible.
+    pub fn contiguous(order: &[usize], k: usize) -> Folds {
+        let n = order.len();
+        let k = k.min(n).max(1);
+        let mut of_sample = vec![0; n];
+        for (position, &sample) in order.iter().enumerate() {
+            of_sample[sample] = position * k / n;
+        }
+        Folds {
+            scheme: format!("contiguous {k}-fold"),
+            of_sample,
+            count: k,
+            sequence: order.to_vec(),
+        }
+    }
+
+    /// The training mask of fold `k` (every sample not in it).
+    pub fn training(&self, k: usize) -> Vec<bool> {
+        self.of_sample.iter().map(|&f| f != k).collect()
+    }
+}
+
+/// A measurement whose model can be extended by effects.
+pub trait Problem {
+    /// An effect of the library.
+    type Effect: Copy + Eq + std::fmt::Debug;
+    /// A fitted model.
+    type Fit: Clone;
+
+    /// The effect's stable identifier (for progress messages).
+    fn id(&self, effect: Self::Effect) -> &'static str;
+    /// The number of samples.
+    fn n_samples(&self) -> usize;
+    /// The cross-validation split.
+    fn folds(&self) -> &Folds;
+    /// Fits the base model plus `effects` on the samples where `train` is true (every free
+    /// parameter, linear or searched, from those samples only).
+    fn fit(&self, effects: &[Self::Effect], train: &[bool]) -> Self::Fit;
+    /// Measured − predicted for every sample (in the problem's unit).
+    fn residuals(&self, fit: &Self::Fit) -> Vec<Real>;
+    /// The effects to score next: every effect the data can test that is not yet in the model
+    /// (a report must not hide a candidate), each with the evidence from the residual
+    /// diagnostics that points to it, in the order worth trying.
+    fn proposals(&self, effects: &[Self::Effect], fit: &Self::Fit) -> Vec<(Self::Effect, String)>;
+}
+
+/// How well a set of effects predicts the data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Score {
+    /// RMS residual of the fit to all samples.
+    pub rms: Real,
+    /// RMS of the held-out residuals over all folds.
+    pub cv_rms: Real,
+    /// Mean squared held-out residual of each fold.
+    pub fold_mse: Vec<Real>,
+    /// Every sample's held-out residual (measured − predicted by the fit that did not see it).
+    pub held_out: Vec<Real>,
+}
+
+/// Scores `effects` on `problem`: the fit to all data and the held-out residuals. The fits
+/// (all data, then each fold's training set) run in parallel; their results are gathered in
+/// fold order, so the score does not depend on the thread count.
+pub fn score<P: Problem + Sync>(problem: &P, effects: &[P::Effect]) -> (Score, P::Fit)
+where
+    P::Effect: Sync,
+    P::Fit: Send,
+{
+    use rayon::prelude::*;
+    let n = problem.n_samples();
+    let folds = problem.folds();
+    let mut fits: Vec<P::Fit> = (0..=folds.count)
+        .into_par_iter()
+        .map(|k| {
+            let train = if k == 0 {
+                vec![true; n]
+            } else {
+                folds.training(k - 1)
+            };
+            problem.fit(effects, &train)
+        })
+        .collect();
+    let full = fits.remove(0);
+    let rms = rms(&problem.residuals(&full));
+    let mut sum = vec![0.0; folds.count];
+    let mut count = vec![0usize; folds.count];
+    let mut held_out = vec![0.0; n];
+    for (k, fit) in fits.iter().enumerate() {
+        let residuals = problem.residuals(fit);
+        for (i, r) in residuals.iter().enumerate() {
+            if folds.of_sample[i] == k {
+                sum[k] += r * r;
+                count[k] += 1;
+                held_out[i] = *r;
+            }
+        }
+    }
+    let total: Real = sum.iter().sum();
+    let cv_rms = (total / n.max(1) as Real).sqrt();
+    let fold_mse = sum
+        .iter()
+        .zip(&count)
+        .map(|(s, &c)| if c > 0 { s / c as Real } else { 0.0 })
+        .collect();
+    (
+        Score {
+            rms,
+            cv_rms,
+            fold_mse,
+            held_out,
+        },
+        full,
+    )
+}
+
+/// Root mean square.
+pub fn rms(values: &[Real]) -> Real {
+    if values.is_empty() {
+        return 0.0;
+    }
+    (values.iter().map(|v| v * v).sum::<Real>() / values.len() as Real).sqrt()
+}
+
+/// The evidence of a candidate no residual diagnostic points to: it is scored all the same.
+pub const NO_DIAGNOSTIC: &str = "no residual diagnostic points to it; scored all the same";
+
+/// The smallest held-out gain accepted, relative to the current held-out RMS.
+pub const MIN_RELATIVE_GAIN: Real = 0.05;
+/// The family-wise false-acceptance probability of one round (all its candidates together).
+pub const ROUND_ALPHA: Real = 0.025;

@@ -1,0 +1,122 @@
+//! JSON pieces shared by the discovery reports.
+
+use super::*;
+
+/// The rejected candidates as JSON: `effect` (from `id`), `cv_rms_um`, and their test
+/// (`gain_z`, `rest_z`, `z_needed`).
+pub fn rejected_json<E: Copy>(
+    rejected: &[Rejected<E>],
+    id: impl Fn(E) -> String,
+) -> Vec<serde_json::Value> {
+    rejected
+        .iter()
+        .map(|r| {
+            let mut object = serde_json::Map::new();
+            object.insert("effect".into(), id(r.effect).into());
+            object.insert(
+                "cv_rms_um".into(),
+                round_json(r.cv_rms / crate::math::M_PER_UM),
+            );
+            test_keys(&mut object, &r.test);
+            serde_json::Value::Object(object)
+        })
+        .collect()
+}
+
+/// A test's keys in a JSON object: `gain_z`, `z_needed`, `rest_z`.
+pub(super) fn test_keys(object: &mut serde_json::Map<String, serde_json::Value>, test: &Test) {
+    object.insert("gain_z".into(), round_json(test.z));
+    object.insert("z_needed".into(), round_json(test.threshold));
+    object.insert("rest_z".into(), round_json(test.rest_z));
+}
+
+/// An accepted step's test for people: `z 12.3, without the best fold 8.1, ≥ 2.58`.
+pub(crate) fn test_text(test: &Test) -> String {
+    format!(
+        "z {:.1}, without the best fold {:.1}, ≥ {:.2}",
+        test.z, test.rest_z, test.threshold
+    )
+}
+
+/// The rejected candidates for people, one per line: held-out RMS and why it failed.
+pub(crate) fn rejected_text<E: Copy>(
+    rejected: &[Rejected<E>],
+    id: impl Fn(E) -> String,
+    decimals: usize,
+) -> String {
+    let mut out = String::new();
+    if rejected.is_empty() {
+        return out;
+    }
+    out.push_str("\nTested and rejected (held-out RMS; held-out gain; its z, and without the fold that contributes most, against the z needed):\n");
+    for r in rejected {
+        out.push_str(&format!(
+            "  {:<20} {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}\n",
+            id(r.effect),
+            crate::math::fixed(r.cv_rms / crate::math::M_PER_UM, decimals),
+            100.0 * r.test.gain,
+            r.test.z,
+            r.test.rest_z,
+            r.test.threshold,
+        ));
+    }
+    out
+}
+
+/// Rounds a reported number to 4 decimals (0.1 nm in µm), without −0.
+pub fn round_json(value: Real) -> serde_json::Value {
+    serde_json::json!(
+        crate::math::fixed(value, 4)
+            .parse::<Real>()
+            .unwrap_or(value)
+    )
+}
+
+/// Each fold's held-out RMS in µm (from its mean square, rounded by [`round_json`]): the JSON's
+/// `fold_cv_rms_um`, so a user sees which folds a gain comes from.
+pub fn folds_json(score: &Score) -> serde_json::Value {
+    serde_json::Value::Array(
+        score
+            .fold_mse
+            .iter()
+            .map(|m| round_json(m.sqrt() / crate::math::M_PER_UM))
+            .collect(),
+    )
+}
+
+/// Each fold's held-out RMS for people: `folds: 0.412 0.398 … µm` to `decimals`.
+pub(crate) fn folds_text(score: &Score, decimals: usize) -> String {
+    let values: Vec<String> = score
+        .fold_mse
+        .iter()
+        .map(|m| crate::math::fixed(m.sqrt() / crate::math::M_PER_UM, decimals))
+        .collect();
+    format!("folds: {} µm", values.join(" "))
+}
+
+/// An effect's parameters for people: `key = value, …` to 3 decimals (the JSON gives 4).
+pub(crate) fn params_text(params: &std::collections::BTreeMap<&'static str, Real>) -> String {
+    params
+        .iter()
+        .map(|(k, v)| format!("{k} = {v:.3}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The heading of the final model's values in a report for people: they are the refit on all
+/// data with every accepted effect, the values of `--json`'s `final`, which differ from each
+/// step's values at acceptance.
+pub(crate) const FINAL_VALUES: &str =
+    "  values refit with every accepted effect (the --json `final`):";
+
+/// An effect's parameters as a JSON object, rounded by [`round_json`].
+pub(crate) fn params_json(
+    params: &std::collections::BTreeMap<&'static str, Real>,
+) -> serde_json::Value {
+    serde_json::Value::Object(
+        params
+            .iter()
+            .map(|(k, v)| (k.to_string(), round_json(*v)))
+            .collect(),
+    )
+}

@@ -1,0 +1,433 @@
+use super::*;
+
+#[test]
+fn contiguous_folds_are_blocks_in_time_order() {
+    // Samples taken in the order 2, 0, 1, 3, 4, 5 into 3 folds of 2.
+    let folds = Folds::contiguous(&[2, 0, 1, 3, 4, 5], 3);
+    assert_eq!(folds.of_sample, vec![0, 1, 0, 1, 2, 2]);
+    assert_eq!(
+        folds.training(1),
+        vec![true, false, true, false, true, true]
+    );
+}
+
+#[test]
+fn normal_quantile_matches_the_tables() {
+    // Standard normal tables: 0.975 → 1.959964, 0.995 → 2.575829, 0.9975 → 2.807034,
+    // 0.999 → 3.090232, 0.025 → −1.959964.
+    for (p, z) in [
+        (0.975, 1.959964),
+        (0.995, 2.575829),
+        (0.9975, 2.807034),
+        (0.999, 3.090232),
+        (0.025, -1.959964),
+        (0.5, 0.0),
+    ] {
+        assert!((normal_quantile(p) - z).abs() < 2e-6, "{p}");
+    }
+}
+
+/// Two folds of three readings: the gain, z and rest gain by hand.
+#[test]
+fn the_test_matches_a_hand_computation() {
+    let folds = Folds::new("two".into(), vec![0, 0, 0, 1, 1, 1], 2);
+    let score = |held_out: Vec<Real>| {
+        let n = held_out.len() as Real;
+        Score {
+            rms: 0.0,
+            cv_rms: (held_out.iter().map(|r| r * r).sum::<Real>() / n).sqrt(),
+            fold_mse: vec![],
+            held_out,
+        }
+    };
+    let current = score(vec![2.0, -1.0, 3.0, 1.0, 2.0, -2.0]);
+    let candidate = score(vec![1.0, 1.0, -1.0, 1.0, 1.0, 1.0]);
+    let test = Test::new(&current, &candidate, &folds, 1);
+    // Fold 0: r1 = (1, 1, −1), σ² = 1, lag-one (1 − 1)/3 = 0: ρ = 0, δ = (1, −2, 4),
+    // δᵀδ = 21. Fold 1: r1 = (1, 1, 1), σ² = 1, ρ = 2/3, δ = (0, 1, −3):
+    // Σδ² + 2ρ(δ1δ2 + δ2δ3) + 2ρ²δ1δ3 = 10 − 4 = 6. Gains: 14 − 3 = 11 and 9 − 3 = 6.
+    let rho: Real = 2.0 / 3.0;
+    let second = 10.0 + 2.0 * rho * (0.0 - 3.0);
+    // Weights Σδ²/(2√(δᵀRδ)) with Σδ² = 21 and 10, σ² = 1 in both folds.
+    let (d0, d1) = (2.0 * 21.0_f64.sqrt(), 2.0 * second.sqrt());
+    let (z0, z1) = (11.0 / d0, 6.0 / d1);
+    let (w0, w1) = (21.0 / d0, 10.0 / d1);
+    let z = (w0 * z0 + w1 * z1) / (w0 * w0 + w1 * w1).sqrt();
+    assert!((test.z - z).abs() < 1e-12, "{} {z}", test.z);
+    // Without the fold that contributes most, the other alone (its own z).
+    let rest = if w0 * z0 >= w1 * z1 { z1 } else { z0 };
+    assert!((test.rest_z - rest).abs() < 1e-12);
+    assert!((test.gain - (1.0 - 1.0 / (23.0_f64 / 6.0).sqrt())).abs() < 1e-12);
+    assert!((test.threshold - 1.959964).abs() < 2e-6);
+}
+
+/// The derivation's claim: when the candidate's term is not in the data (δ fixed by the
+/// training folds, the held-out residual noise independent of it), z exceeds Φ⁻¹(0.975)
+/// at most 2.5 % of the time — for white noise, and for first-order correlated noise
+/// (ρ = 0.8) that a white-noise standard error would under-state. 4000 draws of 5 folds of
+/// 30 readings; the binomial standard deviation of a 2.5 % rate is 0.25 %.
+#[test]
+fn on_noise_z_rarely_passes_even_with_correlated_residuals() {
+    use crate::math::{seeded_rng, standard_normal};
+    let folds = Folds::new("five".into(), (0..150).map(|i| i / 30).collect(), 5);
+    for rho in [0.0, 0.8] {
+        let mut rng = seeded_rng(7, "engine null");
+        let mut passes = 0;
+        let draws = 4000;
+        for _ in 0..draws {
+            // A smooth spurious prediction change per fold and correlated noise.
+            let slope = 0.05 * standard_normal(&mut rng);
+            let mut noise = 0.0;
+            let (mut r0, mut r1) = (Vec::new(), Vec::new());
+            for i in 0..150 {
+                let fresh = standard_normal(&mut rng);
+                noise = if i % 30 == 0 {
+                    fresh
+                } else {
+                    rho * noise + (1.0 - rho * rho).sqrt() * fresh
+                };
+                let delta = slope * ((i % 30) as Real - 14.5) / 15.0;
+                r0.push(noise);
+                r1.push(noise - delta);
+            }
+            let score = |held_out: Vec<Real>| Score {
+                rms: 0.0,
+                cv_rms: 1.0,
+                fold_mse: vec![],
+                held_out,
+            };
+            if Test::new(&score(r0), &score(r1), &folds, 1).z >= normal_quantile(0.975) {
+                passes += 1;
+            }
+        }
+        let rate = passes as Real / draws as Real;
+        println!("ρ = {rho}: z ≥ 1.96 in {:.2} %", 100.0 * rate);
+        assert!(rate <= 0.025 + 3.0 * 0.0025, "ρ = {rho}: {rate}");
+    }
+}
+
+/// A linear problem with known truth: every effect is one column (a smooth shape of the
+/// sample index), the base model an intercept, five contiguous folds of 40 samples.
+struct Linear {
+    names: Vec<&'static str>,
+    columns: Vec<Vec<Real>>,
+    y: Vec<Real>,
+    folds: Folds,
+}
+
+const SAMPLES: usize = 200;
+
+/// A smooth shape over the samples: `sin(2π·cycles·t + phase)`, t in [0, 1).
+fn shape(cycles: Real, phase: Real) -> Vec<Real> {
+    (0..SAMPLES)
+        .map(|i| (std::f64::consts::TAU * cycles * i as Real / SAMPLES as Real + phase).sin())
+        .collect()
+}
+
+impl Linear {
+    /// The effects `names` with their `columns`, and data `truth` plus noise of `sigma`.
+    fn new(
+        names: &[&'static str],
+        columns: Vec<Vec<Real>>,
+        truth: &[Real],
+        sigma: Real,
+        seed: u64,
+    ) -> Linear {
+        use crate::math::{seeded_rng, standard_normal};
+        let mut rng = seeded_rng(seed, "linear problem");
+        let y = truth
+            .iter()
+            .map(|t| t + sigma * standard_normal(&mut rng))
+            .collect();
+        Linear {
+            names: names.to_vec(),
+            columns,
+            y,
+            folds: Folds::new(
+                "contiguous".into(),
+                (0..SAMPLES).map(|i| i / 40).collect(),
+                5,
+            ),
+        }
+    }
+}
+
+impl Problem for Linear {
+    type Effect = usize;
+    type Fit = Vec<Real>;
+
+    fn id(&self, effect: usize) -> &'static str {
+        self.names[effect]
+    }
+
+    fn n_samples(&self) -> usize {
+        SAMPLES
+    }
+
+    fn folds(&self) -> &Folds {
+        &self.folds
+    }
+
+    fn fit(&self, effects: &[usize], train: &[bool]) -> Vec<Real> {
+        let rows: Vec<usize> = (0..SAMPLES).filter(|&i| train[i]).collect();
+        let mut design = crate::discovery::least_squares::Design::new(rows.len());
+        design.push(vec![1.0; rows.len()]);
+        for &e in effects {
+            design.push(rows.iter().map(|&i| self.columns[e][i]).collect());
+        }
+        let c = design.solve(&rows.iter().map(|&i| self.y[i]).collect::<Vec<_>>());
+        (0..SAMPLES)
+            .map(|i| {
+                let predicted: Real = c[0]
+                    + effects
+                        .iter()
+                        .zip(&c[1..])
+                        .map(|(&e, k)| self.columns[e][i] * k)
+                        .sum::<Real>();
+                self.y[i] - predicted
+            })
+            .collect()
+    }
+
+    fn residuals(&self, fit: &Vec<Real>) -> Vec<Real> {
+        fit.clone()
+    }
+
+    fn proposals(&self, effects: &[usize], _fit: &Vec<Real>) -> Vec<(usize, String)> {
+        (0..self.names.len())
+            .filter(|e| !effects.contains(e))
+            .map(|e| (e, NO_DIAGNOSTIC.to_string()))
+            .collect()
+    }
+}
+
+fn sorted(mut effects: Vec<usize>) -> Vec<usize> {
+    effects.sort();
+    effects
+}
+
+/// The moves of a selection, without their numbers.
+fn actions(selection: &Selection<usize, Vec<Real>>) -> Vec<Action<usize>> {
+    selection.moves.iter().map(|m| m.action.clone()).collect()
+}
+
+/// The data are a + b. The library also has m = a + b + 0.3·d (d not in the library),
+/// which alone explains most of it: forward selection takes m first, then no single
+/// effect passes and the pair a, b enters, and it stops with m still in (three terms for
+/// two). The stepwise search scores the pair a, b in the first round beside m: each of a
+/// and b passes added to the other, and the pair predicts the held-out data better than
+/// m, so it enters instead, and m never does.
+#[test]
+fn a_first_term_that_mimics_two_true_ones_gives_way_to_them() {
+    let (a, b, d) = (shape(1.3, 0.2), shape(2.1, 1.1), shape(0.6, 2.0));
+    let m: Vec<Real> = (0..SAMPLES).map(|i| a[i] + b[i] + 0.3 * d[i]).collect();
+    let truth: Vec<Real> = (0..SAMPLES).map(|i| a[i] + b[i]).collect();
+    let names = ["m", "a", "b", "j1", "j2"];
+    let columns = vec![m, a, b, shape(3.7, 0.4), shape(5.3, 2.9)];
+    for seed in 1..=5 {
+        let problem = Linear::new(&names, columns.clone(), &truth, 0.05, seed);
+        let forward = forward_selection(&problem, |_| {});
+        assert_eq!(
+            actions(&forward),
+            [Action::Add(vec![0]), Action::Add(vec![2, 1])],
+            "seed {seed}"
+        );
+        let stepwise = stepwise_selection(&problem, |_| {});
+        assert_eq!(actions(&stepwise), [Action::Add(vec![2, 1])], "seed {seed}");
+        assert_eq!(stepwise.steps[0].together, vec![1]);
+        // The final model explains the data to the noise, and the steps are its prefixes.
+        let last = stepwise.last().0.cv_rms;
+        assert!(last < 1.2 * 0.05, "seed {seed}: held-out RMS {last}");
+        assert!(last < forward.last().0.cv_rms, "seed {seed}");
+        assert_eq!(stepwise.steps[0].score, score(&problem, &[2]).0);
+    }
+}
+
+/// The data are 3·c + a + b, with m = a + b + 0.3·d as above. The first round takes c
+/// with m (each passes added to the other; a, b and c together are not among the blocks
+/// scored, which extend the best pair). Then no single effect passes and the pair a, b
+/// enters; m now explains nothing the others do not, and the search removes it, ending on
+/// the true set with the path saying so. Forward selection keeps m.
+#[test]
+fn a_term_that_others_explain_is_removed() {
+    let (a, b, c, d) = (
+        shape(1.3, 0.2),
+        shape(2.1, 1.1),
+        shape(0.8, 0.5),
+        shape(0.6, 2.0),
+    );
+    let m: Vec<Real> = (0..SAMPLES).map(|i| a[i] + b[i] + 0.3 * d[i]).collect();
+    let truth: Vec<Real> = (0..SAMPLES).map(|i| 3.0 * c[i] + a[i] + b[i]).collect();
+    let names = ["m", "a", "b", "c", "j1", "j2"];
+    let columns = vec![m, a, b, c, shape(3.7, 0.4), shape(5.3, 2.9)];
+    for seed in 1..=5 {
+        let problem = Linear::new(&names, columns.clone(), &truth, 0.05, seed);
+        let forward = forward_selection(&problem, |_| {});
+        assert!(
+            forward.effects().contains(&0),
+            "seed {seed}: {:?}",
+            forward.moves
+        );
+        let stepwise = stepwise_selection(&problem, |_| {});
+        assert!(stepwise.backed_out());
+        assert!(
+            actions(&stepwise).contains(&Action::Remove(0)),
+            "seed {seed}"
+        );
+        assert_eq!(sorted(stepwise.effects()), vec![1, 2, 3], "seed {seed}");
+        assert!(stepwise.last().0.cv_rms < 1.2 * 0.05, "seed {seed}");
+        // The steps are the final model's prefixes, in the order its effects entered.
+        let effects = stepwise.effects();
+        for (k, step) in stepwise.steps.iter().enumerate() {
+            assert_eq!(step.score, score(&problem, &effects[..=k]).0);
+        }
+    }
+}
+
+/// Two effects with the same column on the data (x and x2): the final model takes one, and
+/// the exchange for the other is reported as an alternative with the same held-out RMS.
+#[test]
+fn exactly_collinear_effects_are_alternatives() {
+    let (x, c) = (shape(1.0, 0.3), shape(2.6, 1.7));
+    let truth: Vec<Real> = (0..SAMPLES).map(|i| 2.0 * x[i] + 1.5 * c[i]).collect();
+    let names = ["x", "x2", "c", "j1", "j2"];
+    let columns = vec![x.clone(), x, c, shape(3.7, 0.4), shape(5.3, 2.9)];
+    for seed in 1..=5 {
+        let problem = Linear::new(&names, columns.clone(), &truth, 0.05, seed);
+        let selection = stepwise_selection(&problem, |_| {});
+        let effects = sorted(selection.effects());
+        assert!(
+            effects == vec![0, 2] || effects == vec![1, 2],
+            "seed {seed}: {effects:?}"
+        );
+        let kept = if effects[0] == 0 { 0 } else { 1 };
+        let alternative = selection
+            .alternatives
+            .iter()
+            .find(|a| a.removed == kept)
+            .unwrap_or_else(|| panic!("seed {seed}: {:?}", selection.alternatives));
+        assert_eq!(alternative.added, 1 - kept);
+        assert!((alternative.cv_rms - selection.last().0.cv_rms).abs() < 1e-12);
+        assert!(!alternative.test.passes());
+        // c has no stand-in: exchanging it loses what it explains.
+        assert!(
+            selection.alternatives.iter().all(|a| a.removed != 2),
+            "{:?}",
+            selection.alternatives
+        );
+    }
+}
+
+/// Problems where many sets of effects can explain the data: seven effects, each a sparse
+/// mixture of five smooth shapes (the weights drawn once, rounded), the data e0 + e1 +
+/// 0.7·e2 and noise of 0.3, eight noise draws; and twelve random problems of eight effects.
+fn tangled_problems() -> Vec<Linear> {
+    use crate::math::{seeded_rng, standard_normal};
+    let base = [
+        shape(0.883, 1.224),
+        shape(1.880, -0.323),
+        shape(2.489, -0.188),
+        shape(3.525, -0.058),
+        shape(4.174, -0.904),
+    ];
+    let weights: [[Real; 5]; 7] = [
+        [1.41, 0.0, 0.0, 0.0, 0.0],
+        [0.0, -1.35, -0.83, 0.0, 0.0],
+        [0.0, -1.40, 0.0, 0.84, 1.08],
+        [1.75, -1.09, 0.0, 1.17, 0.0],
+        [-1.18, 0.0, 0.0, 2.49, -2.0],
+        [0.0, 0.0, 0.0, -0.92, -1.51],
+        [-0.98, 0.0, 0.0, 0.0, -0.96],
+    ];
+    let mixed: Vec<Vec<Real>> = weights
+        .iter()
+        .map(|w| {
+            (0..SAMPLES)
+                .map(|i| (0..5).map(|k| w[k] * base[k][i]).sum())
+                .collect()
+        })
+        .collect();
+    let truth: Vec<Real> = (0..SAMPLES)
+        .map(|i| mixed[0][i] + mixed[1][i] + 0.7 * mixed[2][i])
+        .collect();
+    let names = ["e0", "e1", "e2", "e3", "e4", "e5", "e6", "e7"];
+    let mut problems: Vec<Linear> = (1..=8)
+        .map(|seed| Linear::new(&names[..7], mixed.clone(), &truth, 0.3, seed))
+        .collect();
+    for seed in 1..=12 {
+        let mut rng = seeded_rng(seed, "random problem");
+        let mut draw = || standard_normal(&mut rng);
+        let columns: Vec<Vec<Real>> = (0..8)
+            .map(|_| {
+                let (a, b, c) = (draw(), draw(), draw());
+                let (f, g) = (shape(1.0 + 3.0 * a.abs(), b), shape(0.5 + 2.0 * c.abs(), a));
+                (0..SAMPLES).map(|i| f[i] + 0.5 * c * g[i]).collect()
+            })
+            .collect();
+        let weights = [draw(), draw(), draw()];
+        let truth: Vec<Real> = (0..SAMPLES)
+            .map(|i| (0..3).map(|k| weights[k] * columns[k][i]).sum())
+            .collect();
+        problems.push(Linear::new(&names, columns, &truth, 0.1, seed));
+    }
+    problems
+}
+
+/// On [`tangled_problems`] every move keeps the search's invariants — an addition or swap
+/// lowers the held-out RMS by at least 5 %, a removal takes an effect worth less than that,
+/// no model is visited twice — and the moves lead to the final model; the steps are its
+/// prefixes; the result is the same on one thread as on several. The problems make the
+/// search back out: removals and swaps (one effect for two) both happen among them.
+#[test]
+fn every_move_keeps_the_invariants_and_threads_do_not_change_the_result() {
+    let (mut removals, mut swaps) = (0, 0);
+    for (seed, problem) in tangled_problems().into_iter().enumerate() {
+        let selection = stepwise_selection(&problem, |_| {});
+        let mut model: Vec<usize> = Vec::new();
+        let mut visited = vec![model.clone()];
+        for m in &selection.moves {
+            match &m.action {
+                Action::Remove(e) => {
+                    assert!(m.test.gain < MIN_RELATIVE_GAIN, "{m:?}");
+                    model.retain(|x| x != e);
+                    removals += 1;
+                }
+                Action::Add(added) => {
+                    assert!(
+                        m.cv_rms <= (1.0 - MIN_RELATIVE_GAIN) * m.cv_rms_before,
+                        "{m:?}"
+                    );
+                    model.extend(added);
+                }
+                Action::Swap { removed, added } => {
+                    swaps += 1;
+                    assert!(
+                        m.cv_rms <= (1.0 - MIN_RELATIVE_GAIN) * m.cv_rms_before,
+                        "{m:?}"
+                    );
+                    model.retain(|x| x != removed);
+                    model.extend(added);
+                }
+            }
+            let set = sorted(model.clone());
+            assert!(!visited.contains(&set), "seed {seed}: back to {set:?}");
+            visited.push(set);
+        }
+        assert_eq!(sorted(model), sorted(selection.effects()));
+        let effects = selection.effects();
+        for (k, step) in selection.steps.iter().enumerate() {
+            assert_eq!(step.score, score(&problem, &effects[..=k]).0);
+        }
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let again = one.install(|| stepwise_selection(&problem, |_| {}));
+        assert_eq!(again.effects(), effects);
+        assert_eq!(again.moves, selection.moves);
+        assert_eq!(again.alternatives, selection.alternatives);
+        assert_eq!(again.last().0, selection.last().0);
+    }
+    println!("{removals} removals, {swaps} swaps");
+    assert!(removals > 0 && swaps > 0);
+}
