@@ -184,6 +184,19 @@ pub fn golden_minimum(
     if fa <= fb { (a, fa) } else { (b, fb) }
 }
 
+/// One step of a first-order lag with time constant `tau` (s) following a signal that goes
+/// linearly from `from` to `to` over `dt` seconds (exact first-order hold): with
+/// `r = (to − from)/dt`, the lagged value `lagged` becomes `to − τr + (lagged − from + τr)·e^(−dt/τ)`.
+/// With `tau` or `dt` zero the lag catches up at once.
+pub fn first_order_lag(lagged: Real, from: Real, to: Real, dt: Real, tau: Real) -> Real {
+    if tau > 0.0 && dt > 0.0 {
+        let ramp = tau * (to - from) / dt;
+        to - ramp + (lagged - from + ramp) * (-dt / tau).exp()
+    } else {
+        to
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,7 @@
 //! A whole scenario: the machine, its errors and every test kind's sections, loaded and checked
 //! together (see [`crate::scenario`] for the file format and the shared sections).
 
+use crate::errors::TemperatureRecord;
 use crate::kinds::ballbar::{self, BallbarTest};
 use crate::kinds::drift::{self, EtveTest, SpindleThermalTest};
 use crate::kinds::positioning::{self, LaserTest};
@@ -17,7 +18,7 @@ use crate::scenario::thermal::{RawThermal, thermal_setup};
 use crate::scenario::{
     Context, ErrorSpec, Lesson, SCHEMA_VERSION, ScenarioError, ScenarioErrorKind, ThermalSetup,
 };
-use crate::thermal::{TemperatureRecord, ThermalErrors};
+use crate::thermal::ThermalErrors;
 use crate::twin::Twin;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -446,7 +447,7 @@ fn temperature_record(
         return Ok(None);
     };
     let record_path = path.parent().unwrap_or(Path::new("")).join(file.get_ref());
-    TemperatureRecord::read(&record_path)
+    crate::scenario::read_temperature_record(&record_path)
         .map(|record| Some(Arc::new(record)))
         .map_err(|e| {
             context.error(

@@ -22,9 +22,9 @@
 //! the network for a new programme is not wired yet.
 
 use super::{Action, Binding, ErrorModelError, ParameterName};
+use crate::errors::TemperatureRecord;
 use crate::machine::{Machine, MachineState};
 use crate::math::Real;
-use crate::thermal::TemperatureRecord;
 use std::sync::Arc;
 
 /// What drives a [`ContextTerm`].

@@ -62,11 +62,13 @@ mod context;
 mod dynamics;
 mod function;
 mod lu2012;
+mod record;
 
 pub use context::{ContextTerm, Driver, ParameterContext};
 pub use dynamics::{Dynamics, Frequency, ParameterDynamics, RandomMotion, Sinusoid};
 pub use function::{ErrorFunction, Interpolation, Table, TableError};
 pub use lu2012::{Lu2012Error, lu2012_deviation};
+pub use record::TemperatureRecord;
 
 use crate::machine::{Axis, Direction, Machine, MachineState, Side, Workspace};
 use crate::math::{Pose, Real, Vector, rigid_inverse, small_motion};
@@ -603,7 +605,7 @@ impl ErrorModel {
         mut self,
         machine: &Machine,
         context: Vec<ParameterContext>,
-        record: Option<std::sync::Arc<crate::thermal::TemperatureRecord>>,
+        record: Option<std::sync::Arc<TemperatureRecord>>,
     ) -> Result<ErrorModel, ErrorModelError> {
         self.assert_bound_to(machine);
         self.context = context::ContextErrors::new(machine, context, record)?;
@@ -616,7 +618,7 @@ impl ErrorModel {
     }
 
     /// The measured temperature record the model's temperature terms read, if any.
-    pub fn temperature_record(&self) -> Option<&std::sync::Arc<crate::thermal::TemperatureRecord>> {
+    pub fn temperature_record(&self) -> Option<&std::sync::Arc<TemperatureRecord>> {
         self.context.record()
     }
 

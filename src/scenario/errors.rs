@@ -3,13 +3,13 @@
 
 use super::inputs::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec, context_terms};
 use super::{Context, ScenarioError, ScenarioErrorKind};
+use crate::errors::TemperatureRecord;
 use crate::errors::{
     Dynamics, ErrorFunction, ErrorModel, ErrorModelError, ErrorParameter, Frequency, Interpolation,
     ParameterContext, ParameterDynamics, ParameterName, RandomMotion, Sinusoid, Table, TableError,
 };
 use crate::machine::{Axis, Machine, axis_unit_to_si};
 use crate::math::{RAD_PER_URAD, Real};
-use crate::thermal::TemperatureRecord;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;

@@ -26,10 +26,10 @@
 
 use super::ScenarioErrorKind;
 use super::errors::ErrorSpec;
+use crate::errors::TemperatureRecord;
 use crate::errors::{ContextTerm, Driver, ParameterName};
 use crate::machine::Axis;
 use crate::math::{RAD_PER_URAD, Real};
-use crate::thermal::TemperatureRecord;
 use serde::{Deserialize, Serialize};
 use toml::Spanned;
 

@@ -45,12 +45,14 @@ pub mod errors;
 pub mod inputs;
 pub mod lesson;
 pub mod parked;
+pub mod record;
 pub mod thermal;
 
 pub use checker::Checker;
 pub use errors::{ErrorSpec, HarmonicSpec, InterpolationSpec, TableSpec, function_of, spec_of};
 pub use inputs::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec};
 pub use lesson::Lesson;
+pub use record::{parse_temperature_record, read_temperature_record};
 pub use thermal::ThermalSetup;
 
 /// The scenario schema this version reads.

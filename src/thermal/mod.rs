@@ -4,11 +4,10 @@
 mod errors;
 mod machine;
 mod network;
-mod record;
 mod sensor;
 
+pub use crate::math::first_order_lag;
 pub use errors::{ThermalErrors, ThermalTerm, ThermalTermError};
 pub use machine::{Ambient, HeatDriver, HeatSource, MachineThermal, ScrewSpec};
 pub use network::{ThermalNetwork, ThermalNetworkError, ThermalNode, ThermalStepper};
-pub use record::TemperatureRecord;
-pub use sensor::{SensorSpec, TemperatureSensor, first_order_lag};
+pub use sensor::{SensorSpec, TemperatureSensor};

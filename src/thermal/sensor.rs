@@ -3,7 +3,7 @@
 //! node between readings ([`TemperatureSensor::follow`]); noise is drawn only when a reading is
 //! taken ([`TemperatureSensor::read`]), so the stream does not depend on the step length.
 
-use crate::math::{Real, standard_normal};
+use crate::math::{Real, first_order_lag, standard_normal};
 use rand_chacha::ChaCha8Rng;
 
 /// A temperature sensor's characteristics.
@@ -86,18 +86,5 @@ impl TemperatureSensor {
     /// The spec.
     pub fn spec(&self) -> &SensorSpec {
         &self.spec
-    }
-}
-
-/// One step of a first-order lag with time constant `tau` (s) following a signal that goes
-/// linearly from `from` to `to` over `dt` seconds (exact first-order hold): with
-/// `r = (to − from)/dt`, the lagged value `lagged` becomes `to − τr + (lagged − from + τr)·e^(−dt/τ)`.
-/// With `tau` or `dt` zero the lag catches up at once.
-pub fn first_order_lag(lagged: Real, from: Real, to: Real, dt: Real, tau: Real) -> Real {
-    if tau > 0.0 && dt > 0.0 {
-        let ramp = tau * (to - from) / dt;
-        to - ramp + (lagged - from + ramp) * (-dt / tau).exp()
-    } else {
-        to
     }
 }
