@@ -24,7 +24,7 @@ pub(crate) use report::{
 };
 pub use report::{folds_json, rejected_json, round_json};
 pub use selection::{Accepted, Action, Alternative, Move, Rejected, ResidualStep, Selection};
-pub use stepwise::{LARGEST_BLOCK, STEPWISE_RULE, stepwise_selection};
+pub use stepwise::{LARGEST_BLOCK, LEAN_STEPWISE_RULE, STEPWISE_RULE, Search, stepwise_selection};
 pub use test::{RULE, Test, normal_quantile};
 
 use crate::math::Real;

@@ -79,8 +79,9 @@ pub struct Move<E> {
     pub test: Test,
 }
 
-/// A model the held-out data cannot rule out beside the final one: one effect of the final
-/// model exchanged for another candidate (see [`stepwise_selection`]).
+/// A model that comes close to the final one: one effect of the final model exchanged for
+/// another candidate, with a held-out RMS less than [`MIN_RELATIVE_GAIN`] above the final
+/// model's (see [`stepwise_selection`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Alternative<E> {
     /// The final model's effect that is exchanged.
@@ -89,8 +90,9 @@ pub struct Alternative<E> {
     pub added: E,
     /// The exchanged model's held-out RMS.
     pub cv_rms: Real,
-    /// The final model tested against the exchanged one at one test's threshold (C = 1): it
-    /// does not pass, so the data do not show the final model is the better of the two.
+    /// The final model tested against the exchanged one at one test's threshold (C = 1): its
+    /// gain is below [`MIN_RELATIVE_GAIN`], so the data do not show the final model is the
+    /// better of the two by a margin worth a term.
     pub test: Test,
 }
 
@@ -318,11 +320,11 @@ impl<E: Copy, F> Selection<E, F> {
             return String::new();
         }
         if self.alternatives.is_empty() {
-            return "\nNo alternative: exchanging any effect of the final model for another candidate either does nothing or gives a model the final one beats by the held-out rule.\n".into();
+            return "\nNo alternative: exchanging any effect of the final model for another candidate either does nothing or raises the held-out RMS by 5 % or more.\n".into();
         }
         let last = self.last().0.cv_rms;
         let mut out = String::from(
-            "\nAlternatives the held-out data cannot rule out (one effect of the final model exchanged for another candidate; the final model does not beat them by the rule at one test's threshold — two causes this file cannot separate):\n",
+            "\nAlternatives that come close (one effect of the final model exchanged for another candidate, within 5 % of the final model's held-out RMS — two causes this file cannot separate):\n",
         );
         for a in &self.alternatives {
             out.push_str(&format!(

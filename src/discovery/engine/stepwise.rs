@@ -22,7 +22,64 @@ pub const STEPWISE_RULE: &str = "a search by held-out RMS in moves, each judged 
      the model for one candidate or two (each of two lowering the held-out RMS by 5 %): the exchange with the lowest \
      held-out RMS among those that pass against the model (C the exchanges). Never back to a model already visited; \
      stop when nothing moves. Alternatives: the exchanges of one effect of the final model for one candidate that \
-     the final model does not beat by (1)-(3) with C = 1";
+     come close: the final model's held-out RMS is less than 5 % below theirs";
+
+/// The lean search in words: [`Search::LEAN`] (blocks only when no single passes, one-for-one
+/// swaps), for reports.
+pub const LEAN_STEPWISE_RULE: &str = "a search by held-out RMS in moves, each judged by one test: a candidate passes when \
+     it (1) lowers the pooled held-out RMS by at least 5 %, (2) has held-out gains sum(r0^2 - r1^2) whose per-fold z \
+     (the gain over its standard error under noise with the fold's variance and lag-one correlation, from the \
+     candidate's held-out residuals), combined by Stouffer with each fold weighted by the z it would have if the \
+     candidate were true, reach the normal quantile of 1 - 0.025/C for the C candidates of its kind (Bonferroni), and \
+     (3) still reaches it without the fold that contributes most. ADD the best passing single effect (C the singles), \
+     or, when none passes, the best pair that passes (C the pairs) with each effect lowering the pair's held-out RMS \
+     by 5 %. REMOVE, after every addition or swap, while the model without one of its effects has a held-out RMS \
+     less than 5 % higher (the effect is no longer worth a term), the effect whose removal leaves the lowest. SWAP, \
+     when nothing can be added, one effect of the model for one candidate: the exchange with the lowest held-out RMS \
+     among those that pass against the model (C the exchanges). Never back to a model already visited; stop when \
+     nothing moves. Alternatives: the exchanges of one effect of the final model for one candidate that come close: \
+     the final model's held-out RMS is less than 5 % below theirs";
+
+/// How widely a [`stepwise_selection`] looks in each round.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Search {
+    /// The most effects one addition brings in together (2 or 3; 1: no blocks).
+    pub largest_block: usize,
+    /// Whether blocks are scored in every round, so that a block explaining what the best
+    /// single only mimics can enter instead of it; otherwise only when no single passes (as
+    /// [`forward_selection`] tries pairs).
+    pub blocks_every_round: bool,
+    /// Whether a swap may bring in two candidates for one effect (else one for one).
+    pub swap_pairs: bool,
+}
+
+impl Search {
+    /// Every move [`stepwise_selection`] documents: blocks of up to [`LARGEST_BLOCK`] in every
+    /// round, swaps of one effect for one or two ([`STEPWISE_RULE`]).
+    pub const FULL: Search = Search {
+        largest_block: LARGEST_BLOCK,
+        blocks_every_round: true,
+        swap_pairs: true,
+    };
+    /// Forward selection's additions (a pair only when no single passes) with removals and
+    /// one-for-one swaps ([`LEAN_STEPWISE_RULE`]): for problems whose fits are costly and
+    /// whose library is large (the ball-bar's 14 effects make 91 pairs a round). On a table
+    /// with nothing in it, it scores what [`forward_selection`] scores.
+    pub const LEAN: Search = Search {
+        largest_block: 2,
+        blocks_every_round: false,
+        swap_pairs: false,
+    };
+
+    /// The search in words, for reports.
+    pub fn rule(&self) -> &'static str {
+        if *self == Search::LEAN {
+            LEAN_STEPWISE_RULE
+        } else {
+            STEPWISE_RULE
+        }
+    }
+}
 
 /// Stepwise selection: forward steps by the held-out rule ([`Test`]), with blocks, removals
 /// and exchanges, so that a term taken early that mimics a combination of others can leave.
@@ -69,14 +126,16 @@ pub const STEPWISE_RULE: &str = "a search by held-out RMS in moves, each judged 
 /// The returned [`Selection`] has the final model's effects as `steps` (each a prefix scored
 /// again), the path as `moves`, the last round's single candidates as `rejected`, and as
 /// `alternatives` the exchanges of one final effect for one candidate (scored in the last
-/// swap round) that the final model does not beat by the rule at one test's threshold
-/// (C = 1), in which the incoming effect does something (the exchanged model has a lower
+/// swap round) that come close — the final model's held-out RMS is less than
+/// [`MIN_RELATIVE_GAIN`] below theirs, so by the rule's condition (1) it does not beat them
+/// — and in which the incoming effect does something (the exchanged model has a lower
 /// held-out RMS than the final model without the outgoing effect): two causes the file cannot
 /// separate. Every scored model is kept (score and fit) and found again by its effects, so no
 /// model is fitted twice; models are scored in parallel and gathered in order, so the result
 /// does not depend on the thread count. `progress` hears about each model scored.
 pub fn stepwise_selection<P: Problem + Sync>(
     problem: &P,
+    search: Search,
     mut progress: impl FnMut(&str),
 ) -> Selection<P::Effect, P::Fit>
 where
@@ -120,16 +179,22 @@ where
         });
         // A block competes with the best single: when a single passes, each of the block's
         // effects must pass as a single added to the rest of the block.
-        let block = best_block(
-            &mut book,
-            &effects,
-            &current,
-            &proposals,
-            &ranked,
-            &single_at,
-            best_single.map(|_| proposals.len()),
-            progress,
-        );
+        let block =
+            if search.largest_block >= 2 && (search.blocks_every_round || best_single.is_none()) {
+                best_block(
+                    &mut book,
+                    &effects,
+                    &current,
+                    &proposals,
+                    &ranked,
+                    &single_at,
+                    best_single.map(|_| proposals.len()),
+                    search.largest_block,
+                    progress,
+                )
+            } else {
+                None
+            };
         let single = best_single.map(|i| (vec![i], single_at[i], single_tests[i], proposals.len()));
         // A block wins over a passing single only when its extra effects are worth their
         // terms: its held-out RMS at least MIN_RELATIVE_GAIN below the single's.
@@ -178,7 +243,7 @@ where
         // combination of two others gives way to them).
         let n = proposals.len();
         let mut exchanges: Vec<(usize, Vec<usize>, Vec<P::Effect>)> = Vec::new();
-        for size in 1..=2 {
+        for size in 1..=if search.swap_pairs { 2 } else { 1 } {
             for j in 0..model.len() {
                 let incoming: Vec<Vec<usize>> = if size == 1 {
                     ranked.iter().map(|&i| vec![i]).collect()
@@ -253,7 +318,7 @@ where
             remove_idle(&mut book, &mut model, &mut moves, progress);
             continue;
         }
-        // The final model: the one-for-one exchanges it does not beat, whose incoming effect
+        // The final model: the one-for-one exchanges that come close, whose incoming effect
         // does something.
         let mut alternatives: Vec<Alternative<P::Effect>> = Vec::new();
         for (k, (j, added, _)) in exchanges.iter().enumerate() {
@@ -265,7 +330,7 @@ where
             let without = book.at(&without, progress);
             let exchanged = book.score(at[k]);
             let test = Test::new(exchanged, &current, folds, 1);
-            if !test.passes() && exchanged.cv_rms < book.score(without).cv_rms {
+            if test.gain < MIN_RELATIVE_GAIN && exchanged.cv_rms < book.score(without).cv_rms {
                 alternatives.push(Alternative {
                     removed: effects[*j],
                     added: proposals[added[0]].0,
@@ -303,6 +368,7 @@ fn best_block<P: Problem + Sync>(
     ranked: &[usize],
     single_at: &[usize],
     singles: Option<usize>,
+    largest: usize,
     progress: &mut dyn FnMut(&str),
 ) -> Option<(Vec<usize>, usize, Test, usize)>
 where
@@ -329,7 +395,7 @@ where
     // The best-scoring pair with each other proposal.
     let rank_of = |i: usize| ranked.iter().position(|&r| r == i).unwrap_or(0);
     let mut triples: Vec<Vec<usize>> = Vec::new();
-    if LARGEST_BLOCK >= 3
+    if largest >= 3
         && let Some(best) = (0..pairs.len()).min_by(|&a, &b| {
             book.score(pair_at[a])
                 .cv_rms

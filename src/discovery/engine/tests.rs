@@ -232,7 +232,7 @@ fn a_first_term_that_mimics_two_true_ones_gives_way_to_them() {
             [Action::Add(vec![0]), Action::Add(vec![2, 1])],
             "seed {seed}"
         );
-        let stepwise = stepwise_selection(&problem, |_| {});
+        let stepwise = stepwise_selection(&problem, Search::FULL, |_| {});
         assert_eq!(actions(&stepwise), [Action::Add(vec![2, 1])], "seed {seed}");
         assert_eq!(stepwise.steps[0].together, vec![1]);
         // The final model explains the data to the noise, and the steps are its prefixes.
@@ -268,7 +268,7 @@ fn a_term_that_others_explain_is_removed() {
             "seed {seed}: {:?}",
             forward.moves
         );
-        let stepwise = stepwise_selection(&problem, |_| {});
+        let stepwise = stepwise_selection(&problem, Search::FULL, |_| {});
         assert!(stepwise.backed_out());
         assert!(
             actions(&stepwise).contains(&Action::Remove(0)),
@@ -294,7 +294,7 @@ fn exactly_collinear_effects_are_alternatives() {
     let columns = vec![x.clone(), x, c, shape(3.7, 0.4), shape(5.3, 2.9)];
     for seed in 1..=5 {
         let problem = Linear::new(&names, columns.clone(), &truth, 0.05, seed);
-        let selection = stepwise_selection(&problem, |_| {});
+        let selection = stepwise_selection(&problem, Search::FULL, |_| {});
         let effects = sorted(selection.effects());
         assert!(
             effects == vec![0, 2] || effects == vec![1, 2],
@@ -382,7 +382,7 @@ fn tangled_problems() -> Vec<Linear> {
 fn every_move_keeps_the_invariants_and_threads_do_not_change_the_result() {
     let (mut removals, mut swaps) = (0, 0);
     for (seed, problem) in tangled_problems().into_iter().enumerate() {
-        let selection = stepwise_selection(&problem, |_| {});
+        let selection = stepwise_selection(&problem, Search::FULL, |_| {});
         let mut model: Vec<usize> = Vec::new();
         let mut visited = vec![model.clone()];
         for m in &selection.moves {
@@ -422,7 +422,7 @@ fn every_move_keeps_the_invariants_and_threads_do_not_change_the_result() {
             .num_threads(1)
             .build()
             .unwrap();
-        let again = one.install(|| stepwise_selection(&problem, |_| {}));
+        let again = one.install(|| stepwise_selection(&problem, Search::FULL, |_| {}));
         assert_eq!(again.effects(), effects);
         assert_eq!(again.moves, selection.moves);
         assert_eq!(again.alternatives, selection.alternatives);

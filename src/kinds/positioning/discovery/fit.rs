@@ -158,6 +158,11 @@ impl PositioningProblem {
     pub(super) fn fit_with(&self, effects: &[PositioningEffect], train: &[bool]) -> PositioningFit {
         let reference = self.reference(train);
         let mut searched = Searched::default();
+        let shortest_heating = if effects.contains(&PositioningEffect::SecondHeatSource) {
+            self.shortest_heating_tau(train)
+        } else {
+            0.0
+        };
         let nonlinear: Vec<PositioningEffect> =
             effects.iter().copied().filter(|e| e.searched()).collect();
         let passes = if nonlinear.len() > 1 { 2 } else { 1 };
@@ -171,7 +176,7 @@ impl PositioningProblem {
                 let sse_with = |trial: Searched| self.solve(&active, train, &reference, &trial).2;
                 match effect {
                     PositioningEffect::ThermalLag => {
-                        searched.lag_tau = Some(self.search_tau(|tau| {
+                        searched.lag_tau = Some(self.search_tau(0.0, |tau| {
                             sse_with(Searched {
                                 lag_tau: Some(tau),
                                 ..searched
@@ -179,7 +184,7 @@ impl PositioningProblem {
                         }));
                     }
                     PositioningEffect::SecondHeatSource => {
-                        searched.heat_tau = Some(self.search_tau(|tau| {
+                        searched.heat_tau = Some(self.search_tau(shortest_heating, |tau| {
                             sse_with(Searched {
                                 heat_tau: Some(tau),
                                 ..searched

@@ -138,14 +138,14 @@ pub struct PositioningDiscovery {
 
 /// Runs discovery on a positioning table by the engine's stepwise search
 /// ([`engine::stepwise_selection`]: forward steps, blocks of up to three effects when no single
-/// one passes, removal of an effect that no longer helps, exchanges, and the alternatives the
-/// data cannot rule out); `progress` hears which model is being tested.
+/// one passes, removal of an effect that no longer helps, exchanges, and the alternatives that
+/// come close); `progress` hears which model is being tested.
 pub fn discover_positioning(
     table: &PositioningTable,
     options: PositioningOptions,
     progress: impl FnMut(&str),
 ) -> Result<PositioningDiscovery, DiscoveryError> {
     let problem = PositioningProblem::new(table, options)?;
-    let selection = engine::stepwise_selection(&problem, progress);
+    let selection = engine::stepwise_selection(&problem, engine::Search::FULL, progress);
     Ok(PositioningDiscovery { problem, selection })
 }

@@ -20,10 +20,31 @@ impl PositioningProblem {
         (time[last] - time[first]).max(60.0)
     }
 
-    /// Searches a time constant (s) on a log grid from 1 min to twice the file's span, then
-    /// refines by golden section between the best point's neighbours.
-    pub(super) fn search_tau(&self, sse: impl Fn(Real) -> Real) -> Real {
-        let (low, high) = (60.0_f64.ln(), (2.0 * self.time_span()).max(120.0).ln());
+    /// The shortest heating time constant (s) the training readings `train` can tell from a
+    /// step: a third of the time from the file's first reading to the first training reading.
+    /// Shorter, the response `1 − e^(−(t − t₀)/τ)` changes by less than e^(−3) = 5 % over the
+    /// training readings: a constant the profile already holds, whose coefficient (against the
+    /// profile's) the fit cannot bound, and which it would extrapolate to a held-out cold
+    /// first run by metres (1 µm of noise over a 10⁻⁵ difference of columns).
+    pub(super) fn shortest_heating_tau(&self, train: &[bool]) -> Real {
+        let time = self
+            .time
+            .as_ref()
+            .expect("only searched with a time column");
+        let start = time[self.order[0]];
+        let first_trained = self
+            .order
+            .iter()
+            .find(|&&i| train[i])
+            .map_or(start, |&i| time[i]);
+        (first_trained - start) / 3.0
+    }
+
+    /// Searches a time constant (s) on a log grid from `shortest` (at least 1 min) to twice the
+    /// file's span, then refines by golden section between the best point's neighbours.
+    pub(super) fn search_tau(&self, shortest: Real, sse: impl Fn(Real) -> Real) -> Real {
+        let high = (2.0 * self.time_span()).max(120.0);
+        let (low, high) = (shortest.clamp(60.0, 0.5 * high).ln(), high.ln());
         let grid: Vec<Real> = (0..TAU_GRID)
             .map(|k| low + (high - low) * k as Real / (TAU_GRID - 1) as Real)
             .collect();
