@@ -39,7 +39,8 @@ struct ExtendsOnly {
 /// How many scenarios deep `extends` may go.
 const MAX_EXTENDS_DEPTH: usize = 8;
 
-/// A scenario that extends another: only its errors (and description) differ.
+/// A scenario that extends another: its errors, measured inputs, servo (over the base's ball-bar
+/// test) and description differ.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawExtension {
@@ -52,6 +53,8 @@ struct RawExtension {
     #[serde(default)]
     errors: BTreeMap<Spanned<String>, Spanned<ErrorSpec>>,
     inputs: Option<Spanned<RawInputs>>,
+    /// Servo keys over the base's (its ball-bar test's servo).
+    servo: Option<Spanned<ballbar::scenario::RawServo>>,
 }
 
 #[derive(Deserialize)]
@@ -413,6 +416,17 @@ impl Scenario {
         error_specs.extend(specs);
         let mut thermal = base.thermal;
         network_errors(&base.twin.machine, raw.inputs.as_ref(), &mut thermal);
+        let mut ballbar_test = base.ballbar_test;
+        if let Some(servo) = &raw.servo {
+            let Some(test) = ballbar_test.as_mut() else {
+                return Err(context.error(
+                    Some(servo.span()),
+                    ScenarioErrorKind::Nothing,
+                    "servo: the scenario this one extends has no [ballbar] test to use it",
+                ));
+            };
+            test.servo = ballbar::scenario::servo_over(context, servo, test.servo.clone())?;
+        }
         Ok(Scenario {
             file: path.to_path_buf(),
             // The base's content is part of what this file means.
@@ -431,6 +445,7 @@ impl Scenario {
             },
             error_specs,
             thermal,
+            ballbar_test,
             ..base
         })
     }

@@ -5,6 +5,7 @@
 use super::discovery::discover_ballbar;
 use super::iso230_4::{self, CircularTest};
 use super::table::BallbarTable;
+use crate::app::Scenario;
 use crate::kinds::{Kind, Verb};
 use crate::machine::Plane;
 use crate::math::{M_PER_MM, Real, trimmed};
@@ -94,10 +95,15 @@ struct CircleArgs {
 struct DiscoverArgs {
     #[command(flatten)]
     circle: CircleArgs,
-    /// Refused: ball-bar diagnostics (servo, lost motion, spikes) are not all error-model
-    /// terms, so there is no model to write.
-    #[arg(long, value_name = "FILE.toml", hide = true)]
+    /// Write the extended model as a scenario fragment (TOML) that `mtwin run` accepts:
+    /// squareness, scale mismatch and lost motion as `[errors]`, play, spikes and the servo
+    /// mismatch as `[servo]`; what has no scenario term as comments with its values.
+    #[arg(long, value_name = "FILE.toml")]
     write_model: Option<PathBuf>,
+    /// The scenario the written model extends (with `--write-model`): the fragment then runs
+    /// as a scenario, and the servo mismatch is written relative to this scenario's servo.
+    #[arg(long, value_name = "SCENARIO.toml", requires = "write_model")]
+    extends: Option<PathBuf>,
 }
 
 impl CircleArgs {
@@ -216,19 +222,41 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
     let DiscoverArgs {
         circle: args,
         write_model,
+        extends,
     } = DiscoverArgs::from_arg_matches(matches)?;
-    if write_model.is_some() {
-        bail!(
-            "--write-model is for positioning tables: ball-bar diagnostics (servo, lost motion, spikes) are not all error-model terms"
-        );
+    if let Some(path) = &write_model {
+        crate::io::check_folder_of(path)?;
     }
+    // The base scenario is checked before the (long) discovery runs.
+    let base = extends
+        .as_ref()
+        .map(|base| -> Result<_> {
+            let scenario = Scenario::load(base)?;
+            let servo = scenario.ballbar_test.as_ref().map(|t| t.servo.clone());
+            Ok((base, servo))
+        })
+        .transpose()?;
     let table = BallbarTable::read(&args.file)?;
     let test = args.test(&table)?;
     let discovery = discover_ballbar(&table, &test, |what| progress(what))
         .with_context(|| format!("{}", args.file.display()))?;
+    if let Some(path) = &write_model {
+        let relative = match &base {
+            Some((base, _)) => Some(crate::io::relative_path(base, path)?),
+            None => None,
+        };
+        let source = crate::io::relative_path(&args.file, path)?;
+        let servo = base.as_ref().and_then(|(_, servo)| servo.as_ref());
+        let fragment = discovery.to_scenario_fragment(&source, relative.as_deref(), servo);
+        crate::io::write_atomically(path, fragment.as_bytes())?;
+    }
     Ok(if args.json {
         format!("{}\n", serde_json::to_string_pretty(&discovery.to_json())?)
     } else {
-        discovery.to_text()
+        let mut text = discovery.to_text();
+        if let Some(path) = &write_model {
+            text += &format!("\nExtended model written to {}\n", path.display());
+        }
+        text
     })
 }

@@ -550,6 +550,12 @@ fn params(
         }
         BallbarEffect::BacklashP | BallbarEffect::BacklashQ => {
             params.insert("backlash_um", um(c[0]));
+            // Lost motion as play (the carriage stands still while the motor crosses the
+            // gap) rather than a step at the reversal: the gap the fit took up.
+            let axis = usize::from(effect == BallbarEffect::BacklashQ);
+            if fit.shape.play[axis] > 0.0 {
+                params.insert("play_um", um(fit.shape.play[axis]));
+            }
         }
         BallbarEffect::LateralPlayP | BallbarEffect::LateralPlayQ => {
             params.insert("lateral_play_um", um(c[0]));
@@ -591,6 +597,11 @@ fn params(
 impl BallbarDiscovery {
     fn plane(&self) -> Plane {
         self.problem.data.test.plane
+    }
+
+    /// The test conditions of the table.
+    pub fn test(&self) -> &CircularTest {
+        &self.problem.data.test
     }
 
     /// The model after the first `k` accepted effects, by name.

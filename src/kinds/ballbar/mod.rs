@@ -17,6 +17,7 @@
 
 pub mod cli;
 pub mod discovery;
+mod fragment;
 pub mod instrument;
 pub mod iso230_4;
 pub mod program;

@@ -384,8 +384,19 @@ fn servo_spec(
     context: &Context<'_>,
     raw: Option<&Spanned<RawServo>>,
 ) -> Result<Servo, ScenarioError> {
-    let mut servo = Servo::default();
-    let Some(raw) = raw else { return Ok(servo) };
+    match raw {
+        Some(raw) => servo_over(context, raw, Servo::default()),
+        None => Ok(Servo::default()),
+    }
+}
+
+/// The servo `raw` states over `servo`: each key given replaces that axis's value, the others
+/// keep theirs (the defaults in a full scenario, the base's in an extension).
+pub(crate) fn servo_over(
+    context: &Context<'_>,
+    raw: &Spanned<RawServo>,
+    mut servo: Servo,
+) -> Result<Servo, ScenarioError> {
     let s = raw.get_ref();
     if let Some(period) = &s.ipo_period_ms {
         let ms = *period.get_ref();
@@ -401,7 +412,7 @@ fn servo_spec(
     for (axis, given) in [(Axis::X, &s.x), (Axis::Y, &s.y), (Axis::Z, &s.z)] {
         let Some(given) = given else { continue };
         let g = given.get_ref();
-        let d = AxisServo::DEFAULT;
+        let d = servo.axes[axis.index()];
         let play = match &g.play_um {
             None => d.play,
             Some(v) => {
