@@ -8,7 +8,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// Singular values below this fraction of the largest are treated as zero (columns are first
 /// scaled to unit norm, so this is a relative collinearity bound, well above f64 round-off).
-const RANK_TOLERANCE: Real = 1e-9;
+pub const RANK_TOLERANCE: Real = 1e-9;
 
 /// A design matrix built column by column over the rows selected for a fit.
 #[derive(Clone, Debug, Default)]
@@ -40,6 +40,13 @@ impl Design {
     /// Whether there are no columns.
     pub fn is_empty(&self) -> bool {
         self.columns.is_empty()
+    }
+
+    /// A·c, one value per row.
+    pub fn times(&self, c: &[Real]) -> Vec<Real> {
+        (0..self.rows)
+            .map(|i| self.columns.iter().zip(c).map(|(col, k)| col[i] * k).sum())
+            .collect()
     }
 
     /// The coefficients minimising ‖y − A·c‖ (minimum norm within the rank cut).

@@ -43,7 +43,7 @@ pub struct PositioningFit {
 impl PositioningProblem {
     /// Every reading's columns (profile hats, then each effect's), the known part of the
     /// prediction (nominal expansion) and the reference temperature.
-    fn columns(
+    pub(super) fn columns(
         &self,
         effects: &[PositioningEffect],
         reference: &Reference,
@@ -173,23 +173,23 @@ impl PositioningProblem {
                     .copied()
                     .filter(|&e| e == effect || searched.has(e))
                     .collect();
-                let sse_with = |trial: Searched| self.solve(&active, train, &reference, &trial).2;
+                let held = searched;
                 match effect {
                     PositioningEffect::ThermalLag => {
-                        searched.lag_tau = Some(self.search_tau(0.0, |tau| {
-                            sse_with(Searched {
+                        let sse =
+                            self.sse_profile(&active, train, &reference, move |tau| Searched {
                                 lag_tau: Some(tau),
-                                ..searched
-                            })
-                        }));
+                                ..held
+                            });
+                        searched.lag_tau = Some(self.search_tau(0.0, sse));
                     }
                     PositioningEffect::SecondHeatSource => {
-                        searched.heat_tau = Some(self.search_tau(shortest_heating, |tau| {
-                            sse_with(Searched {
+                        let sse =
+                            self.sse_profile(&active, train, &reference, move |tau| Searched {
                                 heat_tau: Some(tau),
-                                ..searched
-                            })
-                        }));
+                                ..held
+                            });
+                        searched.heat_tau = Some(self.search_tau(shortest_heating, sse));
                     }
                     _ => {
                         searched.period =

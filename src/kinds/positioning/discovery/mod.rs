@@ -30,6 +30,7 @@ mod effects;
 mod fit;
 mod fragment;
 mod problem;
+mod profile;
 mod report;
 mod search;
 
