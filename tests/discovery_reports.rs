@@ -5,20 +5,9 @@
 
 use serde_json::Value;
 use std::path::Path;
-use std::process::Command;
 
-fn mtwin(args: &[&str]) -> Vec<u8> {
-    let output = Command::new(env!("CARGO_BIN_EXE_mtwin"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "mtwin {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    output.stdout
-}
+mod common;
+use common::mtwin;
 
 /// Simulates a bundled scenario into `dir` and returns the path of `table` in it.
 fn simulate(scenario: &str, dir: &Path, table: &str) -> String {
@@ -76,16 +65,9 @@ fn positioning_text_json_and_written_model_agree() {
     let dir = tempfile::tempdir().unwrap();
     let table = simulate("vmc3_warmup_laser.toml", dir.path(), "positioning.csv");
     let model = dir.path().join("model.toml").to_string_lossy().into_owned();
-    let text = String::from_utf8(mtwin(&[
-        "discover",
-        "positioning",
-        &table,
-        "--write-model",
-        &model,
-    ]))
-    .unwrap();
+    let text = mtwin(&["discover", "positioning", &table, "--write-model", &model]);
     let json: Value =
-        serde_json::from_slice(&mtwin(&["discover", "positioning", &table, "--json"])).unwrap();
+        serde_json::from_str(&mtwin(&["discover", "positioning", &table, "--json"])).unwrap();
     assert_text_agrees_with_json(&text, &json);
     // Lost motion moves when the thermal effects enter after it: the step's value is kept,
     // labelled, and differs from the final one (4.13 against 3.96 µm here).
@@ -142,9 +124,9 @@ fn ballbar_text_and_json_agree() {
     ];
     let mut args = vec!["discover", "ballbar", table.as_str()];
     args.extend(conditions);
-    let text = String::from_utf8(mtwin(&args)).unwrap();
+    let text = mtwin(&args);
     args.push("--json");
-    let json: Value = serde_json::from_slice(&mtwin(&args)).unwrap();
+    let json: Value = serde_json::from_str(&mtwin(&args)).unwrap();
     assert_text_agrees_with_json(&text, &json);
     // The lesson injects EC0Y = −40 µrad (squareness +40 µm/m in the ball-bar's sign) and a
     // 2 µm backlash of X: the final values say so.

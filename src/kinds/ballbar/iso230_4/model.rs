@@ -391,7 +391,7 @@ pub fn diagnostic_column(
 }
 
 /// The sign function, 0 at 0.
-fn signum(x: Real) -> Real {
+pub(super) fn signum(x: Real) -> Real {
     if x > 0.0 {
         1.0
     } else if x < 0.0 {

@@ -9,7 +9,7 @@
 //! it, over [`SPIKE_DECAYS`] decays. A column at a shape is therefore its unlagged static
 //! column plus a change on the readings near the reversals.
 
-use super::model::{SPIKE_DECAYS, take_up_arc};
+use super::model::{SPIKE_DECAYS, signum, take_up_arc};
 use super::normal::{Column, Dense, Fitter, Sparse};
 use super::{BasisPoint, CircularTest, Shape, Term};
 use crate::math::Real;
@@ -269,16 +269,5 @@ impl Reversal {
     /// The arc of one spike decay, v·τ/R.
     pub(super) fn decay_arc(&self) -> Real {
         self.window / SPIKE_DECAYS
-    }
-}
-
-/// The sign function, 0 at 0.
-fn signum(x: Real) -> Real {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
     }
 }
