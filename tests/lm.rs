@@ -659,7 +659,7 @@ const NIST_NAMES: [&str; 27] = [
 
 /// The whole NIST table, printed and not asserted: `cargo test --test lm nist_table -- --ignored --nocapture`.
 #[test]
-#[ignore]
+#[ignore = "a printed table, not a check: run on purpose"]
 fn nist_table() {
     for name in NIST_NAMES {
         for start in 1..=2 {

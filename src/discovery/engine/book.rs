@@ -80,6 +80,11 @@ where
         &self.models[i].1
     }
 
+    /// Orders two scored models by held-out RMS.
+    pub(super) fn by_cv_rms(&self, a: usize, b: usize) -> std::cmp::Ordering {
+        self.score(a).cv_rms.total_cmp(&self.score(b).cv_rms)
+    }
+
     pub(super) fn fit(&self, i: usize) -> &P::Fit {
         &self.models[i].2
     }

@@ -166,17 +166,9 @@ where
             .collect();
         let best_single = (0..proposals.len())
             .filter(|&i| single_tests[i].passes() && !book.visited(&singles[i]))
-            .min_by(|&a, &b| {
-                book.score(single_at[a])
-                    .cv_rms
-                    .total_cmp(&book.score(single_at[b]).cv_rms)
-            });
+            .min_by(|&a, &b| book.by_cv_rms(single_at[a], single_at[b]));
         let mut ranked: Vec<usize> = (0..proposals.len()).collect();
-        ranked.sort_by(|&a, &b| {
-            book.score(single_at[a])
-                .cv_rms
-                .total_cmp(&book.score(single_at[b]).cv_rms)
-        });
+        ranked.sort_by(|&a, &b| book.by_cv_rms(single_at[a], single_at[b]));
         // A block competes with the best single: when a single passes, each of the block's
         // effects must pass as a single added to the rest of the block.
         let block =
@@ -210,14 +202,13 @@ where
         };
         if let Some((block, at, test, family)) = addition {
             let added: Vec<P::Effect> = block.iter().map(|&i| proposals[i].0).collect();
-            for &i in &block {
-                model.push(Member {
-                    effect: proposals[i].0,
-                    evidence: proposals[i].1.clone(),
-                    entered: moves.len(),
-                    family,
-                });
-            }
+            enter(
+                &mut model,
+                proposals.as_slice(),
+                &block,
+                moves.len(),
+                family,
+            );
             moves.push(Move {
                 action: Action::Add(added),
                 cv_rms_before: current.cv_rms,
@@ -290,22 +281,11 @@ where
         };
         let best = (0..family)
             .filter(|&k| tests[k].passes() && worth(k) && !book.visited.contains(&at[k]))
-            .min_by(|&a, &b| {
-                book.score(at[a])
-                    .cv_rms
-                    .total_cmp(&book.score(at[b]).cv_rms)
-            });
+            .min_by(|&a, &b| book.by_cv_rms(at[a], at[b]));
         if let Some(k) = best {
             let (j, added, _) = &exchanges[k];
             let removed = model.remove(*j).effect;
-            for &i in added {
-                model.push(Member {
-                    effect: proposals[i].0,
-                    evidence: proposals[i].1.clone(),
-                    entered: moves.len(),
-                    family,
-                });
-            }
+            enter(&mut model, proposals.as_slice(), added, moves.len(), family);
             moves.push(Move {
                 action: Action::Swap {
                     removed,
@@ -353,6 +333,25 @@ where
     }
 }
 
+/// Brings `proposals[i]` for each `i` of `chosen` into the model, as entered by move `entered`
+/// among `family` candidates.
+fn enter<E: Copy>(
+    model: &mut Vec<Member<E>>,
+    proposals: &[(E, String)],
+    chosen: &[usize],
+    entered: usize,
+    family: usize,
+) {
+    for &i in chosen {
+        model.push(Member {
+            effect: proposals[i].0,
+            evidence: proposals[i].1.clone(),
+            entered,
+            family,
+        });
+    }
+}
+
 /// The admissible block of proposals with the lowest held-out RMS (indices into `proposals`,
 /// in the order of `ranked`): its book entry, test and family size (see
 /// [`stepwise_selection`]). With `singles` (the round's number of single candidates, when one
@@ -396,11 +395,7 @@ where
     let rank_of = |i: usize| ranked.iter().position(|&r| r == i).unwrap_or(0);
     let mut triples: Vec<Vec<usize>> = Vec::new();
     if largest >= 3
-        && let Some(best) = (0..pairs.len()).min_by(|&a, &b| {
-            book.score(pair_at[a])
-                .cv_rms
-                .total_cmp(&book.score(pair_at[b]).cv_rms)
-        })
+        && let Some(best) = (0..pairs.len()).min_by(|&a, &b| book.by_cv_rms(pair_at[a], pair_at[b]))
     {
         for &other in ranked.iter().filter(|i| !pairs[best].contains(i)) {
             let mut triple = [pairs[best].clone(), vec![other]].concat();
@@ -485,11 +480,7 @@ fn remove_idle<P: Problem + Sync>(
             .collect();
         let Some(j) = (0..effects.len())
             .filter(|&j| tests[j].gain < MIN_RELATIVE_GAIN && !book.visited.contains(&at[j]))
-            .min_by(|&a, &b| {
-                book.score(at[a])
-                    .cv_rms
-                    .total_cmp(&book.score(at[b]).cv_rms)
-            })
+            .min_by(|&a, &b| book.by_cv_rms(at[a], at[b]))
         else {
             return;
         };
