@@ -53,6 +53,36 @@ enum Command {
         #[arg(long, value_name = "FILE.rrd")]
         rrd: Option<PathBuf>,
     },
+    /// Make a dataset: --count cases drawn from the priors of the scenario's [dataset]
+    /// section, each run like `mtwin run`, written as Parquet into --out (a `cases` table with
+    /// every drawn value, one table per measurement, manifest.json and a README.md dataset
+    /// card). Case K depends on the seed and K alone. Shards are written whole (temporary
+    /// names, then renamed) and recorded in _shards/; rerunning the same command skips
+    /// complete shards and redoes the others. With --shard I/N only shard I is made (one
+    /// process per shard on a cluster: the last to finish writes manifest.json).
+    Dataset {
+        /// The scenario (TOML) with a [dataset] section.
+        scenario: PathBuf,
+        /// Number of cases (default: [dataset] count).
+        #[arg(long, value_name = "N")]
+        count: Option<u64>,
+        /// The dataset folder (created if needed), or with --case the run folder.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Shard layout (default: [dataset] shards, else one shard per 10 000 cases).
+        #[arg(long, value_name = "N")]
+        shards: Option<u64>,
+        /// Make only shard I of N (0-based).
+        #[arg(long, value_name = "I/N", conflicts_with = "shards")]
+        shard: Option<String>,
+        /// Worker threads (default: all cores). The files do not depend on it.
+        #[arg(long, value_name = "T")]
+        threads: Option<usize>,
+        /// Write case K alone as a run folder, as `mtwin run` would (its tables, truth.json,
+        /// manifest.json) with case.json (its seed, split and drawn values).
+        #[arg(long, value_name = "K", conflicts_with_all = ["shard", "shards", "count", "threads"])]
+        case: Option<u64>,
+    },
     /// Validate a scenario (.toml) or a machine model (.urdf) without running it.
     Check {
         /// The file.
@@ -319,6 +349,23 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             Ok(())
         }
         Command::Check { file } => check(&file),
+        Command::Dataset {
+            scenario,
+            count,
+            out,
+            shards,
+            shard,
+            threads,
+            case,
+        } => dataset(
+            &scenario,
+            count,
+            &out,
+            shards,
+            shard.as_deref(),
+            threads,
+            case,
+        ),
         Command::Identify {
             machine,
             params,
@@ -552,6 +599,10 @@ fn check(file: &Path) -> Result<()> {
             for line in scenario.describe() {
                 say!("  {line}");
             }
+            if mtwin::app::dataset::declared(file) {
+                let dataset = mtwin::app::dataset::Dataset::load(file)?;
+                say!("  {}", dataset.describe());
+            }
         }
         _ => bail!(
             "{}: expected a scenario (.toml) or a machine model (.urdf)",
@@ -579,4 +630,112 @@ fn describe(machine: &Machine) {
         };
         say!("  {}  {side:<9}  {travel}", info.axis);
     }
+}
+
+/// `mtwin dataset`.
+fn dataset(
+    scenario: &Path,
+    count: Option<u64>,
+    out: &Path,
+    shards: Option<u64>,
+    shard: Option<&str>,
+    threads: Option<usize>,
+    case: Option<u64>,
+) -> Result<()> {
+    use mtwin::app::dataset::{Dataset, Options, Progress, generate};
+    let dataset = Dataset::load(scenario)?;
+    if let Some(id) = case {
+        let case = dataset.case(id);
+        let scenario = dataset.scenario_of(&case)?;
+        let mut output = simulate(&scenario)?.output(&scenario);
+        let values: serde_json::Map<String, serde_json::Value> = (dataset.section.priors.iter())
+            .zip(&case.values)
+            .map(|(prior, value)| (prior.path.column(), serde_json::json!(value)))
+            .collect();
+        let record = serde_json::json!({
+            "case_id": case.id,
+            "case_seed": case.seed,
+            "split": case.split(),
+            "values": values,
+        });
+        let mut bytes = serde_json::to_vec_pretty(&record)?;
+        bytes.push(b'\n');
+        output
+            .files
+            .insert(output.files.len() - 1, ("case.json".into(), bytes));
+        write_outputs(&output, out)?;
+        for (name, bytes) in &output.files {
+            say!("{}  ({} bytes)", out.join(name).display(), bytes.len());
+        }
+        say!("case {id} (seed {}, {})", case.seed, case.split());
+        return Ok(());
+    }
+    let Some(count) = count.or(dataset.section.count) else {
+        bail!("how many cases? give --count N (or `count` in the scenario's [dataset] section)");
+    };
+    let (shards, only) = match shard {
+        Some(text) => {
+            let parsed = text
+                .split_once('/')
+                .and_then(|(i, n)| Some((i.parse::<u64>().ok()?, n.parse::<u64>().ok()?)));
+            let Some((i, n)) = parsed else {
+                bail!("--shard {text}: expected I/N, as in --shard 3/16");
+            };
+            (n, Some(i))
+        }
+        None => (
+            shards.unwrap_or_else(|| dataset.default_shards(count)),
+            None,
+        ),
+    };
+    let options = Options {
+        count,
+        shards,
+        only,
+        threads,
+        out: out.to_path_buf(),
+    };
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} cases, {per_sec}, {eta} left",
+        )
+        .expect("a valid template"),
+    );
+    let started = std::time::Instant::now();
+    let summary = generate(&dataset, &options, &|progress| match progress {
+        Progress::Total(total) => bar.set_length(total),
+        Progress::Made(made) => bar.inc(made),
+    });
+    bar.finish_and_clear();
+    let summary = summary?;
+    let seconds = started.elapsed().as_secs_f64();
+    if !summary.skipped.is_empty() {
+        say!(
+            "{} shard(s) already complete, skipped",
+            summary.skipped.len()
+        );
+    }
+    if summary.cases > 0 {
+        say!(
+            "{} cases, {} measurement rows in {:.1} s ({:.0} cases/s)",
+            summary.cases,
+            summary.readings,
+            seconds,
+            summary.cases as f64 / seconds
+        );
+    }
+    if summary.complete {
+        say!(
+            "{}: complete ({count} cases in {shards} shards)",
+            out.join("manifest.json").display()
+        );
+    } else {
+        say!(
+            "{}: shard(s) {:?} of {shards} written; manifest.json follows when every shard is",
+            out.display(),
+            summary.made
+        );
+    }
+    Ok(())
 }

@@ -1,7 +1,8 @@
 //! The application layer, above every test kind: a whole [`Scenario`] assembled from the
 //! shared sections and the kinds' own, running it ([`simulate`]: programme → twin →
-//! instruments → tables and truth) and the files of a run ([`RunOutput`]); with the `viz`
-//! feature, the teaching recording of a run (`record`).
+//! instruments → tables and truth) and the files of a run ([`RunOutput`]); datasets of many
+//! such runs drawn from priors ([`dataset`]); with the `viz` feature, the teaching recording of
+//! a run (`record`).
 //!
 //! ```
 //! use mtwin::app::{Scenario, run_scenario};
@@ -11,6 +12,7 @@
 //! assert_eq!(names, ["positioning.csv", "truth.json", "manifest.json"]);
 //! ```
 
+pub mod dataset;
 pub mod identify;
 #[cfg(feature = "viz")]
 pub mod record;

@@ -172,6 +172,57 @@ impl Simulation {
     /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv`,
     /// `drift.csv`, `rtest.csv`, `probe.csv`, `spheres.csv`, `spindle.csv` (as the scenario asks), `truth.json` and `manifest.json`.
     pub fn output(&self, scenario: &Scenario) -> RunOutput {
+        let mut files = self.tables(scenario);
+        let records = (self.laser.as_ref())
+            .and_then(|run| run.thermal.as_ref())
+            .or(self.etve.as_ref().map(|run| &run.records))
+            .or(self.spindle_thermal.as_ref().map(|run| &run.records));
+        let thermal_truth = records.and_then(|r| Some(scenario.thermal.as_ref()?.states(r)));
+        let mut truth = truth(scenario);
+        if let (Some(test), Some(run)) = (&scenario.etve_test, &self.etve) {
+            truth["etve_test"] = drift::run::truth(test, run);
+        }
+        if let (Some(test), Some(run)) = (&scenario.spindle_thermal_test, &self.spindle_thermal) {
+            truth["spindle_thermal_test"] = drift::spindle_test::truth(test, run);
+        }
+        if let Some(test) = &scenario.rtest {
+            truth["rtest"] = rtest::run::truth(test);
+        }
+        if let Some(test) = &scenario.probe_test {
+            truth["probe_test"] = probe::run::truth(test);
+        }
+        if let Some(test) = &scenario.spindle_test {
+            truth["spindle_test"] = spindle::run::truth(&scenario.twin, test);
+        }
+        if let Some(states) = thermal_truth {
+            truth["thermal_states"] = states;
+        }
+        round_numbers(&mut truth);
+        files.push(("truth.json".into(), to_json_bytes(&truth)));
+
+        let listed: Vec<Value> = files
+        .iter()
+        .map(|(name, bytes)| json!({ "name": name, "bytes": bytes.len(), "sha256": sha256_hex(bytes) }))
+        .collect();
+        let manifest = json!({
+            "mtwin_version": env!("CARGO_PKG_VERSION"),
+            "scenario": { "file": file_name(&scenario.file), "sha256": scenario.sha256 },
+            "machine": {
+                "name": scenario.twin.machine.name(),
+                "file": file_name(&scenario.machine_file),
+                "sha256": scenario.machine_sha256,
+            },
+            "seed": scenario.seed,
+            "volumetric_model": scenario.volumetric.as_ref().map(|v| v.model.name()),
+            "files": listed,
+        });
+        files.push(("manifest.json".into(), to_json_bytes(&manifest)));
+        RunOutput { files }
+    }
+
+    /// The measurement tables alone (`output`'s files before `truth.json`), as `(file name,
+    /// bytes)`: what a dataset keeps of a case.
+    pub fn tables(&self, scenario: &Scenario) -> Vec<(String, Vec<u8>)> {
         let mut files: Vec<(String, Vec<u8>)> = Vec::new();
         if let Some(map) = &self.volumetric {
             let mut bytes = Vec::new();
@@ -235,51 +286,7 @@ impl Simulation {
                 spindle::table::write_csv(table).into_bytes(),
             ));
         }
-        let records = (self.laser.as_ref())
-            .and_then(|run| run.thermal.as_ref())
-            .or(self.etve.as_ref().map(|run| &run.records))
-            .or(self.spindle_thermal.as_ref().map(|run| &run.records));
-        let thermal_truth = records.and_then(|r| Some(scenario.thermal.as_ref()?.states(r)));
-        let mut truth = truth(scenario);
-        if let (Some(test), Some(run)) = (&scenario.etve_test, &self.etve) {
-            truth["etve_test"] = drift::run::truth(test, run);
-        }
-        if let (Some(test), Some(run)) = (&scenario.spindle_thermal_test, &self.spindle_thermal) {
-            truth["spindle_thermal_test"] = drift::spindle_test::truth(test, run);
-        }
-        if let Some(test) = &scenario.rtest {
-            truth["rtest"] = rtest::run::truth(test);
-        }
-        if let Some(test) = &scenario.probe_test {
-            truth["probe_test"] = probe::run::truth(test);
-        }
-        if let Some(test) = &scenario.spindle_test {
-            truth["spindle_test"] = spindle::run::truth(&scenario.twin, test);
-        }
-        if let Some(states) = thermal_truth {
-            truth["thermal_states"] = states;
-        }
-        round_numbers(&mut truth);
-        files.push(("truth.json".into(), to_json_bytes(&truth)));
-
-        let listed: Vec<Value> = files
-        .iter()
-        .map(|(name, bytes)| json!({ "name": name, "bytes": bytes.len(), "sha256": sha256_hex(bytes) }))
-        .collect();
-        let manifest = json!({
-            "mtwin_version": env!("CARGO_PKG_VERSION"),
-            "scenario": { "file": file_name(&scenario.file), "sha256": scenario.sha256 },
-            "machine": {
-                "name": scenario.twin.machine.name(),
-                "file": file_name(&scenario.machine_file),
-                "sha256": scenario.machine_sha256,
-            },
-            "seed": scenario.seed,
-            "volumetric_model": scenario.volumetric.as_ref().map(|v| v.model.name()),
-            "files": listed,
-        });
-        files.push(("manifest.json".into(), to_json_bytes(&manifest)));
-        RunOutput { files }
+        files
     }
 }
 

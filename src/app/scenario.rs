@@ -84,6 +84,9 @@ struct RawScenario {
     probe: Option<Spanned<probe::scenario::RawProbe>>,
     spindle: Option<Spanned<spindle::scenario::RawSpindle>>,
     lesson: Option<Spanned<RawLesson>>,
+    /// Read and checked by [`super::dataset`] (`mtwin dataset`); a run ignores it.
+    #[serde(rename = "dataset")]
+    _dataset: Option<toml::Value>,
 }
 
 /// A loaded and validated scenario.
@@ -142,15 +145,28 @@ impl Scenario {
 
     /// [`Scenario::load`], `depth` files down a chain of `extends`.
     fn load_at(path: &Path, depth: usize) -> Result<Scenario, ScenarioError> {
-        let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| {
-            Context::new(file.clone(), "").error(
+            Context::new(path.display().to_string(), "").error(
                 None,
                 ScenarioErrorKind::Io,
                 format!("cannot read the scenario: {e}"),
             )
         })?;
-        let context = Context::new(file, &text);
+        Scenario::from_text(path, &text, depth, None)
+    }
+
+    /// The scenario whose text is `text`, as if read from `path` (files it names are found
+    /// beside `path`). With `machine`, the machine model is that one (already read from the
+    /// file the text names, `machine_file` with hash `machine_sha256`) instead of being read
+    /// again: [`super::dataset`] builds many variants of one scenario this way.
+    pub(crate) fn from_text(
+        path: &Path,
+        text: &str,
+        depth: usize,
+        machine: Option<(&Machine, &str)>,
+    ) -> Result<Scenario, ScenarioError> {
+        let file = path.display().to_string();
+        let context = Context::new(file, text);
         let toml_error = |mut e: toml::de::Error| {
             let message = e.message().trim().to_string();
             let kind = if message.starts_with("unknown field") {
@@ -183,7 +199,7 @@ impl Scenario {
             };
             context.error(span, kind, message)
         };
-        let schema: SchemaOnly = toml::from_str(&text).map_err(toml_error)?;
+        let schema: SchemaOnly = toml::from_str(text).map_err(toml_error)?;
         match schema.schema {
             None => {
                 return Err(context.error(
@@ -204,37 +220,21 @@ impl Scenario {
             }
             Some(_) => {}
         }
-        let probe: ExtendsOnly = toml::from_str(&text).map_err(toml_error)?;
+        let probe: ExtendsOnly = toml::from_str(text).map_err(toml_error)?;
         if probe.extends.is_some() {
-            let raw: RawExtension = toml::from_str(&text).map_err(toml_error)?;
-            return Scenario::extend(path, &text, &context, raw, depth);
+            let raw: RawExtension = toml::from_str(text).map_err(toml_error)?;
+            return Scenario::extend(path, text, &context, raw, depth);
         }
-        let raw: RawScenario = toml::from_str(&text).map_err(toml_error)?;
+        let raw: RawScenario = toml::from_str(text).map_err(toml_error)?;
 
         let machine_file = path
             .parent()
             .unwrap_or(Path::new(""))
             .join(raw.machine.get_ref());
-        let machine_text = std::fs::read(&machine_file).map_err(|e| {
-            context.error(
-                Some(raw.machine.span()),
-                ScenarioErrorKind::Machine,
-                format!("machine: cannot read {}: {e}", machine_file.display()),
-            )
-        })?;
-        // Parse the very bytes that are hashed into the manifest.
-        let machine_error = |message: String| {
-            context.error(
-                Some(raw.machine.span()),
-                ScenarioErrorKind::Machine,
-                format!("machine: {message}"),
-            )
+        let (machine, machine_sha256) = match machine {
+            Some((machine, sha256)) => (machine.clone(), sha256.to_string()),
+            None => read_machine(&context, &machine_file, raw.machine.span())?,
         };
-        let machine_source = std::str::from_utf8(&machine_text).map_err(|e| {
-            machine_error(format!("{}: not UTF-8 text: {e}", machine_file.display()))
-        })?;
-        let machine = Machine::from_urdf_str(machine_source, &machine_file.display().to_string())
-            .map_err(|e| machine_error(e.to_string()))?;
 
         let record = temperature_record(&context, path, raw.inputs.as_ref())?;
         let (errors, error_specs) = error_model(
@@ -359,7 +359,7 @@ impl Scenario {
             },
             description: raw.description,
             seed: raw.seed,
-            machine_sha256: sha256_hex(&machine_text),
+            machine_sha256,
             machine_file,
             twin: Twin { machine, errors },
             error_specs,
@@ -449,6 +449,30 @@ impl Scenario {
             ..base
         })
     }
+}
+
+/// The machine model at `file` (named by the `machine` key at `span`) and the SHA-256 of its
+/// bytes.
+fn read_machine(
+    context: &Context<'_>,
+    file: &Path,
+    span: std::ops::Range<usize>,
+) -> Result<(Machine, String), ScenarioError> {
+    let machine_error = |message: String| {
+        context.error(
+            Some(span.clone()),
+            ScenarioErrorKind::Machine,
+            format!("machine: {message}"),
+        )
+    };
+    let machine_text = std::fs::read(file)
+        .map_err(|e| machine_error(format!("cannot read {}: {e}", file.display())))?;
+    // Parse the very bytes that are hashed into the manifest.
+    let source = std::str::from_utf8(&machine_text)
+        .map_err(|e| machine_error(format!("{}: not UTF-8 text: {e}", file.display())))?;
+    let machine = Machine::from_urdf_str(source, &file.display().to_string())
+        .map_err(|e| machine_error(e.to_string()))?;
+    Ok((machine, sha256_hex(&machine_text)))
 }
 
 /// The measured temperature record `[inputs] temperatures` names (relative to the scenario at

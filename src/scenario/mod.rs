@@ -74,6 +74,11 @@ impl ScenarioError {
         self.kind
     }
 
+    /// What is wrong, without the file and line.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
     /// The 1-based line the error is at, when it has one.
     pub fn line(&self) -> Option<usize> {
         self.line

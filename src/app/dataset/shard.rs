@@ -1,0 +1,549 @@
+//! Making a dataset shard by shard: each shard's files are written under `.tmp/`, renamed into
+//! place, and only then recorded in `_shards/` — a shard with a record is complete. A rerun
+//! skips the shards whose record and files agree and redoes the others; the process that
+//! records the last shard writes `manifest.json` and the dataset card.
+
+use super::table::{Block, ParquetTable, TableSchema};
+use super::{Case, Dataset, SCHEMA_VERSION, card};
+use crate::app::{RunError, simulate};
+use rayon::prelude::*;
+use serde_json::{Value, json};
+use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// Why a dataset could not be made.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DatasetError {
+    /// A case's scenario is not valid (a drawn value outside what the scenario accepts).
+    #[error("case {id}: {message} (bound the prior that drew it)")]
+    Case {
+        /// The case.
+        id: u64,
+        /// The scenario's message.
+        message: String,
+    },
+    /// A case could not be simulated.
+    #[error("case {id}: {source}")]
+    Run {
+        /// The case.
+        id: u64,
+        /// Why.
+        source: RunError,
+    },
+    /// A case's table does not fit the dataset's schema.
+    #[error("case {id}: {table}: {message}")]
+    Table {
+        /// The case.
+        id: u64,
+        /// The table.
+        table: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The options do not make a layout.
+    #[error("{0}")]
+    Options(String),
+    /// The output folder holds another dataset.
+    #[error("{dir}: {message}")]
+    Layout {
+        /// The folder.
+        dir: String,
+        /// What is there.
+        message: String,
+    },
+    /// A file could not be read or written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+}
+
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> DatasetError + '_ {
+    move |e| DatasetError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+fn parquet_error(path: &Path) -> impl Fn(parquet::errors::ParquetError) -> DatasetError + '_ {
+    move |e| DatasetError::Io {
+        path: path.display().to_string(),
+        message: format!("cannot write Parquet: {e}"),
+    }
+}
+
+/// What to make.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Number of cases.
+    pub count: u64,
+    /// Shard layout.
+    pub shards: u64,
+    /// Only this shard (else every shard).
+    pub only: Option<u64>,
+    /// Worker threads (else all cores).
+    pub threads: Option<usize>,
+    /// The dataset folder.
+    pub out: PathBuf,
+}
+
+/// What a call did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// Shards made now.
+    pub made: Vec<u64>,
+    /// Shards found complete and skipped.
+    pub skipped: Vec<u64>,
+    /// Cases made now.
+    pub cases: u64,
+    /// Rows written now, over every measurement table.
+    pub readings: u64,
+    /// Whether the dataset is complete (`manifest.json` written).
+    pub complete: bool,
+}
+
+/// The record of shard `shard` of `shards` in `_shards/`.
+pub fn record_name(shard: u64, shards: u64) -> String {
+    format!("shard-{shard:05}-of-{shards:05}.json")
+}
+
+/// The first case of shard `shard`.
+fn first_case(shard: u64, shards: u64, count: u64) -> u64 {
+    (u128::from(shard) * u128::from(count) / u128::from(shards)) as u64
+}
+
+/// What identifies a dataset: two shards belong together when these are equal.
+fn identity(dataset: &Dataset, options: &Options) -> Value {
+    json!({
+        "schema_version": SCHEMA_VERSION,
+        "scenario_sha256": dataset.scenario.sha256,
+        "machine_sha256": dataset.scenario.machine_sha256,
+        "seed": dataset.section.seed,
+        "count": options.count,
+        "shards": options.shards,
+    })
+}
+
+/// Makes the dataset `options` asks for (every shard, or one), skipping complete shards;
+/// `progress` hears of every case made (its argument: cases made since the last call) and,
+/// once, of the number of cases to make.
+pub fn generate(
+    dataset: &Dataset,
+    options: &Options,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Summary, DatasetError> {
+    if options.count == 0 || options.shards == 0 || options.shards > options.count {
+        return Err(DatasetError::Options(format!(
+            "--count {} and --shards {}: expected at least one case and one shard, and no more shards than cases",
+            options.count, options.shards
+        )));
+    }
+    if let Some(shard) = options.only.filter(|s| *s >= options.shards) {
+        return Err(DatasetError::Options(format!(
+            "--shard {shard}/{}: shards are numbered from 0 to {}",
+            options.shards,
+            options.shards - 1
+        )));
+    }
+    let out = &options.out;
+    let records = out.join("_shards");
+    std::fs::create_dir_all(&records).map_err(io_error(&records))?;
+    let identity = identity(dataset, options);
+    check_layout(&records, &identity, out)?;
+    let schemas = schemas(dataset)?;
+
+    let wanted: Vec<u64> = match options.only {
+        Some(shard) => vec![shard],
+        None => (0..options.shards).collect(),
+    };
+    let mut summary = Summary::default();
+    let mut todo = Vec::new();
+    for shard in wanted {
+        if complete(
+            out,
+            &records.join(record_name(shard, options.shards)),
+            &identity,
+        )? {
+            summary.skipped.push(shard);
+        } else {
+            todo.push(shard);
+        }
+    }
+    let cases: u64 = (todo.iter())
+        .map(|s| {
+            first_case(s + 1, options.shards, options.count)
+                - first_case(*s, options.shards, options.count)
+        })
+        .sum();
+    progress(Progress::Total(cases));
+    let pool = {
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(threads) = options.threads {
+            builder = builder.num_threads(threads);
+        }
+        builder
+            .build()
+            .map_err(|e| DatasetError::Options(format!("--threads: {e}")))?
+    };
+    for shard in todo {
+        let readings =
+            pool.install(|| make_shard(dataset, options, &schemas, &identity, shard, progress))?;
+        summary.made.push(shard);
+        summary.readings += readings;
+    }
+    summary.cases = cases;
+    summary.complete = finish(dataset, options, &schemas, &identity)?;
+    Ok(summary)
+}
+
+/// What [`generate`] reports as it goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// The number of cases it will make.
+    Total(u64),
+    /// Cases made since the last report.
+    Made(u64),
+}
+
+/// Refuses a folder whose shard records are of another dataset.
+fn check_layout(records: &Path, identity: &Value, out: &Path) -> Result<(), DatasetError> {
+    let entries = std::fs::read_dir(records).map_err(io_error(records))?;
+    for entry in entries {
+        let path = entry.map_err(io_error(records))?.path();
+        if path.extension().is_none_or(|e| e != "json") {
+            continue;
+        }
+        let Some(record) = read_json(&path) else {
+            continue; // unreadable: that shard is redone
+        };
+        if record.get("dataset") != Some(identity) {
+            return Err(DatasetError::Layout {
+                dir: out.display().to_string(),
+                message: format!(
+                    "holds shards of another dataset ({} says {}; this one is {identity}); give another --out or remove the folder",
+                    path.display(),
+                    record.get("dataset").unwrap_or(&Value::Null)
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+fn read_json(path: &Path) -> Option<Value> {
+    serde_json::from_slice(&std::fs::read(path).ok()?).ok()
+}
+
+/// SHA-256 of a file, read in blocks.
+pub(super) fn file_sha256(path: &Path) -> std::io::Result<String> {
+    let mut file = std::fs::File::open(path)?;
+    let mut hasher = Sha256::new();
+    let mut buffer = vec![0u8; 1 << 20];
+    loop {
+        let n = file.read(&mut buffer)?;
+        if n == 0 {
+            break;
+        }
+        hasher.update(&buffer[..n]);
+    }
+    Ok(hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}
+
+/// Whether the shard recorded at `record` is complete: its record is of this dataset and
+/// every file it lists is there with its hash.
+fn complete(out: &Path, record: &Path, identity: &Value) -> Result<bool, DatasetError> {
+    let Some(record) = read_json(record) else {
+        return Ok(false);
+    };
+    if record.get("dataset") != Some(identity) {
+        return Ok(false);
+    }
+    let Some(files) = record.get("files").and_then(Value::as_array) else {
+        return Ok(false);
+    };
+    for file in files {
+        let (Some(path), Some(hash)) = (
+            file.get("path").and_then(Value::as_str),
+            file.get("sha256").and_then(Value::as_str),
+        ) else {
+            return Ok(false);
+        };
+        match file_sha256(&out.join(path)) {
+            Ok(actual) if actual == hash => {}
+            _ => return Ok(false),
+        }
+    }
+    Ok(true)
+}
+
+/// The tables of the dataset, from the case with every prior at its centre: `cases` first,
+/// then each measurement table in the order `mtwin run` writes them.
+fn schemas(dataset: &Dataset) -> Result<Vec<TableSchema>, DatasetError> {
+    let centre = Case {
+        id: 0,
+        seed: dataset.scenario.seed,
+        test: false,
+        values: (dataset.section.priors.iter())
+            .map(|p| p.law.distribution.centre())
+            .collect(),
+    };
+    let mut schemas = vec![TableSchema::cases(
+        dataset.section.priors.iter().map(|p| p.path.column()),
+    )];
+    for (name, text) in csv_files(dataset, &centre)? {
+        let schema = TableSchema::of_csv(&name, &text).map_err(|message| DatasetError::Table {
+            id: centre.id,
+            table: name.clone(),
+            message,
+        })?;
+        schemas.push(schema);
+    }
+    Ok(schemas)
+}
+
+/// The CSV tables `mtwin run` writes for `case`, by table name (file stem).
+fn csv_files(dataset: &Dataset, case: &Case) -> Result<Vec<(String, String)>, DatasetError> {
+    let scenario = dataset.scenario_of(case)?;
+    let simulation = simulate(&scenario).map_err(|source| DatasetError::Run {
+        id: case.id,
+        source,
+    })?;
+    Ok(simulation
+        .tables(&scenario)
+        .into_iter()
+        .filter_map(|(name, bytes)| {
+            let stem = name.strip_suffix(".csv")?.to_string();
+            Some((stem, String::from_utf8(bytes).expect("tables are UTF-8")))
+        })
+        .collect())
+}
+
+/// Case `id`'s split and its block of every table.
+fn case_blocks(
+    dataset: &Dataset,
+    schemas: &[TableSchema],
+    id: u64,
+) -> Result<(bool, Vec<Block>), DatasetError> {
+    let case = dataset.case(id);
+    let mut blocks = vec![Block::case_row(case.id, case.seed, &case.values)];
+    let files = csv_files(dataset, &case)?;
+    for schema in &schemas[1..] {
+        let table = |message: String| DatasetError::Table {
+            id,
+            table: schema.name.clone(),
+            message,
+        };
+        let (_, text) = (files.iter())
+            .find(|(name, _)| *name == schema.name)
+            .ok_or_else(|| table("the case did not write this table".into()))?;
+        blocks.push(Block::from_csv(schema, id, text).map_err(table)?);
+    }
+    Ok((case.test, blocks))
+}
+
+/// The path of a table's file of one shard and split, relative to the dataset folder.
+fn table_path(dataset: &Dataset, table: &str, split: &str, shard: u64) -> String {
+    format!(
+        "{table}/machine={}/split={split}/shard={shard:05}/part-0.parquet",
+        dataset.machine_name
+    )
+}
+
+/// Makes shard `shard` and records it; returns the measurement rows written.
+fn make_shard(
+    dataset: &Dataset,
+    options: &Options,
+    schemas: &[TableSchema],
+    identity: &Value,
+    shard: u64,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<u64, DatasetError> {
+    let out = &options.out;
+    // Remains of a killed run of this shard go first; the new folder's name is this process's
+    // (process id and start time, so two hosts sharing the folder do not meet either).
+    let stem = format!("shard-{shard:05}-of-{:05}.", options.shards);
+    let tmp_root = out.join(".tmp");
+    if let Ok(entries) = std::fs::read_dir(&tmp_root) {
+        for entry in entries.flatten() {
+            if entry.file_name().to_string_lossy().starts_with(&stem) {
+                let _ = std::fs::remove_dir_all(entry.path()); // best effort: remains only
+            }
+        }
+    }
+    let tmp = tmp_root.join(format!("{stem}{}", process_tag()));
+    std::fs::create_dir_all(&tmp).map_err(io_error(&tmp))?;
+    let result = write_shard(dataset, options, schemas, shard, &tmp, progress);
+    let files = match result {
+        Ok(files) => files,
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&tmp); // best effort: already failing
+            return Err(e);
+        }
+    };
+    let mut listed = Vec::new();
+    let mut readings = 0;
+    for (relative, rows, table) in &files {
+        let from = tmp.join(relative.replace('/', "_"));
+        let to = out.join(relative);
+        let folder = to.parent().expect("a table path has folders");
+        std::fs::create_dir_all(folder).map_err(io_error(folder))?;
+        let sha256 = file_sha256(&from).map_err(io_error(&from))?;
+        std::fs::rename(&from, &to).map_err(io_error(&to))?;
+        if table != "cases" {
+            readings += rows;
+        }
+        listed.push(json!({ "path": relative, "table": table, "rows": rows, "sha256": sha256 }));
+    }
+    let _ = std::fs::remove_dir_all(&tmp); // empty now
+    let first = first_case(shard, options.shards, options.count);
+    let end = first_case(shard + 1, options.shards, options.count);
+    let record = json!({
+        "schema_version": SCHEMA_VERSION,
+        "dataset": identity,
+        "shard": shard,
+        "first_case": first,
+        "end_case": end,
+        "files": listed,
+    });
+    let path = out.join("_shards").join(record_name(shard, options.shards));
+    write_json(&path, &record)?;
+    Ok(readings)
+}
+
+/// This process's tag in temporary names: its id and the time it started (nanoseconds).
+fn process_tag() -> String {
+    static TAG: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TAG.get_or_init(|| {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        format!("{}-{nanos}", std::process::id())
+    })
+    .clone()
+}
+
+/// Writes `value` to `path` atomically (pretty JSON, a final newline).
+pub(super) fn write_json(path: &Path, value: &Value) -> Result<(), DatasetError> {
+    let mut bytes = serde_json::to_vec_pretty(value).expect("JSON values serialise");
+    bytes.push(b'\n');
+    write_atomically(path, &bytes)
+}
+
+/// Writes `bytes` to `path` through a temporary name unique to this process; a file that
+/// already holds these bytes is left as it is (a rerun changes nothing, not even times).
+pub(super) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
+    if std::fs::read(path).is_ok_and(|existing| existing == bytes) {
+        return Ok(());
+    }
+    let name = path.file_name().expect("a file").to_string_lossy();
+    let temporary = path.with_file_name(format!(".{name}.{}.partial", process_tag()));
+    std::fs::write(&temporary, bytes).map_err(io_error(path))?;
+    std::fs::rename(&temporary, path).map_err(io_error(path))
+}
+
+/// Writes shard `shard`'s files into `tmp` (named by their relative paths with `/` → `_`);
+/// returns `(relative path, rows, table)` for each, sorted by path.
+fn write_shard(
+    dataset: &Dataset,
+    options: &Options,
+    schemas: &[TableSchema],
+    shard: u64,
+    tmp: &Path,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Vec<(String, u64, String)>, DatasetError> {
+    let first = first_case(shard, options.shards, options.count);
+    let end = first_case(shard + 1, options.shards, options.count);
+    // Parallel within a batch, in case order between batches: memory holds one batch.
+    let batch = (rayon::current_num_threads() * 4).max(8) as u64;
+    let mut writers: BTreeMap<(usize, bool), (String, ParquetTable)> = BTreeMap::new();
+    let mut start = first;
+    while start < end {
+        let stop = (start + batch).min(end);
+        let made: Vec<(bool, Vec<Block>)> = (start..stop)
+            .into_par_iter()
+            .map(|id| case_blocks(dataset, schemas, id))
+            .collect::<Result<_, _>>()?;
+        for (test, blocks) in made {
+            for (index, block) in blocks.into_iter().enumerate() {
+                if block.rows() == 0 {
+                    continue;
+                }
+                let key = (index, test);
+                let (relative, writer) = match writers.entry(key) {
+                    std::collections::btree_map::Entry::Occupied(entry) => entry.into_mut(),
+                    std::collections::btree_map::Entry::Vacant(entry) => {
+                        let split = if test { "test" } else { "train" };
+                        let relative = table_path(dataset, &schemas[index].name, split, shard);
+                        let file = tmp.join(relative.replace('/', "_"));
+                        let metadata = card::file_metadata(dataset, &schemas[index], options);
+                        let writer = ParquetTable::create(&file, &schemas[index], metadata)
+                            .map_err(parquet_error(&file))?;
+                        entry.insert((relative, writer))
+                    }
+                };
+                writer
+                    .push(block)
+                    .map_err(|e| parquet_error(Path::new(relative))(e))?;
+            }
+        }
+        progress(Progress::Made(stop - start));
+        start = stop;
+    }
+    let mut files = Vec::new();
+    for ((index, _), (relative, writer)) in writers {
+        let rows = writer
+            .finish()
+            .map_err(|e| parquet_error(Path::new(&relative))(e))?;
+        files.push((relative, rows, schemas[index].name.clone()));
+    }
+    files.sort();
+    Ok(files)
+}
+
+/// Writes `manifest.json` and the dataset card if every shard is recorded; returns whether.
+fn finish(
+    dataset: &Dataset,
+    options: &Options,
+    schemas: &[TableSchema],
+    identity: &Value,
+) -> Result<bool, DatasetError> {
+    let out = &options.out;
+    let mut files = Vec::new();
+    let mut shards = Vec::new();
+    for shard in 0..options.shards {
+        let path = out.join("_shards").join(record_name(shard, options.shards));
+        let Some(record) = read_json(&path).filter(|r| r.get("dataset") == Some(identity)) else {
+            return Ok(false);
+        };
+        for file in record["files"].as_array().into_iter().flatten() {
+            let mut file = file.clone();
+            file["shard"] = json!(shard);
+            files.push(file);
+        }
+        shards.push(json!({
+            "shard": shard,
+            "first_case": record["first_case"],
+            "end_case": record["end_case"],
+            "record": format!("_shards/{}", record_name(shard, options.shards)),
+        }));
+    }
+    files.sort_by(|a, b| a["path"].as_str().cmp(&b["path"].as_str()));
+    let manifest = card::manifest(dataset, schemas, identity, shards, files);
+    write_json(&out.join("manifest.json"), &manifest)?;
+    write_atomically(
+        &out.join("README.md"),
+        card::readme(dataset, options, schemas, &manifest).as_bytes(),
+    )?;
+    let _ = std::fs::remove_dir(out.join(".tmp")); // only if empty: another process may be at work
+    Ok(true)
+}
