@@ -152,6 +152,30 @@ fn outputs(work: &Path) -> BTreeMap<String, String> {
                 }
             }
         }
+        // A small dataset of each dataset scenario: its manifest lists every file's SHA-256.
+        if std::fs::read_to_string(scenario)
+            .unwrap()
+            .contains("\n[dataset]\n")
+        {
+            let folder = format!("{name}_dataset");
+            mtwin(
+                work,
+                &[
+                    "dataset",
+                    &scenario_arg,
+                    "--count",
+                    "6",
+                    "--shards",
+                    "2",
+                    "--out",
+                    &folder,
+                ],
+            );
+            for file in ["manifest.json", "README.md"] {
+                let bytes = std::fs::read(work.join(&folder).join(file)).unwrap();
+                hashes.insert(format!("{name}/dataset/{file}"), sha256_hex(&bytes));
+            }
+        }
     }
     hashes
 }

@@ -451,35 +451,30 @@ pub(super) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), DatasetE
     std::fs::rename(&temporary, path).map_err(io_error(path))
 }
 
-/// Writes shard `shard`'s files into `tmp` (named by their relative paths with `/` → `_`);
-/// returns `(relative path, rows, table)` for each, sorted by path.
-fn write_shard(
-    dataset: &Dataset,
-    options: &Options,
-    schemas: &[TableSchema],
-    shard: u64,
-    tmp: &Path,
-    progress: &(dyn Fn(Progress) + Sync),
-) -> Result<Vec<(String, u64, String)>, DatasetError> {
-    let first = first_case(shard, options.shards, options.count);
-    let end = first_case(shard + 1, options.shards, options.count);
-    // Parallel within a batch, in case order between batches: memory holds one batch.
-    let batch = (rayon::current_num_threads() * 4).max(8) as u64;
-    let mut writers: BTreeMap<(usize, bool), (String, ParquetTable)> = BTreeMap::new();
-    let mut start = first;
-    while start < end {
-        let stop = (start + batch).min(end);
-        let made: Vec<(bool, Vec<Block>)> = (start..stop)
-            .into_par_iter()
-            .map(|id| case_blocks(dataset, schemas, id))
-            .collect::<Result<_, _>>()?;
+/// A batch of cases as made: each case's split and its block of every table.
+type Made = Vec<(bool, Vec<Block>)>;
+
+/// The open files of a shard, by (table, split).
+#[derive(Default)]
+struct Writers(BTreeMap<(usize, bool), (String, ParquetTable)>);
+
+impl Writers {
+    /// Appends a batch's blocks, in case order, opening files as their first rows come.
+    fn write(
+        &mut self,
+        made: Made,
+        dataset: &Dataset,
+        options: &Options,
+        schemas: &[TableSchema],
+        shard: u64,
+        tmp: &Path,
+    ) -> Result<(), DatasetError> {
         for (test, blocks) in made {
             for (index, block) in blocks.into_iter().enumerate() {
                 if block.rows() == 0 {
                     continue;
                 }
-                let key = (index, test);
-                let (relative, writer) = match writers.entry(key) {
+                let (relative, writer) = match self.0.entry((index, test)) {
                     std::collections::btree_map::Entry::Occupied(entry) => entry.into_mut(),
                     std::collections::btree_map::Entry::Vacant(entry) => {
                         let split = if test { "test" } else { "train" };
@@ -496,9 +491,52 @@ fn write_shard(
                     .map_err(|e| parquet_error(Path::new(relative))(e))?;
             }
         }
-        progress(Progress::Made(stop - start));
-        start = stop;
+        Ok(())
     }
+}
+
+/// Writes shard `shard`'s files into `tmp` (named by their relative paths with `/` → `_`);
+/// returns `(relative path, rows, table)` for each, sorted by path.
+fn write_shard(
+    dataset: &Dataset,
+    options: &Options,
+    schemas: &[TableSchema],
+    shard: u64,
+    tmp: &Path,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Vec<(String, u64, String)>, DatasetError> {
+    let first = first_case(shard, options.shards, options.count);
+    let end = first_case(shard + 1, options.shards, options.count);
+    // Cases in batches, each made in parallel; a batch is written (in case order, so the bytes
+    // do not depend on the threads) while the next is made. Memory holds two batches.
+    let batch = (rayon::current_num_threads() * 4).max(8) as u64;
+    let make = |from: u64| -> Result<Made, DatasetError> {
+        (from..(from + batch).min(end))
+            .into_par_iter()
+            .map(|id| case_blocks(dataset, schemas, id))
+            .collect()
+    };
+    let mut writers = Writers::default();
+    let mut made = make(first)?;
+    let mut start = first;
+    while !made.is_empty() {
+        let next = start + made.len() as u64;
+        let (written, following) = rayon::join(
+            || writers.write(made, dataset, options, schemas, shard, tmp),
+            || {
+                if next < end {
+                    make(next)
+                } else {
+                    Ok(Vec::new())
+                }
+            },
+        );
+        written?;
+        progress(Progress::Made(next - start));
+        made = following?;
+        start = next;
+    }
+    let writers = writers.0;
     let mut files = Vec::new();
     for ((index, _), (relative, writer)) in writers {
         let rows = writer
