@@ -13,6 +13,10 @@
 //! over a full turn of C, with random directions of travel. The single-pose benchmarks cycle
 //! through the same 1000 poses so that no branch predictor learns one pose. Every benchmark
 //! reports poses per second (`Throughput::Elements`).
+//!
+//! `benches/pinocchio_fk.py` times Pinocchio's nominal forward kinematics of the same machine
+//! (`forwardKinematics` + `updateFramePlacements`, net of Python's call overhead): the
+//! reference `nominal/single` and `errors/single` compare with.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use mtwin::app::Scenario;

@@ -35,8 +35,14 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // revolutions × samples per revolution (vmc3 1 × 3 × 20 × 1024; the reversal 2 × 1 × 20 ×
     // 1024; the multi-probe layout 1 × 1 × 20 × 1024; trunnion5's C 1 × 2 × 20 × 720; the
     // spindle lesson 1 × 1 × 16 × 256); the ISO 230-3 spindle thermal test reads every minute
-    // for 240 + 60 min: 301 rows.
-    let expected: [(&str, &[(&str, usize)]); 27] = [
+    // for 240 + 60 min: 301 rows. The dataset scenarios run once as written: a 9 × 5 × 5 map
+    // and a full 150 mm circle.
+    let expected: [(&str, &[(&str, usize)]); 29] = [
+        (
+            "vmc3_dataset_volumetric.toml",
+            &[("volumetric.csv", 9 * 5 * 5)],
+        ),
+        ("vmc3_dataset_ballbar.toml", &[("ballbar_xy.csv", full_150)]),
         (
             "trunnion5_probe_sphere.toml",
             &[("probe.csv", 8 * 5), ("spheres.csv", 8)],

@@ -145,14 +145,7 @@ impl Scenario {
 
     /// [`Scenario::load`], `depth` files down a chain of `extends`.
     fn load_at(path: &Path, depth: usize) -> Result<Scenario, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Context::new(path.display().to_string(), "").error(
-                None,
-                ScenarioErrorKind::Io,
-                format!("cannot read the scenario: {e}"),
-            )
-        })?;
-        Scenario::from_text(path, &text, depth, None)
+        Scenario::from_text(path, &read_text(path)?, depth, None)
     }
 
     /// The scenario whose text is `text`, as if read from `path` (files it names are found
@@ -449,6 +442,17 @@ impl Scenario {
             ..base
         })
     }
+}
+
+/// The text of the scenario file at `path`.
+pub(crate) fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    std::fs::read_to_string(path).map_err(|e| {
+        Context::new(path.display().to_string(), "").error(
+            None,
+            ScenarioErrorKind::Io,
+            format!("cannot read the scenario: {e}"),
+        )
+    })
 }
 
 /// The machine model at `file` (named by the `machine` key at `span`) and the SHA-256 of its

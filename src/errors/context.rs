@@ -166,6 +166,18 @@ impl ContextErrors {
         self.record.as_ref()
     }
 
+    /// Where each term acts: its slot, its twist component and whether it moves the axis line
+    /// (`line`) rather than the relative twist.
+    pub(super) fn targets(&self) -> impl Iterator<Item = (usize, usize, bool)> + '_ {
+        self.bound.iter().map(|bound| {
+            let on_line = matches!(
+                bound.binding.action,
+                Action::Squareness(_) | Action::RotaryLocation(_)
+            );
+            (bound.binding.slot, bound.component, on_line)
+        })
+    }
+
     /// Adds every term at `state` to the slot twists (`relative`) or axis-line locations
     /// (`line`), as its parameter acts.
     pub(super) fn add(

@@ -212,6 +212,56 @@ fn natural_spline_weights(x: &[Real]) -> Vec<Real> {
     weights
 }
 
+/// A function of a rotary axis's angle made of constants and harmonics with a whole number of
+/// periods per turn, evaluated from the sine and cosine of the angle, which the chain knows
+/// already from the joint's rotation: `a·sin(n·q + φ) = (a·cos φ)·sin(n·q) + (a·sin φ)·cos(n·q)`
+/// with `sin(n·q)`, `cos(n·q)` by the angle-addition recurrence. No sine per harmonic and no
+/// reduction to one turn (the same values, to a few ulps of the amplitudes).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TurnSeries {
+    /// The terms in the order of the function's sum.
+    atoms: Vec<TurnAtom>,
+}
+
+/// One term of a [`TurnSeries`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum TurnAtom {
+    Constant(Real),
+    /// `sin_part·sin(n·q) + cos_part·cos(n·q)`.
+    Harmonic {
+        cycles: u32,
+        sin_part: Real,
+        cos_part: Real,
+    },
+}
+
+impl TurnSeries {
+    /// Harmonics up to this many periods per turn take the recurrence (its error grows with the
+    /// number of steps); the others their own sine.
+    const MOST_CYCLES: u32 = 64;
+
+    /// The value at the angle whose sine and cosine are `sin`, `cos`.
+    #[inline]
+    pub(crate) fn value(&self, sin: Real, cos: Real) -> Real {
+        self.atoms.iter().fold(-0.0, |sum, atom| {
+            sum + match *atom {
+                TurnAtom::Constant(c) => c,
+                TurnAtom::Harmonic {
+                    cycles,
+                    sin_part,
+                    cos_part,
+                } => {
+                    let (mut s, mut c) = (sin, cos);
+                    for _ in 1..cycles {
+                        (s, c) = (s * cos + c * sin, c * cos - s * sin);
+                    }
+                    sin_part * s + cos_part * c
+                }
+            }
+        })
+    }
+}
+
 /// How one error parameter depends on its axis position `q` and direction of travel.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ErrorFunction {
@@ -254,6 +304,40 @@ impl ErrorFunction {
             ErrorFunction::Reversal(value) => -direction.sign() * value / 2.0,
             ErrorFunction::Sum(terms) => terms.iter().map(|term| term.value(q, direction)).sum(),
         }
+    }
+
+    /// The function as a [`TurnSeries`] of a rotary axis's angle, when it is one: a constant,
+    /// a harmonic with a whole number of periods per turn, or a sum of those (a sum of sums is
+    /// left to [`ErrorFunction::value`]).
+    pub(crate) fn turn_series(&self) -> Option<TurnSeries> {
+        let atom = |function: &ErrorFunction| match *function {
+            ErrorFunction::Constant(c) => Some(TurnAtom::Constant(c)),
+            ErrorFunction::Harmonic {
+                period,
+                amplitude,
+                phase,
+            } => {
+                let cycles = TAU / period;
+                let whole = cycles.round();
+                let exact = (cycles - whole).abs() <= 4.0 * Real::EPSILON * whole;
+                (exact && whole >= 1.0 && whole <= Real::from(TurnSeries::MOST_CYCLES)).then(|| {
+                    TurnAtom::Harmonic {
+                        cycles: whole as u32,
+                        sin_part: amplitude * phase.cos(),
+                        cos_part: amplitude * phase.sin(),
+                    }
+                })
+            }
+            _ => None,
+        };
+        let atoms = match self {
+            ErrorFunction::Sum(terms) => terms.iter().map(atom).collect::<Option<Vec<_>>>()?,
+            single => vec![atom(single)?],
+        };
+        atoms
+            .iter()
+            .any(|a| matches!(a, TurnAtom::Harmonic { .. }))
+            .then_some(TurnSeries { atoms })
     }
 
     /// Whether the value depends on neither position nor direction.

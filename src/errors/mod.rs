@@ -58,6 +58,7 @@
 //! It is applied as is on the tool branch and inverted on the workpiece branch. The tool slot
 //! sits at the `tool` frame, after the whole tool branch.
 
+mod chain;
 mod context;
 mod dynamics;
 mod function;
@@ -71,7 +72,7 @@ pub use lu2012::{Lu2012Error, lu2012_deviation};
 pub use record::TemperatureRecord;
 
 use crate::machine::{Axis, Direction, Machine, MachineState, Side, Workspace};
-use crate::math::{Pose, Real, Vector, rigid_inverse, small_motion};
+use crate::math::{Pose, Real, Vector, rigid_inverse};
 use std::fmt;
 use std::str::FromStr;
 
@@ -477,6 +478,9 @@ pub struct ErrorModel {
     dynamic_bindings: Vec<DynamicBinding>,
     /// Terms driven by measured temperatures and time.
     context: context::ContextErrors,
+    /// What every evaluation would otherwise recompute; rebuilt whenever any of the above
+    /// changes.
+    plan: chain::Plan,
 }
 
 /// Where a parameter's [`Dynamics`] act: its axis's slot and twist component, and the
@@ -530,7 +534,15 @@ impl ErrorModel {
             dynamics: Vec::new(),
             dynamic_bindings: Vec::new(),
             context: Default::default(),
-        })
+            plan: Default::default(),
+        }
+        .planned())
+    }
+
+    /// The model with its [`chain::Plan`] made for what it holds now.
+    fn planned(mut self) -> ErrorModel {
+        self.plan = chain::Plan::new(&self);
+        self
     }
 
     /// A model with no errors.
@@ -543,7 +555,9 @@ impl ErrorModel {
             dynamics: Vec::new(),
             dynamic_bindings: Vec::new(),
             context: Default::default(),
+            plan: Default::default(),
         }
+        .planned()
     }
 
     /// The model with time- and speed-dependent content (see [`Dynamics`]) added to component
@@ -591,7 +605,7 @@ impl ErrorModel {
         }
         self.dynamics = dynamics;
         self.dynamic_bindings = bindings;
-        Ok(self)
+        Ok(self.planned())
     }
 
     /// The time- and speed-dependent content, sorted by parameter name.
@@ -609,7 +623,7 @@ impl ErrorModel {
     ) -> Result<ErrorModel, ErrorModelError> {
         self.assert_bound_to(machine);
         self.context = context::ContextErrors::new(machine, context, record)?;
-        Ok(self)
+        Ok(self.planned())
     }
 
     /// The terms driven by measured temperatures and time, by parameter.
@@ -648,145 +662,6 @@ impl ErrorModel {
         self.parameters.iter().find(|p| p.name == name)
     }
 
-    /// Sums the parameters acting at each slot (SI): `relative[slot]`, the twist
-    /// `(δx, δy, δz, εx, εy, εz)` of the tool relative to the workpiece from component, tool and
-    /// zero-position errors; `line[slot]`, the location of the axis line (translation and
-    /// rotation for a rotary axis, rotation only for a linear one). Component errors with
-    /// [`Dynamics`] add their asynchronous content at `state.time` and the axis's unwrapped
-    /// position, and scale by their speed factor at `state.velocity`; [`ContextTerm`]s add
-    /// their value at `state.time`.
-    pub fn slot_twists(
-        &self,
-        state: &MachineState,
-        relative: &mut [[Real; 6]],
-        line: &mut [[Real; 6]],
-    ) {
-        assert_eq!(relative.len(), self.slot_count, "one twist per slot");
-        assert_eq!(line.len(), self.slot_count, "one line location per slot");
-        relative
-            .iter_mut()
-            .chain(line.iter_mut())
-            .for_each(|t| *t = [0.0; 6]);
-        for (parameter, binding) in self.parameters.iter().zip(&self.bindings) {
-            let component = parameter.name.motion().index();
-            match binding.action {
-                Action::Component(axis) => {
-                    relative[binding.slot][component] += parameter.function.value(
-                        binding.argument(state.position[axis]),
-                        state.direction(axis),
-                    );
-                }
-                Action::Constant => {
-                    relative[binding.slot][component] += constant(&parameter.function)
-                }
-                Action::Squareness(_) | Action::RotaryLocation(_) => {
-                    line[binding.slot][component] += constant(&parameter.function);
-                }
-            }
-        }
-        for (entry, binding) in self.dynamics.iter().zip(&self.dynamic_bindings) {
-            let q = state.position[binding.axis];
-            let factor = entry.dynamics.factor(state.velocity[binding.axis]);
-            let mut value = factor * entry.dynamics.asynchronous(state.time, q);
-            if let Some(index) = binding.parameter.filter(|_| factor != 1.0) {
-                value += (factor - 1.0)
-                    * self.parameters[index].function.value(
-                        self.bindings[index].argument(q),
-                        state.direction(binding.axis),
-                    );
-            }
-            relative[binding.slot][binding.component] += value;
-        }
-        self.context.add(state, relative, line);
-    }
-
-    /// The actual tool pose seen from the workpiece: the exact chain with every slot motion.
-    ///
-    /// At each slot the motion is `line · relative`: `relative = Trans(δ) · Exp(ε)` from
-    /// [`ErrorModel::slot_twists`], and `line` the effect of the axis line's location, exactly:
-    /// a linear axis at `q` travelling along `Exp(ε_line) · u` instead of `u` adds the translation
-    /// `(Exp(ε_line) − I) · u · q`; a rotary axis turning by `R = Rot(axis, q)` about the line
-    /// `L = Trans(δ_line) · Exp(ε_line)` instead of its nominal line moves what it carries by
-    /// `L · R · L⁻¹ · R⁻¹` (as seen on the tool side; inverted on the workpiece side, because
-    /// the line is physical while the slot motion is tool-relative).
-    pub fn workpiece_from_tool(
-        &self,
-        machine: &Machine,
-        workspace: &mut Workspace,
-        state: &MachineState,
-    ) -> Pose {
-        self.workpiece_from_tool_with(machine, workspace, state, None)
-    }
-
-    /// [`ErrorModel::workpiece_from_tool`] with `extra` relative twists added at each slot
-    /// (one per slot, SI, in the slot frames): how thermal terms
-    /// ([`crate::thermal::ThermalErrors`]) enter the chain.
-    pub fn workpiece_from_tool_with(
-        &self,
-        machine: &Machine,
-        workspace: &mut Workspace,
-        state: &MachineState,
-        extra: Option<&[[Real; 6]]>,
-    ) -> Pose {
-        self.assert_bound_to(machine);
-        let mut relative = std::mem::take(&mut workspace.slot_twists);
-        let mut line = std::mem::take(&mut workspace.slot_lines);
-        let mut motions = std::mem::take(&mut workspace.slot_motions);
-        self.slot_twists(state, &mut relative, &mut line);
-        if let Some(extra) = extra {
-            assert_eq!(extra.len(), relative.len(), "one extra twist per slot");
-            for (twist, add) in relative.iter_mut().zip(extra) {
-                for (value, a) in twist.iter_mut().zip(add) {
-                    *value += a;
-                }
-            }
-        }
-        for (slot, motion) in motions.iter_mut().enumerate() {
-            let t = relative[slot];
-            *motion = small_motion(Vector::new(t[0], t[1], t[2]), Vector::new(t[3], t[4], t[5]));
-            let l = line[slot];
-            if l == [0.0; 6] {
-                continue;
-            }
-            let info = &machine.axes()[slot];
-            let q = state.position[info.axis];
-            let line_motion = if info.axis.is_linear() {
-                let direction = info.axis.unit();
-                let tilted =
-                    small_motion(Vector::ZERO, Vector::new(l[3], l[4], l[5])).matrix3 * direction;
-                Pose::from_translation((tilted - direction) * q)
-            } else {
-                let line_pose =
-                    small_motion(Vector::new(l[0], l[1], l[2]), Vector::new(l[3], l[4], l[5]));
-                let rotation = Pose::from_mat3(glam::DMat3::from_axis_angle(info.joint_axis, q));
-                let carried =
-                    line_pose * rotation * rigid_inverse(&line_pose) * rigid_inverse(&rotation);
-                match info.side {
-                    Side::Tool => carried,
-                    Side::Workpiece => rigid_inverse(&carried),
-                }
-            };
-            *motion = line_motion * *motion;
-        }
-        let pose = workspace.workpiece_from_tool(machine, &state.position, Some(&motions));
-        workspace.slot_twists = relative;
-        workspace.slot_lines = line;
-        workspace.slot_motions = motions;
-        pose
-    }
-
-    /// Actual − nominal at `state`, by the exact chain.
-    pub fn deviation(
-        &self,
-        machine: &Machine,
-        workspace: &mut Workspace,
-        state: &MachineState,
-    ) -> Deviation {
-        let nominal = workspace.workpiece_from_tool(machine, &state.position, None);
-        let actual = self.workpiece_from_tool(machine, workspace, state);
-        Deviation::between(&nominal, &actual)
-    }
-
     /// Total number of linear coefficients (the columns of [`ErrorModel::jacobian`]).
     pub fn coefficient_count(&self) -> usize {
         self.parameters
@@ -816,6 +691,7 @@ impl ErrorModel {
         for parameter in &mut self.parameters {
             used += parameter.function.set_coefficients(&coefficients[used..]);
         }
+        self.plan = chain::Plan::new(self);
     }
 
     /// A label per coefficient, e.g. `EXX.polynomial[1]`.
@@ -928,8 +804,13 @@ impl ErrorModel {
                 }
                 Action::RotaryLocation(axis) => {
                     let info = &machine.axes()[binding.slot];
-                    let rotation =
-                        glam::DMat3::from_axis_angle(info.joint_axis, state.position[axis]);
+                    // The nominal evaluation above left the joint's rotation at this position.
+                    let walked = &workspace.rotations[binding.slot];
+                    let rotation = if walked.unit == info.joint_axis {
+                        walked.matrix()
+                    } else {
+                        glam::DMat3::from_axis_angle(info.joint_axis, state.position[axis])
+                    };
                     let side = if info.side == Side::Tool { 1.0 } else { -1.0 };
                     let e = Vector::AXES[component % 3];
                     let moved = (e - rotation * e) * side;

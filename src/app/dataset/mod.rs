@@ -133,13 +133,7 @@ impl Dataset {
     pub fn load(path: impl AsRef<Path>) -> Result<Dataset, ScenarioError> {
         let path = path.as_ref();
         let scenario = Scenario::load(path)?;
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Context::new(path.display().to_string(), "").error(
-                None,
-                ScenarioErrorKind::Io,
-                format!("cannot read the scenario: {e}"),
-            )
-        })?;
+        let text = super::scenario::read_text(path)?;
         let context = Context::new(path.display().to_string(), &text);
         let syntax = |e: toml::de::Error| {
             context.error(e.span(), ScenarioErrorKind::Syntax, e.message().trim())

@@ -307,8 +307,8 @@ impl ParquetTable {
         let mut properties = WriterProperties::builder().set_dictionary_enabled(false);
         for (name, kind) in &schema.columns {
             if *kind != ColumnKind::Number {
-                properties = properties
-                    .set_column_dictionary_enabled(ColumnPath::from(name.as_str()), true);
+                properties =
+                    properties.set_column_dictionary_enabled(ColumnPath::from(name.as_str()), true);
             }
         }
         let properties = properties
