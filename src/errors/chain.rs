@@ -434,7 +434,7 @@ mod tests {
         ContextTerm, Driver, Dynamics, ErrorFunction, ErrorParameter, Frequency, Interpolation,
         ParameterContext, ParameterDynamics, ParameterName, Sinusoid, Table,
     };
-    use crate::machine::{Axis, AxisValues, Direction, plain_workpiece_from_tool};
+    use crate::machine::{Axis, Direction, plain_workpiece_from_tool, random_position};
     use crate::math::seeded_rng;
     use rand::RngExt;
     use rand_chacha::ChaCha8Rng;
@@ -650,14 +650,7 @@ mod tests {
     }
 
     fn random_state(machine: &Machine, rng: &mut ChaCha8Rng) -> MachineState {
-        let mut position = AxisValues::ZERO;
-        for info in machine.axes() {
-            let (low, high) = info.limits.unwrap_or((-20.0, 20.0));
-            position[info.axis] = rng.random_range(low..=high);
-        }
-        if rng.random_bool(0.2) {
-            position[Axis::ALL[rng.random_range(0..7)]] = 0.0;
-        }
+        let position = random_position(machine, rng);
         let mut state = MachineState::at(position).at_time(rng.random_range(0.0..1000.0));
         for axis in Axis::ALL {
             state = state.with_velocity(axis, rng.random_range(-20.0..20.0));

@@ -529,9 +529,24 @@ pub(crate) fn plain_workpiece_from_tool(
 }
 
 #[cfg(test)]
+/// Random axis values over the travel (continuous axes over three turns either way).
+pub(crate) fn random_position(machine: &Machine, rng: &mut rand_chacha::ChaCha8Rng) -> AxisValues {
+    use rand::RngExt;
+    let mut position = AxisValues::ZERO;
+    for info in machine.axes() {
+        let (low, high) = info.limits.unwrap_or((-20.0, 20.0));
+        position[info.axis] = rng.random_range(low..=high);
+    }
+    // Now and then an axis exactly at zero, where sines are exact zeros.
+    if rng.random_bool(0.2) {
+        position[crate::machine::Axis::ALL[rng.random_range(0..7)]] = 0.0;
+    }
+    position
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
-    use crate::machine::Axis;
     use crate::math::{seeded_rng, small_motion};
     use rand::RngExt;
 
@@ -543,23 +558,6 @@ mod tests {
                 Machine::from_urdf_file(&path).unwrap()
             })
             .into()
-    }
-
-    /// Random axis values over the travel (continuous axes over three turns either way).
-    pub(crate) fn random_position(
-        machine: &Machine,
-        rng: &mut rand_chacha::ChaCha8Rng,
-    ) -> AxisValues {
-        let mut position = AxisValues::ZERO;
-        for info in machine.axes() {
-            let (low, high) = info.limits.unwrap_or((-20.0, 20.0));
-            position[info.axis] = rng.random_range(low..=high);
-        }
-        // Now and then an axis exactly at zero, where sines are exact zeros.
-        if rng.random_bool(0.2) {
-            position[Axis::ALL[rng.random_range(0..7)]] = 0.0;
-        }
-        position
     }
 
     #[test]
