@@ -197,6 +197,64 @@ pub fn first_order_lag(lagged: Real, from: Real, to: Real, dt: Real, tau: Real) 
     }
 }
 
+/// Shortest half-width (s) of the window of [`local_rates`].
+pub const RATE_HALF_WINDOW_S: Real = 300.0;
+
+/// The rate of change (unit/s) of a sampled signal at each of its samples, as a measured
+/// record allows it: the slope of the least-squares line through the samples within a
+/// half-width `h` of the sample's time, `h = max(5 min, 1.5·m)` with `m` the median of the
+/// positive intervals between samples (so a sparse record, one sample in 15 min, still has
+/// neighbours). No rate is drawn across a gap longer than `h` (a laser's idle time between
+/// runs, when nothing is read): the window of a sample at a run's end holds only that run's.
+/// A sample alone in its window (or whose window spans no time) has rate 0.
+///
+/// `times` (s) must be non-decreasing (repeated times are allowed); `values` has one value per
+/// time. Simplified: a line, so a rate that changes within the window is averaged over it,
+/// and near a gap or the record's ends the window is one-sided.
+///
+/// ```
+/// use mtwin::math::local_rates;
+/// // A ramp of 0.01 unit/s, read every 10 s, then a 20-min gap and a flat stretch.
+/// let times = [0.0, 10.0, 20.0, 30.0, 1230.0, 1240.0, 1250.0];
+/// let values = [1.0, 1.1, 1.2, 1.3, 5.0, 5.0, 5.0];
+/// let rates = local_rates(&times, &values);
+/// assert!(rates[..4].iter().all(|r| (r - 0.01).abs() < 1e-12));
+/// assert!(rates[4..].iter().all(|r| r.abs() < 1e-12));
+/// ```
+pub fn local_rates(times: &[Real], values: &[Real]) -> Vec<Real> {
+    let n = times.len();
+    assert_eq!(n, values.len(), "one value per time");
+    let mut intervals: Vec<Real> = times
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .collect();
+    intervals.sort_by(Real::total_cmp);
+    let typical = intervals.get(intervals.len() / 2).copied().unwrap_or(0.0);
+    let half = RATE_HALF_WINDOW_S.max(1.5 * typical);
+    let mut rates = vec![0.0; n];
+    let (mut lo, mut hi) = (0, 0);
+    for i in 0..n {
+        while times[i] - times[lo] > half {
+            lo += 1;
+        }
+        while hi < n && times[hi] - times[i] <= half {
+            hi += 1;
+        }
+        let count = (hi - lo) as Real;
+        let mean_t = times[lo..hi].iter().map(|t| t - times[i]).sum::<Real>() / count;
+        let mean_v = values[lo..hi].iter().sum::<Real>() / count;
+        let (mut stt, mut stv) = (0.0, 0.0);
+        for j in lo..hi {
+            let dt = times[j] - times[i] - mean_t;
+            stt += dt * dt;
+            stv += dt * (values[j] - mean_v);
+        }
+        rates[i] = if stt > 0.0 { stv / stt } else { 0.0 };
+    }
+    rates
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -276,5 +334,57 @@ mod tests {
         assert_eq!(a, b);
         assert_ne!(a, c);
         assert_ne!(a, d);
+    }
+
+    /// A quadratic `a + b·t + c·t²` sampled evenly: where the window lies whole inside the
+    /// stretch it is symmetric about the sample, and the least-squares slope of a quadratic
+    /// over a symmetric window is its derivative `b + 2ct` there exactly (the odd moments
+    /// vanish). A second stretch after a gap does not disturb it.
+    #[test]
+    fn local_rates_are_the_derivative_of_a_quadratic_inside_a_stretch() {
+        let (a, b, c) = (20.0, 3e-4, -2e-8);
+        let f = |t: Real| a + b * t + c * t * t;
+        // 10 s apart for 30 min, then (after a 40-min gap) 10 s apart again.
+        let mut times: Vec<Real> = (0..=180).map(|k| 10.0 * k as Real).collect();
+        times.extend((0..=180).map(|k| 4200.0 + 10.0 * k as Real));
+        let values: Vec<Real> = times.iter().map(|&t| f(t)).collect();
+        let rates = local_rates(&times, &values);
+        for (i, &t) in times.iter().enumerate() {
+            let start = if t < 4200.0 { 0.0 } else { 4200.0 };
+            if t - start >= RATE_HALF_WINDOW_S && start + 1800.0 - t >= RATE_HALF_WINDOW_S {
+                let exact = b + 2.0 * c * t;
+                assert!(
+                    (rates[i] - exact).abs() <= 1e-12 * exact.abs(),
+                    "t = {t}: {} against {exact}",
+                    rates[i]
+                );
+            }
+        }
+        // A step across the gap is not a rate: no window reaches across it.
+        let mut stepped = values.clone();
+        for v in stepped.iter_mut().skip(181) {
+            *v += 5.0;
+        }
+        let with_step = local_rates(&times, &stepped);
+        assert!(
+            with_step
+                .iter()
+                .zip(&rates)
+                .all(|(x, y)| (x - y).abs() < 1e-12)
+        );
+    }
+
+    /// A sparse record (one sample every 15 min) widens the window to 1.5 intervals: each
+    /// interior sample's rate is the central difference of its neighbours (exact for a line).
+    #[test]
+    fn local_rates_of_a_sparse_record_use_the_neighbours() {
+        let times: Vec<Real> = (0..8).map(|k| 900.0 * k as Real).collect();
+        let values: Vec<Real> = times.iter().map(|t| 20.0 + 1e-4 * t).collect();
+        for r in local_rates(&times, &values) {
+            assert!((r - 1e-4).abs() < 1e-15, "{r}");
+        }
+        // A sample alone has no rate.
+        assert_eq!(local_rates(&[0.0], &[21.0]), vec![0.0]);
+        assert_eq!(local_rates(&[5.0, 5.0], &[21.0, 22.0]), vec![0.0, 0.0]);
     }
 }

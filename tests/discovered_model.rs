@@ -101,6 +101,61 @@ temperature = [{ sensor = "nut", reference_degc = 20.0, urad_per_degc = 2.0 }]
     }
 }
 
+/// A sensor lagging the structure: the term reads `T + τ_s·dT/dt`. On the ramp (0.1 °C/min,
+/// sampled every minute) every rate the record gives is 0.1 °C/min exactly (a line's
+/// least-squares slope), so 10 min of sensor lag reads the sensor 1 °C ahead; with a 5-min lag
+/// of the structure as well, that ramp 1 °C ahead lags by `τr(1 − e^(−t/τ))` as in the test
+/// above.
+#[test]
+fn a_sensor_lag_reads_the_record_ahead_by_its_rate() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let scenario = load(
+        dir.path(),
+        &ramp(),
+        r#"[inputs]
+temperatures = "record.csv"
+
+[errors.EXX]
+temperature = [{ sensor = "nut", reference_degc = 20.0, um_per_degc = 1.0, sensor_lag_min = 10.0 }]
+
+[errors.EYX]
+temperature = [{ sensor = "nut", reference_degc = 20.0, um_per_degc = 1.0, sensor_lag_min = 10.0, lag_min = 5.0 }]
+"#,
+    )
+    .unwrap();
+    let slot = scenario.twin.machine.axis(Axis::X).unwrap().slot;
+    let rate = 0.1 / 60.0; // °C/s
+    for t in [0.0_f64, 150.0, 600.0, 3000.0, 11_970.0] {
+        let ahead = 20.0 + rate * t + 600.0 * rate;
+        let tau: f64 = 300.0;
+        let lagged = ahead - tau * rate * (1.0 - (-t / tau).exp());
+        let got = twist(&scenario, slot, 0.2, t);
+        assert!(
+            (got[0] - 1e-6 * (ahead - 20.0)).abs() < 1e-12,
+            "t {t}: EXX {} vs {}",
+            got[0],
+            1e-6 * (ahead - 20.0)
+        );
+        assert!(
+            (got[1] - 1e-6 * (lagged - 20.0)).abs() < 1e-12,
+            "t {t}: EYX {} vs {}",
+            got[1],
+            1e-6 * (lagged - 20.0)
+        );
+    }
+    // A negative sensor lag is refused at its key.
+    let e = load(
+        dir.path(),
+        &ramp(),
+        "[inputs]\ntemperatures = \"record.csv\"\n\n[errors.EXX]\ntemperature = [{ sensor = \"nut\", reference_degc = 20.0, um_per_degc = 1.0, sensor_lag_min = -3.0 }]",
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("sensor_lag_min") && e.contains("non-negative"),
+        "{e}"
+    );
+}
+
 #[test]
 fn bad_context_terms_and_records_are_refused_with_file_line_and_key() {
     let dir = tempfile::TempDir::new().unwrap();
@@ -175,12 +230,23 @@ fn bad_context_terms_and_records_are_refused_with_file_line_and_key() {
 /// 20 nm noise, which the rerun draws afresh), so `mtwin compare` reports the fit's residual.
 #[test]
 fn discover_write_run_and_compare_give_back_the_fit() {
+    round_trip("vmc3_warmup_laser", "lag_min = ");
+}
+
+/// The round trip above with a sensor that lags the screw by 20 min: discovery names
+/// `sensor_lag`, the model reads the record ahead by its rate (`sensor_lag_min`), and the
+/// rerun reproduces the fit as closely.
+#[test]
+fn a_sensor_lag_is_written_run_and_compared_as_the_fit() {
+    round_trip("vmc3_warmup_sensor_lag", "sensor_lag_min = ");
+}
+
+/// Runs the bundled scenario `name`, discovers, writes the model (which must contain
+/// `key`), runs it and compares (see the tests above).
+fn round_trip(name: &str, key: &str) {
     let dir = tempfile::TempDir::new().unwrap();
     let d = |name: &str| dir.path().join(name).display().to_string();
-    let scenario = format!(
-        "{}/scenarios/vmc3_warmup_laser.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let scenario = format!("{}/scenarios/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     mtwin(&["run", &scenario, "--out", &d("measured")]);
     let measured = d("measured/positioning.csv");
     mtwin(&[
@@ -193,11 +259,7 @@ fn discover_write_run_and_compare_give_back_the_fit() {
         &scenario,
     ]);
     let model = std::fs::read_to_string(d("model.toml")).unwrap();
-    for key in [
-        "temperature = [",
-        "lag_min",
-        "thermal_network_errors = false",
-    ] {
+    for key in ["temperature = [", key, "thermal_network_errors = false"] {
         assert!(model.contains(key), "{key} missing:\n{model}");
     }
     mtwin(&["run", &d("model.toml"), "--out", &d("simulated")]);

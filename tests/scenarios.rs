@@ -37,7 +37,7 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
     // spindle lesson 1 × 1 × 16 × 256); the ISO 230-3 spindle thermal test reads every minute
     // for 240 + 60 min: 301 rows. The dataset scenarios run once as written: a 9 × 5 × 5 map
     // and a full 150 mm circle.
-    let expected: [(&str, &[(&str, usize)]); 29] = [
+    let expected: [(&str, &[(&str, usize)]); 30] = [
         (
             "vmc3_dataset_volumetric.toml",
             &[("volumetric.csv", 9 * 5 * 5)],
@@ -83,6 +83,10 @@ fn every_bundled_scenario_runs_with_the_outputs_it_asks_for() {
         ),
         ("vmc3_iso230_2.toml", &[("positioning.csv", 9 * 2 * 5)]),
         ("vmc3_warmup_laser.toml", &[("positioning.csv", 16 * 2 * 7)]),
+        (
+            "vmc3_warmup_sensor_lag.toml",
+            &[("positioning.csv", 16 * 2 * 7)],
+        ),
         ("vmc3_iso230_3_linear.toml", &[("positioning.csv", 2 * 240)]),
         ("vmc3_iso230_3_etve.toml", &[("drift.csv", 480 + 1)]),
         ("vmc3_iso230_3_spindle.toml", &[("drift.csv", 300 + 1)]),

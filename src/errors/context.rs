@@ -11,7 +11,9 @@
 //! (`t` the time since the start of the programme, s):
 //!
 //! - [`Driver::Temperature`]: `T(t) − T_ref`, `T` a sensor of a measured
-//!   [`TemperatureRecord`] through a first-order lag of time constant `lag` (0: none);
+//!   [`TemperatureRecord`], ahead of its reading by `sensor_lag·dT/dt` when the sensor lags
+//!   the structure, then through a first-order lag of time constant `lag` when the structure
+//!   lags the sensor (0: none);
 //! - [`Driver::Heating`]: `1 − e^(−(t − t₀)/τ)` from `t₀` on, 0 before — a heat source no sensor
 //!   sees, warming with its own time constant from when the machine starts working;
 //! - [`Driver::Drift`]: `t − t₀` (a drift linear in time).
@@ -39,6 +41,10 @@ pub enum Driver {
         reference: Real,
         /// Time constant of the structure behind the sensor (s); 0 for none.
         lag: Real,
+        /// Time constant of the sensor behind the structure (s); 0 for none: the structure's
+        /// temperature is `T + τ_s·dT/dt`, the inverse of the sensor's first-order lag, with
+        /// the rate read from the record ([`TemperatureRecord::rates`]).
+        sensor_lag: Real,
     },
     /// A heat source no sensor sees: `1 − e^(−(t − from)/tau)` from `from` (s) on.
     Heating {
@@ -84,15 +90,15 @@ pub(super) struct ContextErrors {
     record: Option<Arc<TemperatureRecord>>,
 }
 
-/// One term where it acts, with its lagged sensor series precomputed.
+/// One term where it acts, with its sensor series precomputed.
 #[derive(Clone, Debug)]
 struct BoundTerm {
     binding: Binding,
     component: usize,
     term: ContextTerm,
-    /// Temperature terms: the sensor's index in the record and its lagged temperature at each
-    /// record sample (with a lag).
-    sensor: usize,
+    /// Temperature terms: the structure's temperature at each record sample before the lag
+    /// (the sensor's, ahead by its own lag), and after the lag (with a lag).
+    source: Vec<Real>,
     series: Vec<Real>,
 }
 
@@ -117,8 +123,13 @@ impl ContextErrors {
                             .into(),
                     ));
                 }
-                let (sensor_index, series) = match &term.driver {
-                    Driver::Temperature { sensor, lag, .. } => {
+                let (source, series) = match &term.driver {
+                    Driver::Temperature {
+                        sensor,
+                        lag,
+                        sensor_lag,
+                        ..
+                    } => {
                         let record = record.as_ref().ok_or_else(|| {
                             invalid(format!(
                                 "a temperature term (sensor {sensor}) needs a measured temperature record"
@@ -131,20 +142,26 @@ impl ContextErrors {
                                 record.sensors().join(", ")
                             ))
                         })?;
+                        let mut source = record.samples(index).to_vec();
+                        if *sensor_lag > 0.0 {
+                            for (value, rate) in source.iter_mut().zip(record.rates(index)) {
+                                *value += sensor_lag * rate;
+                            }
+                        }
                         let series = if *lag > 0.0 {
-                            record.lagged(index, *lag)
+                            record.lag(&source, *lag)
                         } else {
                             Vec::new()
                         };
-                        (index, series)
+                        (source, series)
                     }
-                    Driver::Heating { .. } | Driver::Drift { .. } => (0, Vec::new()),
+                    Driver::Heating { .. } | Driver::Drift { .. } => (Vec::new(), Vec::new()),
                 };
                 bound.push(BoundTerm {
                     binding,
                     component: name.motion().index(),
                     term: term.clone(),
-                    sensor: sensor_index,
+                    source,
                     series,
                 });
             }
@@ -192,9 +209,9 @@ impl ContextErrors {
                 Driver::Temperature { reference, lag, .. } => {
                     let record = self.record.as_ref().expect("checked when bound");
                     let temperature = if *lag > 0.0 {
-                        record.lagged_at(bound.sensor, &bound.series, *lag, t)
+                        record.lag_at(&bound.source, &bound.series, *lag, t)
                     } else {
-                        record.at(bound.sensor, t)
+                        record.interpolate(&bound.source, t)
                     };
                     temperature - reference
                 }

@@ -11,7 +11,7 @@
 //! ([`first_order_lag`]), starting in equilibrium with the first sample — the way
 //! positioning discovery lags a sensor, so a model it writes evaluates to the same numbers.
 
-use crate::math::{Real, first_order_lag};
+use crate::math::{Real, first_order_lag, local_rates};
 
 /// Temperatures of named sensors sampled over time.
 #[derive(Clone, Debug, PartialEq)]
@@ -83,20 +83,31 @@ impl TemperatureRecord {
     /// starting in equilibrium with the first sample (exact for the linear pieces between
     /// samples).
     pub fn lagged(&self, sensor: usize, tau: Real) -> Vec<Real> {
-        let measured = &self.values[sensor];
-        let mut lagged = Vec::with_capacity(measured.len());
-        lagged.push(measured[0]);
-        for k in 1..measured.len() {
+        self.lag(&self.values[sensor], tau)
+    }
+
+    /// `series` (one value per sample time) through a first-order lag of `tau` s, as
+    /// [`TemperatureRecord::lagged`] lags a sensor.
+    pub fn lag(&self, series: &[Real], tau: Real) -> Vec<Real> {
+        let mut lagged = Vec::with_capacity(series.len());
+        lagged.push(series[0]);
+        for k in 1..series.len() {
             let dt = self.times[k] - self.times[k - 1];
             lagged.push(first_order_lag(
                 lagged[k - 1],
-                measured[k - 1],
-                measured[k],
+                series[k - 1],
+                series[k],
                 dt,
                 tau,
             ));
         }
         lagged
+    }
+
+    /// Sensor `sensor`'s rate of change (°C/s) at each sample time, as [`local_rates`] reads
+    /// it from the samples.
+    pub fn rates(&self, sensor: usize) -> Vec<Real> {
+        local_rates(&self.times, &self.values[sensor])
     }
 
     /// `series` (one value per sample time, e.g. [`TemperatureRecord::samples`] or
@@ -119,6 +130,12 @@ impl TemperatureRecord {
     /// [`TemperatureRecord::lagged`] series) exactly from the sample before `time` along the
     /// linear piece (held after the last sample, so the lag goes on settling).
     pub fn lagged_at(&self, sensor: usize, lagged: &[Real], tau: Real, time: Real) -> Real {
+        self.lag_at(&self.values[sensor], lagged, tau, time)
+    }
+
+    /// `series` through a lag of `tau` s at `time` s, continuing `lagged` (its
+    /// [`TemperatureRecord::lag`]) as [`TemperatureRecord::lagged_at`] continues a sensor's.
+    pub fn lag_at(&self, series: &[Real], lagged: &[Real], tau: Real, time: Real) -> Real {
         let k = self.times.partition_point(|&t| t <= time);
         if k == 0 {
             return lagged[0];
@@ -127,8 +144,8 @@ impl TemperatureRecord {
         if elapsed == 0.0 {
             return lagged[k - 1];
         }
-        let from = self.values[sensor][k - 1];
-        first_order_lag(lagged[k - 1], from, self.at(sensor, time), elapsed, tau)
+        let to = self.interpolate(series, time);
+        first_order_lag(lagged[k - 1], series[k - 1], to, elapsed, tau)
     }
 
     /// Sensor `sensor`'s temperature (°C) at `time` s.

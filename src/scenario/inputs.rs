@@ -14,6 +14,7 @@
 //!   { sensor = "x_nut", reference_degc = 20.62, um_per_m_per_degc = 11.7, lag_min = 21.0 },  # expansion
 //!   { sensor = "x_nut", reference_degc = 20.62, um_per_degc = -0.8 },                        # origin drift
 //! ]
+//! # A sensor that lags the structure: `sensor_lag_min = 20.0` reads T + 20 min · dT/dt.
 //! heating = [{ um_per_m = 3.1, tau_min = 35.0, from_min = 0.0 }]   # a heat source no sensor sees
 //! drift = [{ um_per_h = 0.2, from_min = 40.0 }]                    # drift linear in time
 //! ```
@@ -55,6 +56,11 @@ pub struct TemperatureTermSpec {
     /// Time constant of the structure behind the sensor (min); none by default.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lag_min: Option<Real>,
+    /// Time constant of the sensor behind the structure (min); none by default: the term
+    /// reads `T + τ·dT/dt`, the rate from the record's neighbouring samples
+    /// ([`crate::math::local_rates`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor_lag_min: Option<Real>,
     /// µm per °C (translations).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub um_per_degc: Option<Real>,
@@ -210,6 +216,11 @@ pub(crate) fn context_terms(
             "_per_degc",
         )?;
         let lag = finite(key("lag_min"), t.lag_min.unwrap_or(0.0), false)? * 60.0;
+        let sensor_lag = finite(
+            key("sensor_lag_min"),
+            t.sensor_lag_min.unwrap_or(0.0),
+            false,
+        )? * 60.0;
         if !t.reference_degc.is_finite() {
             return Err((Value, key("reference_degc"), "not a finite number".into()));
         }
@@ -237,6 +248,7 @@ pub(crate) fn context_terms(
                 sensor: t.sensor.clone(),
                 reference: t.reference_degc,
                 lag,
+                sensor_lag,
             },
             coefficient: c,
             per_position,

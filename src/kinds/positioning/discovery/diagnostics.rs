@@ -82,6 +82,9 @@ pub struct Diagnostics {
     pub position_x_temperature: Option<Association>,
     /// Best first-order lag (s) of the temperature: residual against x·(T_lag − T).
     pub lagged_temperature: Option<(Real, Association)>,
+    /// Residual against position × the temperature's rate of change (slope per m·K/s): a
+    /// sensor lagging the structure by τ leaves `α·τ·x·dT/dt`.
+    pub position_x_rate: Option<Association>,
     /// Best activity time constant (s): residual against x·(1 − e^(−t/τ)).
     pub activity: Option<(Real, Association)>,
     /// Direction-signed residual against position.
@@ -183,16 +186,14 @@ impl PositioningProblem {
                 )
             })
             .collect();
-        // The temperature the fit's thermal terms use (lagged with thermal_lag).
-        let lag = fit
-            .effects
-            .contains(&PositioningEffect::ThermalLag)
-            .then_some(fit.searched.lag_tau)
-            .flatten();
-        let rise: Option<Vec<Real>> = self.driver(lag).map(|t| {
-            let reference = fit.reference_temperature.unwrap_or(t[0]);
-            t.iter().map(|v| v - reference).collect()
-        });
+        // The temperature the fit's thermal terms use (through thermal_lag and sensor_lag).
+        let sensor_lag = fit.searched.sensor_in(&fit.effects);
+        let rise: Option<Vec<Real>> = self
+            .driver(fit.searched.lag_in(&fit.effects), sensor_lag)
+            .map(|t| {
+                let reference = fit.reference_temperature.unwrap_or(t[0]);
+                t.iter().map(|v| v - reference).collect()
+            });
         let signed: Vec<Real> = (0..n).map(|i| r[i] * self.s[i]).collect();
         let times = self.time.as_ref();
         let best_over_tau = |z: &dyn Fn(Real) -> Vec<Real>| {
@@ -204,7 +205,7 @@ impl PositioningProblem {
         };
         let lagged_temperature = match (&self.temperature, times) {
             (Some(measured), Some(_)) => best_over_tau(&|tau| {
-                let lagged = self.driver(Some(tau)).expect("has temperature");
+                let lagged = self.driver(Some(tau), None).expect("has temperature");
                 (0..n)
                     .map(|i| self.x[i] * (lagged[i] - measured[i]))
                     .collect()
@@ -231,6 +232,10 @@ impl PositioningProblem {
                 associate(r, &z)
             }),
             lagged_temperature,
+            position_x_rate: self.rate.as_ref().and_then(|rate| {
+                let z: Vec<Real> = (0..n).map(|i| self.x[i] * rate[i]).collect();
+                associate(r, &z)
+            }),
             activity,
             reversal_x_position: associate(&signed, &self.x),
             reversal_x_temperature: rise.as_ref().and_then(|d| associate(&signed, d)),
@@ -276,6 +281,10 @@ impl Diagnostics {
                         a.correlation
                     )
                 }),
+            PositioningEffect::SensorLag => association(
+                &self.position_x_rate,
+                "position × rate of change of the temperature",
+            ),
             PositioningEffect::ThermalScale => association(
                 &self.position_x_temperature,
                 "position × temperature rise",

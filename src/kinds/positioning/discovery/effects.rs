@@ -12,6 +12,9 @@ pub enum PositioningEffect {
     ReversalThermal,
     /// The expanding structure follows a first-order lag (τ) of the measured temperature.
     ThermalLag,
+    /// The sensor follows a first-order lag (τ) of the structure's temperature: the
+    /// structure's is the measured one plus `τ·dT/dt`.
+    SensorLag,
     /// Expansion coefficient different from the nominal one: `Δα·x·(T − T_ref)`.
     ThermalScale,
     /// Origin drift with temperature: `c·(T − T_ref)`.
@@ -28,11 +31,12 @@ pub enum PositioningEffect {
 
 impl PositioningEffect {
     /// Every effect, in the order they are reported.
-    pub const ALL: [PositioningEffect; 10] = [
+    pub const ALL: [PositioningEffect; 11] = [
         PositioningEffect::Reversal,
         PositioningEffect::ReversalPosition,
         PositioningEffect::ReversalThermal,
         PositioningEffect::ThermalLag,
+        PositioningEffect::SensorLag,
         PositioningEffect::ThermalScale,
         PositioningEffect::ThermalOffset,
         PositioningEffect::SecondHeatSource,
@@ -48,6 +52,7 @@ impl PositioningEffect {
             PositioningEffect::ReversalPosition => "reversal_position",
             PositioningEffect::ReversalThermal => "reversal_thermal",
             PositioningEffect::ThermalLag => "thermal_lag",
+            PositioningEffect::SensorLag => "sensor_lag",
             PositioningEffect::ThermalScale => "thermal_scale",
             PositioningEffect::ThermalOffset => "thermal_offset",
             PositioningEffect::SecondHeatSource => "second_heat_source",
@@ -71,6 +76,9 @@ impl PositioningEffect {
             }
             PositioningEffect::ThermalLag => {
                 "the expanding structure (the screw) warms later than the sensor reads: its effective temperature is a first-order lag of the measured one"
+            }
+            PositioningEffect::SensorLag => {
+                "the sensor warms later than the structure it stands for (in a housing, glued on through a thick layer, on a slower part): the structure's temperature is the reading plus the sensor's time constant times the reading's rate of change"
             }
             PositioningEffect::ThermalScale => {
                 "the axis expands per degree differently from the nominal coefficient: another material, a sensor that is not at the screw's temperature, or thermal compensation in the control"
@@ -98,6 +106,7 @@ impl PositioningEffect {
         matches!(
             self,
             PositioningEffect::ThermalLag
+                | PositioningEffect::SensorLag
                 | PositioningEffect::SecondHeatSource
                 | PositioningEffect::Periodic
         )
@@ -106,7 +115,7 @@ impl PositioningEffect {
     /// The number of linear coefficients it adds.
     pub(super) fn columns(self) -> usize {
         match self {
-            PositioningEffect::ThermalLag => 0,
+            PositioningEffect::ThermalLag | PositioningEffect::SensorLag => 0,
             PositioningEffect::Periodic | PositioningEffect::NonlinearScale => 2,
             _ => 1,
         }

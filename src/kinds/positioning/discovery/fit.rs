@@ -12,14 +12,28 @@ use std::f64::consts::TAU;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct Searched {
     pub(super) lag_tau: Option<Real>,
+    pub(super) sensor_tau: Option<Real>,
     pub(super) heat_tau: Option<Real>,
     pub(super) period: Option<Real>,
 }
 
 impl Searched {
+    /// The structure's lag behind the sensor (s), when `effects` has `thermal_lag`.
+    pub(super) fn lag_in(&self, effects: &[PositioningEffect]) -> Option<Real> {
+        self.lag_tau
+            .filter(|_| effects.contains(&PositioningEffect::ThermalLag))
+    }
+
+    /// The sensor's lag behind the structure (s), when `effects` has `sensor_lag`.
+    pub(super) fn sensor_in(&self, effects: &[PositioningEffect]) -> Option<Real> {
+        self.sensor_tau
+            .filter(|_| effects.contains(&PositioningEffect::SensorLag))
+    }
+
     fn has(&self, effect: PositioningEffect) -> bool {
         match effect {
             PositioningEffect::ThermalLag => self.lag_tau.is_some(),
+            PositioningEffect::SensorLag => self.sensor_tau.is_some(),
             PositioningEffect::SecondHeatSource => self.heat_tau.is_some(),
             PositioningEffect::Periodic => self.period.is_some(),
             _ => true,
@@ -64,12 +78,7 @@ impl PositioningProblem {
                 columns[j][i] = w;
             }
         }
-        let driver = self.driver(
-            effects
-                .contains(&PositioningEffect::ThermalLag)
-                .then_some(searched.lag_tau)
-                .flatten(),
-        );
+        let driver = self.driver(searched.lag_in(effects), searched.sensor_in(effects));
         let reference_temperature = driver.as_ref().map(|d| {
             let (sum, count) = (0..n)
                 .filter(|&i| self.run[i] == reference.run)
@@ -93,7 +102,7 @@ impl PositioningProblem {
                 PositioningEffect::ReversalThermal => {
                     columns.push(map(&|i| -self.s[i] / 2.0 * rise[i]))
                 }
-                PositioningEffect::ThermalLag => {}
+                PositioningEffect::ThermalLag | PositioningEffect::SensorLag => {}
                 PositioningEffect::ThermalScale => columns.push(map(&|i| self.x[i] * rise[i])),
                 PositioningEffect::ThermalOffset => columns.push(rise.clone()),
                 PositioningEffect::SecondHeatSource => {
@@ -183,6 +192,14 @@ impl PositioningProblem {
                             });
                         searched.lag_tau = Some(self.search_tau(0.0, sse));
                     }
+                    PositioningEffect::SensorLag => {
+                        let sse =
+                            self.sse_profile(&active, train, &reference, move |tau| Searched {
+                                sensor_tau: Some(tau),
+                                ..held
+                            });
+                        searched.sensor_tau = Some(self.search_tau(0.0, sse));
+                    }
                     PositioningEffect::SecondHeatSource => {
                         let sse =
                             self.sse_profile(&active, train, &reference, move |tau| Searched {
@@ -252,6 +269,9 @@ impl PositioningFit {
             }
             PositioningEffect::ThermalLag => {
                 params.insert("tau_min", self.searched.lag_tau.unwrap_or(0.0) / 60.0);
+            }
+            PositioningEffect::SensorLag => {
+                params.insert("tau_min", self.searched.sensor_tau.unwrap_or(0.0) / 60.0);
             }
             PositioningEffect::ThermalScale => {
                 params.insert("expansion_change_ppm_per_degc", per_million(c[0]));

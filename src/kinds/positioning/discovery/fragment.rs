@@ -133,6 +133,7 @@ impl PositioningDiscovery {
                 }
                 // Written as temperature, heating and drift terms above.
                 PositioningEffect::ThermalLag
+                | PositioningEffect::SensorLag
                 | PositioningEffect::ThermalScale
                 | PositioningEffect::ThermalOffset
                 | PositioningEffect::SecondHeatSource
@@ -152,8 +153,8 @@ impl PositioningDiscovery {
     }
 
     /// The fit's temperature and time terms as `[errors.*]` keys: the expansion (nominal plus
-    /// `thermal_scale`) and `thermal_offset` on the measured sensor, through `thermal_lag`'s
-    /// lag, from the fit's reference temperature; `second_heat_source` as heating from the first
+    /// `thermal_scale`) and `thermal_offset` on the measured sensor, ahead by `sensor_lag` and through
+    /// `thermal_lag`'s lag, from the fit's reference temperature; `second_heat_source` as heating from the first
     /// reading; `time_drift` as a drift from the reference run's mean time. Empty without a
     /// temperature column (the base model then has no thermal term).
     fn thermal_terms(&self, fit: &super::PositioningFit) -> Vec<String> {
@@ -165,14 +166,13 @@ impl PositioningDiscovery {
         };
         let mut lines = Vec::new();
         if let (Some(sensor), Some(reference)) = (&self.problem.sensor, fit.reference_temperature) {
-            let lag = fit
-                .effects
-                .contains(&PositioningEffect::ThermalLag)
-                .then_some(fit.searched.lag_tau)
-                .flatten()
-                .map_or_else(String::new, |tau| {
-                    format!(", lag_min = {}", precise(tau / 60.0))
-                });
+            let mut lag = String::new();
+            if let Some(tau) = fit.searched.sensor_in(&fit.effects) {
+                lag.push_str(&format!(", sensor_lag_min = {}", precise(tau / 60.0)));
+            }
+            if let Some(tau) = fit.searched.lag_in(&fit.effects) {
+                lag.push_str(&format!(", lag_min = {}", precise(tau / 60.0)));
+            }
             let head = format!(
                 "{{ sensor = {}, reference_degc = {}",
                 toml::Value::String(sensor.clone()),

@@ -9,6 +9,7 @@ use super::{
 use crate::discovery::engine::Folds;
 use crate::kinds::positioning::table::PositioningTable;
 use crate::machine::Axis;
+use crate::math::local_rates;
 use crate::math::{M_PER_MM, Real};
 use crate::program::Approach;
 use crate::thermal::first_order_lag;
@@ -26,6 +27,9 @@ pub struct PositioningProblem {
     /// Time since the start (s) and temperature (°C), when the file has them.
     pub(super) time: Option<Vec<Real>>,
     pub(super) temperature: Option<Vec<Real>>,
+    /// The temperature's rate of change (°C/s) at each reading, from its neighbours in time
+    /// ([`local_rates`]), when the file has times and temperatures.
+    pub(super) rate: Option<Vec<Real>>,
     pub(super) sensor: Option<String>,
     /// Reading indices in the order they were taken.
     pub(super) order: Vec<usize>,
@@ -124,6 +128,18 @@ impl PositioningProblem {
         if let Some(t) = &time {
             order.sort_by(|&a, &b| t[a].total_cmp(&t[b]));
         }
+        let rate = match (&time, &temperature) {
+            (Some(time), Some(temperature)) => {
+                let times: Vec<Real> = order.iter().map(|&i| time[i]).collect();
+                let values: Vec<Real> = order.iter().map(|&i| temperature[i]).collect();
+                let mut rate = vec![0.0; n];
+                for (&i, r) in order.iter().zip(local_rates(&times, &values)) {
+                    rate[i] = r;
+                }
+                Some(rate)
+            }
+            _ => None,
+        };
         let (low, high) = x
             .iter()
             .fold((Real::INFINITY, Real::NEG_INFINITY), |(l, h), &v| {
@@ -153,6 +169,7 @@ impl PositioningProblem {
             run,
             time,
             temperature,
+            rate,
             sensor: sensor_index.map(|k| table.sensors[k].clone()),
             order,
             centre: (low + high) / 2.0,
@@ -201,12 +218,14 @@ impl PositioningProblem {
                 effect,
                 PositioningEffect::ReversalThermal
                     | PositioningEffect::ThermalLag
+                    | PositioningEffect::SensorLag
                     | PositioningEffect::ThermalScale
                     | PositioningEffect::ThermalOffset
             );
             let timed = matches!(
                 effect,
                 PositioningEffect::ThermalLag
+                    | PositioningEffect::SensorLag
                     | PositioningEffect::SecondHeatSource
                     | PositioningEffect::TimeDrift
             );
@@ -304,21 +323,32 @@ impl PositioningProblem {
         }
     }
 
-    /// The temperature the structure follows: measured, or lagged by `tau` (s).
-    pub(super) fn driver(&self, lag_tau: Option<Real>) -> Option<Vec<Real>> {
+    /// The temperature the structure follows: measured; ahead by `sensor_tau·dT/dt` (s) when
+    /// the sensor lags the structure; then lagged by `lag_tau` (s) when the structure lags it.
+    pub(super) fn driver(
+        &self,
+        lag_tau: Option<Real>,
+        sensor_tau: Option<Real>,
+    ) -> Option<Vec<Real>> {
         let measured = self.temperature.as_ref()?;
+        let source: Vec<Real> = match (sensor_tau, &self.rate) {
+            (Some(tau), Some(rate)) => measured
+                .iter()
+                .zip(rate)
+                .map(|(t, r)| t + tau * r)
+                .collect(),
+            _ => measured.clone(),
+        };
         let Some(tau) = lag_tau else {
-            return Some(measured.clone());
+            return Some(source);
         };
         let time = self.time.as_ref()?;
-        let mut lagged = vec![0.0; measured.len()];
+        let mut lagged = vec![0.0; source.len()];
         let mut previous: Option<usize> = None;
         for &i in &self.order {
             lagged[i] = match previous {
-                None => measured[i],
-                Some(p) => {
-                    first_order_lag(lagged[p], measured[p], measured[i], time[i] - time[p], tau)
-                }
+                None => source[i],
+                Some(p) => first_order_lag(lagged[p], source[p], source[i], time[i] - time[p], tau),
             };
             previous = Some(i);
         }

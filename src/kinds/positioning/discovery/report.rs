@@ -206,6 +206,7 @@ impl PositioningDiscovery {
                 "correlation": round(a.correlation),
                 "t": round(a.t),
             })),
+            "position_x_rate": association_json(&d.position_x_rate, "ppm_min_per_degc", 1e6 / 60.0),
             "activity": d.activity.map(|(tau, a)| json!({
                 "tau_min": round(tau / 60.0),
                 "correlation": round(a.correlation),
