@@ -25,7 +25,7 @@ where
             Some(step) => (&step.score, &step.fit),
             None => (&baseline.0, &baseline.1),
         };
-        let proposals = problem.proposals(&effects, current_fit);
+        let proposals = admissible_proposals(problem, &effects, current_fit);
         let mut tested: Tested<P> = Vec::new();
         for (effect, evidence) in proposals {
             progress(&format!("testing {}", problem.id(effect)));
@@ -136,6 +136,9 @@ where
     let mut best: Option<(usize, usize, Score, P::Fit, Test)> = None;
     for i in 0..tested.len() {
         for j in i + 1..tested.len() {
+            if !problem.compatible(tested[i].0, tested[j].0) {
+                continue;
+            }
             let (a, b) = if tested[i].2.cv_rms <= tested[j].2.cv_rms {
                 (i, j)
             } else {

@@ -109,6 +109,30 @@ pub trait Problem {
     /// (a report must not hide a candidate), each with the evidence from the residual
     /// diagnostics that points to it, in the order worth trying.
     fn proposals(&self, effects: &[Self::Effect], fit: &Self::Fit) -> Vec<(Self::Effect, String)>;
+    /// Whether `a` and `b` may be in one model (true unless the problem says otherwise). The
+    /// searches never score a model with an incompatible pair: a proposal that cannot join
+    /// the current model is not scored with it (the problem's report says why), and no block
+    /// or exchange brings in such a pair.
+    fn compatible(&self, _a: Self::Effect, _b: Self::Effect) -> bool {
+        true
+    }
+}
+
+/// `problem.proposals(effects, fit)` without those that cannot join `effects`
+/// ([`Problem::compatible`]).
+pub(crate) fn admissible_proposals<P: Problem>(
+    problem: &P,
+    effects: &[P::Effect],
+    fit: &P::Fit,
+) -> Vec<(P::Effect, String)>
+where
+    P::Effect: Copy,
+{
+    problem
+        .proposals(effects, fit)
+        .into_iter()
+        .filter(|(e, _)| effects.iter().all(|&m| problem.compatible(m, *e)))
+        .collect()
 }
 
 /// How well a set of effects predicts the data.

@@ -154,7 +154,7 @@ where
             book.visited.push(here);
         }
         let current = book.score(here).clone();
-        let proposals = problem.proposals(&effects, book.fit(here));
+        let proposals = admissible_proposals(problem, &effects, book.fit(here));
         let with = |extra: &[P::Effect]| [effects.as_slice(), extra].concat();
         // Singles, then the proposals ranked by what each does alone (a block lists its
         // effects in that order, the better alone first).
@@ -242,6 +242,7 @@ where
                     (0..n)
                         .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
                         .map(|(a, b)| vec![ranked[a], ranked[b]])
+                        .filter(|p| problem.compatible(proposals[p[0]].0, proposals[p[1]].0))
                         .collect()
                 };
                 for added in incoming {
@@ -384,8 +385,11 @@ where
             .collect()
     };
     // Every pair, its effects in ranked order.
+    let problem = book.problem;
+    let compatible = |a: usize, b: usize| problem.compatible(proposals[a].0, proposals[b].0);
     let pairs: Vec<Vec<usize>> = (0..n)
         .flat_map(|a| (a + 1..n).map(move |b| vec![ranked[a], ranked[b]]))
+        .filter(|p| compatible(p[0], p[1]))
         .collect();
     let pair_at = book.score_all(
         &pairs.iter().map(|p| model(p)).collect::<Vec<_>>(),
@@ -397,7 +401,9 @@ where
     if largest >= 3
         && let Some(best) = (0..pairs.len()).min_by(|&a, &b| book.by_cv_rms(pair_at[a], pair_at[b]))
     {
-        for &other in ranked.iter().filter(|i| !pairs[best].contains(i)) {
+        for &other in ranked.iter().filter(|&&i| {
+            !pairs[best].contains(&i) && pairs[best].iter().all(|&p| compatible(p, i))
+        }) {
             let mut triple = [pairs[best].clone(), vec![other]].concat();
             triple.sort_by_key(|&i| rank_of(i));
             triples.push(triple);

@@ -101,6 +101,16 @@ impl PositioningEffect {
         }
     }
 
+    /// Whether `a` and `b` are `thermal_lag` and `sensor_lag` (in either order), which no model
+    /// holds together (see [`crate::discovery::engine::Problem::compatible`]).
+    pub(super) fn lags(a: PositioningEffect, b: PositioningEffect) -> bool {
+        matches!(
+            (a, b),
+            (PositioningEffect::ThermalLag, PositioningEffect::SensorLag)
+                | (PositioningEffect::SensorLag, PositioningEffect::ThermalLag)
+        )
+    }
+
     /// Whether the effect has a searched (nonlinear) parameter.
     pub(super) fn searched(self) -> bool {
         matches!(

@@ -107,6 +107,15 @@ impl Problem for PositioningProblem {
         fit.residuals.clone()
     }
 
+    /// `thermal_lag` and `sensor_lag` exclude each other: the structure's temperature either
+    /// lags the sensor's or leads it. Both at once are a lead-lag filter of the reading, which
+    /// gains held-out by smoothing the sensor's noise and quantisation (on noise-only tables
+    /// the pair, both τ at about a minute, was the one false acceptance the new effect
+    /// brought), not a cause on the machine.
+    fn compatible(&self, a: PositioningEffect, b: PositioningEffect) -> bool {
+        !PositioningEffect::lags(a, b)
+    }
+
     fn proposals(
         &self,
         effects: &[PositioningEffect],

@@ -66,6 +66,30 @@ impl PositioningDiscovery {
         &self.selection.alternatives
     }
 
+    /// The testable effects the final model cannot take beside its own, with why (a lag of
+    /// the structure and a lag of the sensor exclude each other).
+    pub fn excluded(&self) -> Vec<(PositioningEffect, String)> {
+        let model = self.accepted();
+        self.problem
+            .testable
+            .iter()
+            .filter(|e| !model.contains(e))
+            .filter_map(|&e| {
+                let other = model
+                    .iter()
+                    .find(|&&m| PositioningEffect::lags(m, e))?;
+                Some((
+                    e,
+                    format!(
+                        "cannot join {}: the structure either lags the sensor or leads it, and a lag with a lead is a filter of the reading (it smooths the sensor's noise), not a cause; it was scored against the base model and in blocks without {}",
+                        other.id(),
+                        other.id()
+                    ),
+                ))
+            })
+            .collect()
+    }
+
     /// The effects the file cannot show, with why.
     pub fn untestable(&self) -> &[(PositioningEffect, String)] {
         self.problem.untestable()
@@ -150,6 +174,10 @@ impl PositioningDiscovery {
             "moves": self.selection.moves_json(|e| e.id().into()),
             "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
             "alternatives": self.selection.alternatives_json(|e| e.id().into()),
+            "excluded": self.excluded().iter().map(|(e, why)| json!({
+                "effect": e.id(),
+                "reason": why,
+            })).collect::<Vec<_>>(),
             "untestable": self.problem.untestable.iter().map(|(e, why)| json!({
                 "effect": e.id(),
                 "reason": why,
@@ -298,6 +326,13 @@ impl PositioningDiscovery {
             3,
         ));
         out.push_str(&self.selection.alternatives_text(|e| e.id().into(), 3));
+        let excluded = self.excluded();
+        if !excluded.is_empty() {
+            out.push_str("\nNot scored beside the final model:\n");
+            for (effect, why) in &excluded {
+                out.push_str(&format!("  {:<19} {why}\n", effect.id()));
+            }
+        }
         if !self.problem.untestable.is_empty() {
             out.push_str("\nCannot be tested with this file:\n");
             for (effect, why) in &self.problem.untestable {
