@@ -1033,3 +1033,67 @@ fn a_sensor_lagging_the_structure_is_found_with_the_lost_motion() {
         assert_explained(&found, &folds, sigma, seed);
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Item 5 on the fixtures whose causes the file cannot separate.
+
+/// The measurement behind the README's table on the fixtures whose causes the file cannot
+/// separate (the `#[ignore]`d ones above: a screw lagging the nut sensor, all thermal terms
+/// with it, a heat source the sensor misses on three runs): for each seed, the final model's
+/// held-out RMS against that of the library's true terms refitted together on the same file
+/// (issue 15 item 5 asks for the best model the library can make with the data). A
+/// measurement, not a check: where the true terms are better, either their gain does not pass
+/// the rule (three runs) or the exchange to them does not (X, seed 4); run with `--ignored
+/// --nocapture`.
+#[test]
+#[ignore = "a measurement of the final model against the true terms on 16 fixture files (about 4 s \
+            in release): run on purpose"]
+fn final_model_against_the_true_terms_where_causes_are_not_separable() {
+    use mtwin::discovery::engine::score;
+    use mtwin::kinds::positioning::discovery::PositioningProblem;
+    let cases: Vec<(&str, Fixture, Vec<PositioningEffect>)> = vec![
+        (
+            "X screw lagging the nut",
+            Fixture::x_axis(),
+            vec![E::Reversal, E::ThermalLag, E::ThermalScale],
+        ),
+        (
+            "Z screw lagging the nut",
+            Fixture::z_axis(),
+            vec![E::ThermalLag, E::ThermalScale],
+        ),
+        (
+            "every thermal term with the lag",
+            Fixture {
+                expansion_ppm: 2.0 * NOMINAL_PPM,
+                fixed_end_mm: 760.0,
+                noise_um: 0.6,
+                ..Fixture::x_axis()
+            },
+            vec![
+                E::Reversal,
+                E::ThermalLag,
+                E::ThermalScale,
+                E::ThermalOffset,
+            ],
+        ),
+        (
+            "three X runs, heat the sensor misses",
+            x_unseen_heat(3, 90.0, 0.7),
+            vec![E::Reversal, E::SecondHeatSource],
+        ),
+    ];
+    for (name, fixture, truth) in cases {
+        for seed in SEEDS {
+            let found = fixture.discover(seed);
+            let problem = PositioningProblem::new(&found.table, PositioningOptions::default())
+                .expect("a valid table");
+            let true_cv = score(&problem, &truth).0.cv_rms * 1e6;
+            let final_cv = found.discovery.final_score().cv_rms * 1e6;
+            println!(
+                "  {name}, seed {seed}: {} {final_cv:.3} µm held out; true terms {true_cv:.3} µm",
+                found.discovery.to_json()["final"]["model"]
+            );
+        }
+    }
+}
