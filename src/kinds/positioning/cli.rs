@@ -46,8 +46,8 @@ The base model is a reference error profile (piecewise linear through the target
 coldest run, or the first without temperatures; its values fitted to all runs) plus the
 nominal thermal expansion of the axis, position × (temperature − the reference run's
 temperature) × the nominal coefficient. Effects: reversal, reversal_position,
-reversal_thermal, thermal_lag, thermal_scale, thermal_offset, second_heat_source, periodic,
-nonlinear_scale, time_drift. Held-out data: one run at a time with three runs or more, else
+reversal_thermal, thermal_lag, sensor_lag, thermal_scale, thermal_offset, second_heat_source,
+periodic, nonlinear_scale, time_drift. Held-out data: one run at a time with three runs or more, else
 contiguous blocks in time.";
 
 #[derive(Args)]
