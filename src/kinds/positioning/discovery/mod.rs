@@ -49,6 +49,11 @@ const SAME_POSITION: Real = 1e-6;
 const MIN_TEMPERATURE_RANGE: Real = 0.1;
 /// Proposal rules fire when the residual's association has |t| at least this.
 const PROPOSAL_T: Real = 2.0;
+/// The most runs held out one at a time. A file with more (an ISO 230-3 record reads a run
+/// every few minutes for hours) is held out in this many blocks of consecutive runs, in the
+/// file's run order: a run's neighbours in time are nearly the same run, so holding out one
+/// run tests interpolation rather than prediction, and every fold costs a fit of every model.
+const MAX_RUN_FOLDS: usize = 20;
 /// The most frequencies a period search may test.
 const MAX_FREQUENCIES: Real = 1e5;
 /// Grid points of a time-constant search (log-spaced), before golden-section refinement.

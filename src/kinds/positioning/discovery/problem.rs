@@ -3,8 +3,8 @@
 //! activity inputs of the model's terms.
 
 use super::{
-    DiscoveryError, MAX_FREQUENCIES, MIN_TEMPERATURE_RANGE, PositioningEffect, PositioningOptions,
-    SAME_POSITION,
+    DiscoveryError, MAX_FREQUENCIES, MAX_RUN_FOLDS, MIN_TEMPERATURE_RANGE, PositioningEffect,
+    PositioningOptions, SAME_POSITION,
 };
 use crate::discovery::engine::Folds;
 use crate::kinds::positioning::table::PositioningTable;
@@ -155,7 +155,17 @@ impl PositioningProblem {
             )));
         }
         let n_runs = table.runs.len();
-        let folds = if n_runs >= 3 {
+        let folds = if n_runs > MAX_RUN_FOLDS {
+            let blocks: Vec<usize> = run.iter().map(|&r| r * MAX_RUN_FOLDS / n_runs).collect();
+            Folds::leave_one_group_out(
+                &blocks,
+                &format!(
+                    "leave-one-block-of-runs-out ({MAX_RUN_FOLDS} blocks of {} to {} consecutive runs)",
+                    n_runs / MAX_RUN_FOLDS,
+                    n_runs.div_ceil(MAX_RUN_FOLDS)
+                ),
+            )
+        } else if n_runs >= 3 {
             Folds::leave_one_group_out(&run, "leave-one-run-out")
         } else {
             Folds::contiguous(&order, options.folds)

@@ -90,6 +90,26 @@ impl PositioningDiscovery {
             .collect()
     }
 
+    /// The labels of the runs each fold holds out (a run in several folds when the folds are
+    /// blocks in time that cut it), fold by fold, in the file's run order.
+    pub fn fold_runs(&self) -> Vec<Vec<String>> {
+        let folds = &self.problem.folds;
+        let mut held: Vec<Vec<bool>> =
+            vec![vec![false; self.problem.run_labels.len()]; folds.count];
+        for (i, &run) in self.problem.run.iter().enumerate() {
+            held[folds.of_sample[i]][run] = true;
+        }
+        held.iter()
+            .map(|runs| {
+                runs.iter()
+                    .enumerate()
+                    .filter(|(_, held)| **held)
+                    .map(|(r, _)| self.problem.run_labels[r].clone())
+                    .collect()
+            })
+            .collect()
+    }
+
     /// The effects the file cannot show, with why.
     pub fn untestable(&self) -> &[(PositioningEffect, String)] {
         self.problem.untestable()
@@ -156,6 +176,7 @@ impl PositioningDiscovery {
             "validation": {
                 "scheme": self.problem.folds.scheme,
                 "folds": self.problem.folds.count,
+                "fold_runs": self.fold_runs(),
                 "rule": engine::STEPWISE_RULE,
             },
             "baseline": {
