@@ -462,6 +462,18 @@ fn within(value: f64, truth: f64, tolerance: f64, what: &str, seed: u64) {
     );
 }
 
+/// The lost motion found must be the injected one within [`STANDARD_ERRORS`] of its standard
+/// error `se` (µm).
+fn assert_lost_motion(found: &Found, fixture: &Fixture, se: f64, seed: u64) {
+    within(
+        found.param(E::Reversal, "lost_motion_um"),
+        fixture.reversal_um,
+        STANDARD_ERRORS * se,
+        "lost motion µm",
+        seed,
+    );
+}
+
 /// The accepted effects, in any order, must be `expected`.
 fn assert_accepted(found: &Found, expected: &[PositioningEffect], seed: u64) {
     let mut accepted = found.discovery.accepted();
@@ -664,13 +676,7 @@ fn unseen_heat_source(fixture: Fixture) {
             &[Column::Reversal, Column::Growth(g.clone())],
             sigma,
         );
-        within(
-            found.param(E::Reversal, "lost_motion_um"),
-            fixture.reversal_um,
-            STANDARD_ERRORS * se[0],
-            "lost motion µm",
-            seed,
-        );
+        assert_lost_motion(&found, &fixture, se[0], seed);
         // The expansion grown over the test (µm/m), the model's `b·(ḡ_last − ḡ_first)` against
         // the screw's `11.7 µm/(m·°C) × (T̄_last − T̄_first)`. The single exponential misses the
         // true rise by `m₀` °C RMS at best, so the growth between two runs it gives may be off
@@ -732,13 +738,7 @@ fn origin_drift_from_a_fixed_end_at_the_far_end_is_found_with_the_lost_motion() 
             &[Column::Reversal, Column::Offset(found.sensor())],
             sigma,
         );
-        within(
-            found.param(E::Reversal, "lost_motion_um"),
-            fixture.reversal_um,
-            STANDARD_ERRORS * se[0],
-            "lost motion µm",
-            seed,
-        );
+        assert_lost_motion(&found, &fixture, se[0], seed);
         within(
             found.param(E::ThermalOffset, "offset_um_per_degc"),
             offset,
@@ -789,13 +789,7 @@ fn several_thermal_terms_at_once_are_all_found() {
             ],
             sigma,
         );
-        within(
-            found.param(E::Reversal, "lost_motion_um"),
-            fixture.reversal_um,
-            STANDARD_ERRORS * se[0],
-            "lost motion µm",
-            seed,
-        );
+        assert_lost_motion(&found, &fixture, se[0], seed);
         within(
             found.param(E::ThermalScale, "expansion_change_ppm_per_degc"),
             fixture.expansion_ppm - NOMINAL_PPM,
@@ -925,13 +919,7 @@ fn screw_lagging_the_nut_sensor(fixture: Fixture) {
             );
         }
         if fixture.reversal_um != 0.0 {
-            within(
-                found.param(E::Reversal, "lost_motion_um"),
-                fixture.reversal_um,
-                STANDARD_ERRORS * se[columns.len() - 1],
-                "lost motion µm",
-                seed,
-            );
+            assert_lost_motion(&found, &fixture, se[columns.len() - 1], seed);
         }
         assert_explained(&found, &folds, sigma, seed);
     }
@@ -1023,13 +1011,7 @@ fn a_sensor_lagging_the_structure_is_found_with_the_lost_motion() {
             "seed {seed}: τ {tau} min outside {tau_low}–{tau_high}"
         );
         let se = standard_errors(&found.table, &[Column::Reversal], sigma);
-        within(
-            found.param(E::Reversal, "lost_motion_um"),
-            fixture.reversal_um,
-            STANDARD_ERRORS * se[0],
-            "lost motion µm",
-            seed,
-        );
+        assert_lost_motion(&found, &fixture, se[0], seed);
         assert_explained(&found, &folds, sigma, seed);
     }
 }

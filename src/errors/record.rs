@@ -126,15 +126,9 @@ impl TemperatureRecord {
         series[k - 1] + w * (series[k] - series[k - 1])
     }
 
-    /// Sensor `sensor` through a lag of `tau` s at `time` s, continuing `lagged` (its
-    /// [`TemperatureRecord::lagged`] series) exactly from the sample before `time` along the
-    /// linear piece (held after the last sample, so the lag goes on settling).
-    pub fn lagged_at(&self, sensor: usize, lagged: &[Real], tau: Real, time: Real) -> Real {
-        self.lag_at(&self.values[sensor], lagged, tau, time)
-    }
-
-    /// `series` through a lag of `tau` s at `time` s, continuing `lagged` (its
-    /// [`TemperatureRecord::lag`]) as [`TemperatureRecord::lagged_at`] continues a sensor's.
+    /// `series` (one value per sample time) through a lag of `tau` s at `time` s, continuing
+    /// `lagged` (its [`TemperatureRecord::lag`]) exactly from the sample before `time` along
+    /// the linear piece (held after the last sample, so the lag goes on settling).
     pub fn lag_at(&self, series: &[Real], lagged: &[Real], tau: Real, time: Real) -> Real {
         let k = self.times.partition_point(|&t| t <= time);
         if k == 0 {
