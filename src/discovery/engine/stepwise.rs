@@ -31,8 +31,8 @@ pub const LEAN_STEPWISE_RULE: &str = "a search by held-out RMS in moves, each ju
      candidate's held-out residuals), combined by Stouffer with each fold weighted by the z it would have if the \
      candidate were true, reach the normal quantile of 1 - 0.025/C for the C candidates of its kind (Bonferroni), and \
      (3) still reaches it without the fold that contributes most. ADD the best passing single effect (C the singles), \
-     or, when none passes, the best pair that passes (C the pairs) with each effect lowering the pair's held-out RMS \
-     by 5 %. REMOVE, after every addition or swap, while the model without one of its effects has a held-out RMS \
+     or, when none passes, the best pair that passes (C the pairs) with each effect passing its test added to the \
+     other (C = 1). REMOVE, after every addition or swap, while the model without one of its effects has a held-out RMS \
      less than 5 % higher (the effect is no longer worth a term), the effect whose removal leaves the lowest. SWAP, \
      when nothing can be added, one effect of the model for one candidate: the exchange with the lowest held-out RMS \
      among those that pass against the model (C the exchanges). Never back to a model already visited; stop when \
