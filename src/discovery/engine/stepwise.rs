@@ -15,8 +15,8 @@ pub const STEPWISE_RULE: &str = "a search by held-out RMS in moves, each judged 
      (3) still reaches it without the fold that contributes most. ADD the best passing single effect (C the singles), \
      or a block of two or three that passes (C all the blocks of its size, every one of them scored) with every \
      effect earning its place (passing its test added to the rest of the block, at the singles' threshold, or at \
-     one test's when no single effect passes) when no single passes or its held-out RMS is 5 % lower than the best single's. REMOVE, after every addition or \
-     swap, while the model without one of its effects has a held-out RMS less than 5 % higher (the effect is no \
+     one test's when no single effect passes) when no single passes or its held-out RMS is 5 % lower than the best \
+     single's. REMOVE, after every addition or swap, while the model without one of its effects has a held-out RMS less than 5 % higher (the effect is no \
      longer worth a term), the effect whose removal leaves the lowest. SWAP, when nothing can be added, one effect of \
      the model for one candidate or two (each of two lowering the held-out RMS by 5 %): the exchange with the lowest \
      held-out RMS among those that pass against the model (C the exchanges). Never back to a model already visited; \
@@ -32,8 +32,8 @@ pub const LEAN_STEPWISE_RULE: &str = "a search by held-out RMS in moves, each ju
      candidate were true, reach the normal quantile of 1 - 0.025/C for the C candidates of its kind (Bonferroni), and \
      (3) still reaches it without the fold that contributes most. ADD the best passing single effect (C the singles), \
      or, when none passes, the best pair that passes (C the pairs) with each effect passing its test added to the \
-     other (C = 1). REMOVE, after every addition or swap, while the model without one of its effects has a held-out RMS \
-     less than 5 % higher (the effect is no longer worth a term), the effect whose removal leaves the lowest. SWAP, \
+     other (C = 1). REMOVE, after every addition or swap, while the model without one of its effects has a held-out \
+     RMS less than 5 % higher (the effect is no longer worth a term), the effect whose removal leaves the lowest. SWAP, \
      when nothing can be added, one effect of the model for one candidate: the exchange with the lowest held-out RMS \
      among those that pass against the model (C the exchanges). Never back to a model already visited; stop when \
      nothing moves. Alternatives: the exchanges of one effect of the final model for one candidate that come close: \

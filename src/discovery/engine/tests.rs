@@ -263,7 +263,7 @@ fn mimic_problem(seed: u64) -> Linear {
 }
 
 /// On [`mimic_problem`] the first round takes c, e and m (a block of three, m standing for
-/// a + b). Then no single effect passes and the pair a, b enters (with j1 on two seeds); m
+/// a + b). Then no single effect passes and the pair a, b enters (with j1 on seed 5); m
 /// (and j1) now explain nothing the others do not, and the search removes them, ending on
 /// the true set with the path saying so. Forward selection, whose blocks are pairs, stops
 /// more than ten times the noise away.
