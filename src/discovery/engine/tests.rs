@@ -262,6 +262,39 @@ fn mimic_problem(seed: u64) -> Linear {
     Linear::new(&names, columns, &truth, 0.05, seed)
 }
 
+/// Every triple is scored, not only the best pair's: with data 3·c + a + b and m = a + b +
+/// 0.3·d beside them, the best pair is c with m, and a, b and c together do not extend it
+/// (the search used to take c and m, then a and b, then remove m). Now the first move adds
+/// a, b and c at once, and nothing is removed.
+#[test]
+fn every_triple_is_scored_so_three_true_effects_enter_at_once() {
+    let (a, b, c, d) = (
+        shape(1.3, 0.2),
+        shape(2.1, 1.1),
+        shape(0.8, 0.5),
+        shape(0.6, 2.0),
+    );
+    let m: Vec<Real> = (0..SAMPLES).map(|i| a[i] + b[i] + 0.3 * d[i]).collect();
+    let truth: Vec<Real> = (0..SAMPLES).map(|i| 3.0 * c[i] + a[i] + b[i]).collect();
+    let names = ["m", "a", "b", "c", "j1", "j2"];
+    let columns = vec![m, a, b, c, shape(3.7, 0.4), shape(5.3, 2.9)];
+    for seed in 1..=5 {
+        let problem = Linear::new(&names, columns.clone(), &truth, 0.05, seed);
+        let selection = stepwise_selection(&problem, Search::FULL, |_| {});
+        let first = match &selection.moves[0].action {
+            Action::Add(added) => sorted(added.clone()),
+            other => panic!("seed {seed}: {other:?}"),
+        };
+        assert_eq!(first, vec![1, 2, 3], "seed {seed}: {:?}", selection.moves);
+        assert!(
+            !selection.backed_out(),
+            "seed {seed}: {:?}",
+            selection.moves
+        );
+        assert_eq!(sorted(selection.effects()), vec![1, 2, 3], "seed {seed}");
+    }
+}
+
 /// On [`mimic_problem`] the first round takes c, e and m (a block of three, m standing for
 /// a + b). Then no single effect passes and the pair a, b enters (with j1 on seed 5); m
 /// (and j1) now explain nothing the others do not, and the search removes them, ending on
