@@ -882,11 +882,8 @@ fn screw_lagging_the_nut_sensor(fixture: Fixture, seeds: &[u64]) {
     for &seed in seeds {
         let found = fixture.discover(seed);
         let folds = held_out_per_fold(&found, seed);
-        let described = Description::of(&found, seed);
-        described.assert_true_to(&found, sigma, seed);
+        let se = Description::of(&found, seed).assert_true_to(&found, sigma, seed);
         if fixture.reversal_um != 0.0 {
-            let (columns, _) = described.columns(&found);
-            let se = standard_errors(&found.table, &columns, sigma);
             assert_lost_motion(&found, &fixture, se[0], seed);
         }
         assert_explained(&found, &folds, sigma, seed);
@@ -1224,7 +1221,9 @@ impl Description {
     /// one of its effects, whatever the time constants left, it is not; and each value
     /// discovery gives is the description's own on the truth within four standard errors
     /// (the closed form of least squares for this layout and noise).
-    fn assert_true_to(&self, found: &Found, sigma_um: f64, seed: u64) {
+    /// Returns the standard errors of the free columns, in their order (the lost motion's
+    /// first when present).
+    fn assert_true_to(&self, found: &Found, sigma_um: f64, seed: u64) -> Vec<f64> {
         let n = found.table.readings.len() as f64;
         let floor = Description::floor(found);
         let allowed = (floor.powi(2) + (STANDARD_ERRORS * sigma_um).powi(2) / n).sqrt();
@@ -1270,7 +1269,7 @@ impl Description {
             E::SecondHeatSource => Some((e, "expansion_um_per_m")),
             _ => None,
         });
-        for (((effect, key), truth), se) in keys.zip(values).zip(se) {
+        for (((effect, key), truth), se) in keys.zip(values).zip(&se) {
             within(
                 found.param(effect, key),
                 truth,
@@ -1279,6 +1278,7 @@ impl Description {
                 seed,
             );
         }
+        se
     }
 }
 
