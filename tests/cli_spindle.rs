@@ -1138,7 +1138,15 @@ fn discover_reports_the_documented_keys_on_a_foreign_export() {
     for rejected in array(&json["rejected"]) {
         assert_eq!(
             keys(rejected),
-            set(&["effect", "cv_rms_um", "gain_z", "rest_z", "z_needed"])
+            set(&[
+                "effect",
+                "cv_rms_um",
+                "fold_cv_rms_um",
+                "gain_z",
+                "rest_z",
+                "z_needed",
+                "fails"
+            ])
         );
     }
     assert_eq!(

@@ -103,6 +103,7 @@ where
             .map(|((effect, _, score, _), test)| Rejected {
                 effect,
                 cv_rms: score.cv_rms,
+                fold_mse: score.fold_mse,
                 test,
             })
             .collect();
@@ -112,6 +113,7 @@ where
             rejected,
             moves,
             alternatives: Vec::new(),
+            held_back: Vec::new(),
         };
     }
 }

@@ -23,7 +23,10 @@ pub(crate) use report::{
     FINAL_VALUES, folds_text, params_json, params_text, rejected_text, test_text,
 };
 pub use report::{folds_json, rejected_json, round_json};
-pub use selection::{Accepted, Action, Alternative, Move, Rejected, ResidualStep, Selection};
+pub use selection::{
+    Accepted, Action, Alternative, HELD_BACK_SHOWN, HeldBack, Move, Rejected, ResidualStep,
+    Selection,
+};
 pub use stepwise::{LARGEST_BLOCK, LEAN_STEPWISE_RULE, STEPWISE_RULE, Search, stepwise_selection};
 pub use test::{RULE, Test, normal_quantile};
 

@@ -2,8 +2,9 @@
 
 use super::*;
 
-/// The rejected candidates as JSON: `effect` (from `id`), `cv_rms_um`, and their test
-/// (`gain_z`, `rest_z`, `z_needed`).
+/// The rejected candidates as JSON: `effect` (from `id`), `cv_rms_um`, `fold_cv_rms_um`,
+/// their test (`gain_z`, `rest_z`, `z_needed`) and `fails`, the number in [`RULE`] of the
+/// first condition the candidate fails ([`Test::failed_condition`]).
 pub fn rejected_json<E: Copy>(
     rejected: &[Rejected<E>],
     id: impl Fn(E) -> String,
@@ -17,7 +18,9 @@ pub fn rejected_json<E: Copy>(
                 "cv_rms_um".into(),
                 round_json(r.cv_rms / crate::math::M_PER_UM),
             );
+            object.insert("fold_cv_rms_um".into(), fold_rms_json(&r.fold_mse));
             test_keys(&mut object, &r.test);
+            object.insert("fails".into(), r.test.failed_condition().into());
             serde_json::Value::Object(object)
         })
         .collect()
@@ -38,7 +41,10 @@ pub(crate) fn test_text(test: &Test) -> String {
     )
 }
 
-/// The rejected candidates for people, one per line: held-out RMS and why it failed.
+/// The rejected candidates for people, one per line: held-out RMS, its test and the condition
+/// of the rule it fails; under a candidate whose held-out gains are beyond noise but that
+/// fails condition (1), the held-out RMS of each fold, so a user sees which runs held out
+/// gain and which lose.
 pub(crate) fn rejected_text<E: Copy>(
     rejected: &[Rejected<E>],
     id: impl Fn(E) -> String,
@@ -48,10 +54,16 @@ pub(crate) fn rejected_text<E: Copy>(
     if rejected.is_empty() {
         return out;
     }
-    out.push_str("\nTested and rejected (held-out RMS; held-out gain; its z, and without the fold that contributes most, against the z needed):\n");
+    out.push_str("\nTested and rejected (held-out RMS; held-out gain; its z, and without the fold that contributes most, against the z needed; the condition of the rule it fails):\n");
     for r in rejected {
+        let fails = r
+            .test
+            .failed_condition()
+            .map_or(String::from("passes, not taken"), |c| {
+                format!("fails ({c})")
+            });
         out.push_str(&format!(
-            "  {:<20} {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}\n",
+            "  {:<20} {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}; {fails}\n",
             id(r.effect),
             crate::math::fixed(r.cv_rms / crate::math::M_PER_UM, decimals),
             100.0 * r.test.gain,
@@ -59,6 +71,9 @@ pub(crate) fn rejected_text<E: Copy>(
             r.test.rest_z,
             r.test.threshold,
         ));
+        if r.test.significant() {
+            out.push_str(&format!("      {}\n", fold_rms_text(&r.fold_mse, decimals)));
+        }
     }
     out
 }
@@ -75,9 +90,13 @@ pub fn round_json(value: Real) -> serde_json::Value {
 /// Each fold's held-out RMS in µm (from its mean square, rounded by [`round_json`]): the JSON's
 /// `fold_cv_rms_um`, so a user sees which folds a gain comes from.
 pub fn folds_json(score: &Score) -> serde_json::Value {
+    fold_rms_json(&score.fold_mse)
+}
+
+/// [`folds_json`] from the folds' mean squares.
+pub(super) fn fold_rms_json(fold_mse: &[Real]) -> serde_json::Value {
     serde_json::Value::Array(
-        score
-            .fold_mse
+        fold_mse
             .iter()
             .map(|m| round_json(m.sqrt() / crate::math::M_PER_UM))
             .collect(),
@@ -86,8 +105,12 @@ pub fn folds_json(score: &Score) -> serde_json::Value {
 
 /// Each fold's held-out RMS for people: `folds: 0.412 0.398 … µm` to `decimals`.
 pub(crate) fn folds_text(score: &Score, decimals: usize) -> String {
-    let values: Vec<String> = score
-        .fold_mse
+    fold_rms_text(&score.fold_mse, decimals)
+}
+
+/// [`folds_text`] from the folds' mean squares.
+pub(super) fn fold_rms_text(fold_mse: &[Real], decimals: usize) -> String {
+    let values: Vec<String> = fold_mse
         .iter()
         .map(|m| crate::math::fixed(m.sqrt() / crate::math::M_PER_UM, decimals))
         .collect();

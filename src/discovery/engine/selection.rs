@@ -1,7 +1,7 @@
 //! What a search returns ([`Selection`]): the accepted steps, the rejected candidates, the
 //! moves and the alternatives, with their reports.
 
-use super::report::{test_keys, test_text};
+use super::report::{fold_rms_json, fold_rms_text, test_keys, test_text};
 use super::*;
 
 /// The model after one step of discovery and what it leaves.
@@ -43,8 +43,30 @@ pub struct Rejected<E> {
     pub effect: E,
     /// The held-out RMS of the model with it.
     pub cv_rms: Real,
+    /// The mean squared held-out residual of each fold with it.
+    pub fold_mse: Vec<Real>,
     /// Its acceptance test.
     pub test: Test,
+}
+
+/// A block of the last round whose held-out gains are beyond noise (the rule's conditions (2)
+/// and (3) hold) but that was not added: it does not lower the pooled held-out RMS by
+/// [`MIN_RELATIVE_GAIN`], or one of its effects does not earn its place in it. Shown so that a
+/// user sees evidence the rule did not take, and in which folds (a cold reference run held
+/// out, predicted by extrapolation, can outweigh the other runs' gains in the pooled RMS).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeldBack<E> {
+    /// The block's effects.
+    pub effects: Vec<E>,
+    /// The held-out RMS of the model with the block.
+    pub cv_rms: Real,
+    /// The mean squared held-out residual of each fold with the block.
+    pub fold_mse: Vec<Real>,
+    /// The block's test against the model (C the blocks of its size).
+    pub test: Test,
+    /// An effect of the block that does not earn its place in it (the block passes its
+    /// test); `None`: the block's held-out gain is below [`MIN_RELATIVE_GAIN`].
+    pub idle: Option<E>,
 }
 
 /// What one move of a search did to the model.
@@ -114,7 +136,14 @@ pub struct Selection<E, F> {
     /// Exchanges of one effect of the final model for another candidate that the data cannot
     /// rule out, lowest held-out RMS first (empty for [`forward_selection`]).
     pub alternatives: Vec<Alternative<E>>,
+    /// The blocks of the last round held back although their held-out gains are beyond
+    /// noise, lowest held-out RMS first (empty for
+    /// [`forward_selection`], and for a lean search whose last round scored no block).
+    pub held_back: Vec<HeldBack<E>>,
 }
+
+/// The most held-back blocks a report for people shows (the JSON report has them all).
+pub const HELD_BACK_SHOWN: usize = 5;
 
 impl<E: Copy, F> Selection<E, F> {
     /// The accepted effects in order.
@@ -336,6 +365,105 @@ impl<E: Copy, F> Selection<E, F> {
                 a.test.z,
                 a.test.rest_z,
                 a.test.threshold
+            ));
+        }
+        out
+    }
+}
+
+/// Why a held-back block was not added, for people.
+fn held_back_reason<E: Copy>(block: &HeldBack<E>, id: &impl Fn(E) -> String) -> String {
+    match block.idle {
+        Some(e) => format!("{} does not earn its place in it", id(e)),
+        None => "the pooled held-out RMS drops by less than 5 %".into(),
+    }
+}
+
+impl<E: Copy, F> Selection<E, F> {
+    /// The line of a report's "Accepted" section when the search accepted nothing: that no
+    /// effect gains more than noise can, or, when some gain beyond noise but fail the rule's
+    /// other conditions, which (listed below the line with the RMS of each fold).
+    pub fn nothing_text(&self, id: impl Fn(E) -> String) -> String {
+        let mut evidence: Vec<String> = self
+            .rejected
+            .iter()
+            .filter(|r| r.test.significant())
+            .map(|r| id(r.effect))
+            .collect();
+        match self.held_back.len() {
+            0 => {}
+            1 => evidence.push("a block held back".into()),
+            n => evidence.push(format!("{n} blocks held back")),
+        }
+        if evidence.is_empty() {
+            return "  nothing: no effect lowers the held-out RMS more than noise can\n".into();
+        }
+        let list = match evidence.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+            None => String::new(),
+        };
+        format!(
+            "  nothing passes the rule, though {list} gain beyond noise held out: they fail its other conditions (below, with the held-out RMS of each fold; one fold, such as a reference run held out and predicted by extrapolation, can outweigh the gains of the others)\n"
+        )
+    }
+
+    /// The held-back blocks as JSON, lowest held-out RMS first: `effects` (from `id`),
+    /// `cv_rms_um`, `fold_cv_rms_um`, the block's test (`gain_z`, `rest_z`, `z_needed`),
+    /// `gain_pct` (its pooled held-out gain) and `idle`, the effect that does not earn its
+    /// place (null: the pooled gain is below 5 %).
+    pub fn held_back_json(&self, id: impl Fn(E) -> String) -> Vec<serde_json::Value> {
+        self.held_back
+            .iter()
+            .map(|b| {
+                let mut object = serde_json::Map::new();
+                object.insert(
+                    "effects".into(),
+                    b.effects.iter().map(|&e| id(e)).collect::<Vec<_>>().into(),
+                );
+                object.insert(
+                    "cv_rms_um".into(),
+                    round_json(b.cv_rms / crate::math::M_PER_UM),
+                );
+                object.insert("fold_cv_rms_um".into(), fold_rms_json(&b.fold_mse));
+                object.insert("gain_pct".into(), round_json(100.0 * b.test.gain));
+                test_keys(&mut object, &b.test);
+                object.insert("idle".into(), b.idle.map(&id).into());
+                serde_json::Value::Object(object)
+            })
+            .collect()
+    }
+
+    /// The held-back blocks for people (held-out RMS to `decimals` µm), each with why and the
+    /// held-out RMS of each fold; empty when there is none.
+    pub fn held_back_text(&self, id: impl Fn(E) -> String, decimals: usize) -> String {
+        if self.held_back.is_empty() {
+            return String::new();
+        }
+        let mut out = String::from(
+            "\nBlocks held back (held-out gains beyond noise, but not added; held-out RMS; held-out gain; z, and without the fold that contributes most, against the z needed; why):\n",
+        );
+        for b in self.held_back.iter().take(HELD_BACK_SHOWN) {
+            out.push_str(&format!(
+                "  {}: {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}; {}\n      {}\n",
+                b.effects
+                    .iter()
+                    .map(|&e| id(e))
+                    .collect::<Vec<_>>()
+                    .join(" + "),
+                crate::math::fixed(b.cv_rms / crate::math::M_PER_UM, decimals),
+                100.0 * b.test.gain,
+                b.test.z,
+                b.test.rest_z,
+                b.test.threshold,
+                held_back_reason(b, &id),
+                fold_rms_text(&b.fold_mse, decimals)
+            ));
+        }
+        if self.held_back.len() > HELD_BACK_SHOWN {
+            out.push_str(&format!(
+                "  and {} more (the JSON report lists them all)\n",
+                self.held_back.len() - HELD_BACK_SHOWN
             ));
         }
         out

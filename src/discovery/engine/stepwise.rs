@@ -176,7 +176,7 @@ where
         ranked.sort_by(|&a, &b| book.by_cv_rms(single_at[a], single_at[b]));
         // A block competes with the best single: when a single passes, each of the block's
         // effects must pass as a single added to the rest of the block.
-        let block =
+        let (block, held_back) =
             if search.largest_block >= 2 && (search.blocks_every_round || best_single.is_none()) {
                 best_block(
                     &mut book,
@@ -190,7 +190,7 @@ where
                     progress,
                 )
             } else {
-                None
+                (None, Vec::new())
             };
         let single = best_single.map(|i| (vec![i], single_at[i], single_tests[i], proposals.len()));
         // A block wins over a passing single only when its extra effects are worth their
@@ -232,6 +232,7 @@ where
                 &proposals,
                 moves,
                 Vec::new(),
+                held_back,
                 progress,
             );
         }
@@ -334,6 +335,7 @@ where
             &proposals,
             moves,
             alternatives,
+            held_back,
             progress,
         );
     }
@@ -375,7 +377,10 @@ fn best_block<P: Problem + Sync>(
     singles: Option<usize>,
     largest: usize,
     progress: &mut dyn FnMut(&str),
-) -> Option<(Vec<usize>, usize, Test, usize)>
+) -> (
+    Option<(Vec<usize>, usize, Test, usize)>,
+    Vec<HeldBack<P::Effect>>,
+)
 where
     P::Effect: Sync,
     P::Fit: Send,
@@ -415,6 +420,7 @@ where
         progress,
     );
     let mut best: Option<(Vec<usize>, usize, Test, usize)> = None;
+    let mut held_back: Vec<HeldBack<P::Effect>> = Vec::new();
     let families = [
         (pairs, pair_at, subsets(n, 2)),
         (triples, triple_at, subsets(n, 3)),
@@ -423,34 +429,46 @@ where
         for (block, &i) in blocks.iter().zip(at) {
             let score = book.score(i);
             let test = Test::new(current, score, folds, *family);
-            if !test.passes()
-                || book.visited.contains(&i)
-                || best
-                    .as_ref()
-                    .is_some_and(|(_, b, _, _)| book.score(*b).cv_rms <= score.cv_rms)
-            {
+            if !test.significant() || book.visited.contains(&i) {
                 continue;
             }
             // Every effect earns its place in the block (the block without it was scored with
             // the smaller blocks).
-            let worth = block.iter().all(|&leaving| {
-                let rest: Vec<usize> = block.iter().copied().filter(|&k| k != leaving).collect();
-                let without = if rest.len() == 1 {
-                    Some(single_at[rest[0]])
-                } else {
-                    book.find(&model(&rest))
-                };
-                without.is_some_and(|w| match singles {
-                    Some(c) => Test::new(book.score(w), score, folds, c).passes(),
-                    None => Test::new(book.score(w), score, folds, 1).passes(),
+            let idle = test.passes().then(|| {
+                block.iter().copied().find(|&leaving| {
+                    let rest: Vec<usize> =
+                        block.iter().copied().filter(|&k| k != leaving).collect();
+                    let without = if rest.len() == 1 {
+                        Some(single_at[rest[0]])
+                    } else {
+                        book.find(&model(&rest))
+                    };
+                    !without.is_some_and(|w| {
+                        Test::new(book.score(w), score, folds, singles.unwrap_or(1)).passes()
+                    })
                 })
             });
-            if worth {
-                best = Some((block.clone(), i, test, *family));
+            match idle {
+                Some(None) => {
+                    if best
+                        .as_ref()
+                        .is_none_or(|(_, b, _, _)| score.cv_rms < book.score(*b).cv_rms)
+                    {
+                        best = Some((block.clone(), i, test, *family));
+                    }
+                }
+                idle => held_back.push(HeldBack {
+                    effects: block.iter().map(|&k| proposals[k].0).collect(),
+                    cv_rms: score.cv_rms,
+                    fold_mse: score.fold_mse.clone(),
+                    test,
+                    idle: idle.flatten().map(|k| proposals[k].0),
+                }),
             }
         }
     }
-    best
+    held_back.sort_by(|a, b| a.cv_rms.total_cmp(&b.cv_rms));
+    (best, held_back)
 }
 
 /// Removes, one at a time, an effect that is no longer worth a term: the model without it
@@ -513,6 +531,7 @@ fn finish<P: Problem + Sync>(
     proposals: &[(P::Effect, String)],
     moves: Vec<Move<P::Effect>>,
     alternatives: Vec<Alternative<P::Effect>>,
+    held_back: Vec<HeldBack<P::Effect>>,
     progress: &mut dyn FnMut(&str),
 ) -> Selection<P::Effect, P::Fit>
 where
@@ -526,6 +545,7 @@ where
         .map(|((effect, _), (&i, test))| Rejected {
             effect: *effect,
             cv_rms: book.score(i).cv_rms,
+            fold_mse: book.score(i).fold_mse.clone(),
             test,
         })
         .collect();
@@ -587,5 +607,6 @@ where
         rejected,
         moves,
         alternatives,
+        held_back,
     }
 }

@@ -139,7 +139,28 @@ impl Test {
 
     /// Whether the candidate passes all three conditions.
     pub fn passes(&self) -> bool {
-        self.gain >= MIN_RELATIVE_GAIN && self.z >= self.threshold && self.rest_z >= self.threshold
+        self.gain >= MIN_RELATIVE_GAIN && self.significant()
+    }
+
+    /// Whether the held-out gains are beyond noise: conditions (2) and (3) hold, whatever the
+    /// pooled gain.
+    pub fn significant(&self) -> bool {
+        self.z >= self.threshold && self.rest_z >= self.threshold
+    }
+
+    /// The first condition of [`RULE`] the candidate fails, by its number there: 2 (the
+    /// combined z is within noise), then 3 (the z rests on one fold), then 1 (the pooled
+    /// held-out RMS drops by less than [`MIN_RELATIVE_GAIN`]); `None` when it passes.
+    pub fn failed_condition(&self) -> Option<u8> {
+        if self.z < self.threshold {
+            Some(2)
+        } else if self.rest_z < self.threshold {
+            Some(3)
+        } else if self.gain < MIN_RELATIVE_GAIN {
+            Some(1)
+        } else {
+            None
+        }
     }
 }
 

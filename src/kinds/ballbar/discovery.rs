@@ -726,6 +726,7 @@ impl BallbarDiscovery {
             "steps": steps,
             "moves": self.selection.moves_json(|e| e.id(plane).into()),
             "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id(plane).into()),
+            "held_back": self.selection.held_back_json(|e| e.id(plane).into()),
             "alternatives": self.selection.alternatives_json(|e| e.id(plane).into()),
             "untestable": self.problem.untestable.iter().map(|(e, why)| json!({
                 "effect": e.id(plane),
@@ -780,10 +781,7 @@ impl BallbarDiscovery {
         out.push_str(&self.selection.moves_text(|e| e.id(plane).into(), 3));
         let _ = writeln!(out, "\nAccepted, in order:");
         if self.selection.steps.is_empty() {
-            let _ = writeln!(
-                out,
-                "  nothing: no effect lowers the held-out RMS more than noise can"
-            );
+            out.push_str(&self.selection.nothing_text(|e| e.id(plane).into()));
         }
         for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
             let params = engine::params_text(&params(&step.fit, step.effect, data));
@@ -810,6 +808,7 @@ impl BallbarDiscovery {
             |e| e.id(plane).into(),
             3,
         ));
+        out.push_str(&self.selection.held_back_text(|e| e.id(plane).into(), 3));
         out.push_str(&self.selection.alternatives_text(|e| e.id(plane).into(), 3));
         let _ = writeln!(
             out,

@@ -194,6 +194,7 @@ impl PositioningDiscovery {
             "steps": steps,
             "moves": self.selection.moves_json(|e| e.id().into()),
             "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
+            "held_back": self.selection.held_back_json(|e| e.id().into()),
             "alternatives": self.selection.alternatives_json(|e| e.id().into()),
             "excluded": self.excluded().iter().map(|(e, why)| json!({
                 "effect": e.id(),
@@ -314,7 +315,7 @@ impl PositioningDiscovery {
         out.push_str(&self.selection.moves_text(|e| e.id().into(), 3));
         out.push_str("\nAccepted, in order:\n");
         if self.selection.steps.is_empty() {
-            out.push_str("  nothing: no effect lowers the held-out RMS more than noise can\n");
+            out.push_str(&self.selection.nothing_text(|e| e.id().into()));
         }
         for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
             let params = engine::params_text(&step.fit.params(step.effect));
@@ -346,6 +347,7 @@ impl PositioningDiscovery {
             |e| e.id().into(),
             3,
         ));
+        out.push_str(&self.selection.held_back_text(|e| e.id().into(), 3));
         out.push_str(&self.selection.alternatives_text(|e| e.id().into(), 3));
         let excluded = self.excluded();
         if !excluded.is_empty() {

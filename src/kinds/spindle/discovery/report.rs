@@ -441,10 +441,7 @@ impl SpindleDiscovery {
         }
         let _ = writeln!(out, "\nAccepted, in order:");
         if self.selection.steps.is_empty() {
-            let _ = writeln!(
-                out,
-                "  nothing: no effect lowers the held-out RMS more than noise can"
-            );
+            out.push_str(&self.selection.nothing_text(|e| e.id().into()));
         }
         for (step, (gain, pct)) in self.selection.steps.iter().zip(self.selection.gains()) {
             let together = step.together_with.map_or_else(String::new, |other| {
