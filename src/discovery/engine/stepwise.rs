@@ -360,12 +360,18 @@ fn enter<E: Copy>(
     }
 }
 
+/// An addition of proposals to the model: their indices into the proposals, the book entry of
+/// the model with them, their test and its family size.
+type Addition = (Vec<usize>, usize, Test, usize);
+
 /// The admissible block of proposals with the lowest held-out RMS (indices into `proposals`,
 /// in the order of `ranked`): its book entry, test and family size (see
 /// [`stepwise_selection`]). With `singles` (the round's number of single candidates, when one
 /// of them passes) each effect of a block must pass its [`Test`] added to the rest of the
-/// block at that round's threshold; without, it must lower the block's held-out RMS by
-/// [`MIN_RELATIVE_GAIN`].
+/// block at that round's threshold; without, at one test's (C = 1). Also the blocks held back
+/// ([`HeldBack`]): their gains are beyond noise (conditions 2 and 3) but the pooled gain is
+/// below [`MIN_RELATIVE_GAIN`] or an effect does not earn its place, lowest held-out RMS
+/// first.
 #[allow(clippy::too_many_arguments)]
 fn best_block<P: Problem + Sync>(
     book: &mut Book<'_, P>,
@@ -377,10 +383,7 @@ fn best_block<P: Problem + Sync>(
     singles: Option<usize>,
     largest: usize,
     progress: &mut dyn FnMut(&str),
-) -> (
-    Option<(Vec<usize>, usize, Test, usize)>,
-    Vec<HeldBack<P::Effect>>,
-)
+) -> (Option<Addition>, Vec<HeldBack<P::Effect>>)
 where
     P::Effect: Sync,
     P::Fit: Send,
@@ -419,7 +422,7 @@ where
         &triples.iter().map(|t| model(t)).collect::<Vec<_>>(),
         progress,
     );
-    let mut best: Option<(Vec<usize>, usize, Test, usize)> = None;
+    let mut best: Option<Addition> = None;
     let mut held_back: Vec<HeldBack<P::Effect>> = Vec::new();
     let families = [
         (pairs, pair_at, subsets(n, 2)),
