@@ -42,9 +42,9 @@ pub(crate) fn test_text(test: &Test) -> String {
 }
 
 /// The rejected candidates for people, one per line: held-out RMS, its test and the condition
-/// of the rule it fails; under a candidate whose held-out gains are beyond noise but that
-/// fails condition (1), the held-out RMS of each fold, so a user sees which runs held out
-/// gain and which lose.
+/// of the rule it fails; under a candidate whose combined z passes (condition 2) but that
+/// fails condition (3) or (1), the held-out RMS of each fold, so a user sees which runs held
+/// out gain and which lose.
 pub(crate) fn rejected_text<E: Copy>(
     rejected: &[Rejected<E>],
     id: impl Fn(E) -> String,
@@ -71,7 +71,7 @@ pub(crate) fn rejected_text<E: Copy>(
             r.test.rest_z,
             r.test.threshold,
         ));
-        if r.test.significant() {
+        if r.test.z >= r.test.threshold {
             out.push_str(&format!("      {}\n", fold_rms_text(&r.fold_mse, decimals)));
         }
     }

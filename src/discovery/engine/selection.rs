@@ -50,8 +50,10 @@ pub struct Rejected<E> {
 }
 
 /// A block of the last round whose held-out gains are beyond noise (the rule's conditions (2)
-/// and (3) hold) but that was not added: it does not lower the pooled held-out RMS by
-/// [`MIN_RELATIVE_GAIN`], or one of its effects does not earn its place in it. Shown so that a
+/// and (3) hold, and so do they for each of its effects added to the others, at one test's
+/// threshold: no effect rides along) but that was not added: it does not lower the pooled
+/// held-out RMS by [`MIN_RELATIVE_GAIN`], or one of its effects does not earn its place in it
+/// (does not pass its test added to the others at the rule's threshold). Shown so that a
 /// user sees evidence the rule did not take, and in which folds (a cold reference run held
 /// out, predicted by extrapolation, can outweigh the other runs' gains in the pooled RMS).
 #[derive(Clone, Debug, PartialEq)]
@@ -404,7 +406,7 @@ impl<E: Copy, F> Selection<E, F> {
             None => String::new(),
         };
         format!(
-            "  nothing passes the rule, though {list} gain beyond noise held out: they fail its other conditions (below, with the held-out RMS of each fold; one fold, such as a reference run held out and predicted by extrapolation, can outweigh the gains of the others)\n"
+            "  nothing passes the rule, though {list} gain beyond noise held out: they fail its other conditions (below, with why and the held-out RMS of each fold)\n"
         )
     }
 

@@ -369,9 +369,9 @@ type Addition = (Vec<usize>, usize, Test, usize);
 /// [`stepwise_selection`]). With `singles` (the round's number of single candidates, when one
 /// of them passes) each effect of a block must pass its [`Test`] added to the rest of the
 /// block at that round's threshold; without, at one test's (C = 1). Also the blocks held back
-/// ([`HeldBack`]): their gains are beyond noise (conditions 2 and 3) but the pooled gain is
-/// below [`MIN_RELATIVE_GAIN`] or an effect does not earn its place, lowest held-out RMS
-/// first.
+/// ([`HeldBack`]): their gains, and each effect's added to the others, are beyond noise
+/// (conditions 2 and 3) but the pooled gain is below [`MIN_RELATIVE_GAIN`] or an effect does
+/// not earn its place, lowest held-out RMS first.
 #[allow(clippy::too_many_arguments)]
 fn best_block<P: Problem + Sync>(
     book: &mut Book<'_, P>,
@@ -435,10 +435,11 @@ where
             if !test.significant() || book.visited.contains(&i) {
                 continue;
             }
-            // Every effect earns its place in the block (the block without it was scored with
-            // the smaller blocks).
-            let idle = test.passes().then(|| {
-                block.iter().copied().find(|&leaving| {
+            // Each effect's test added to the rest of the block (the block without it was
+            // scored with the smaller blocks): at one test's threshold, and at the rule's.
+            let members: Option<Vec<(Test, Test)>> = block
+                .iter()
+                .map(|&leaving| {
                     let rest: Vec<usize> =
                         block.iter().copied().filter(|&k| k != leaving).collect();
                     let without = if rest.len() == 1 {
@@ -446,27 +447,41 @@ where
                     } else {
                         book.find(&model(&rest))
                     };
-                    !without.is_some_and(|w| {
-                        Test::new(book.score(w), score, folds, singles.unwrap_or(1)).passes()
+                    without.map(|w| {
+                        let w = book.score(w);
+                        (
+                            Test::new(w, score, folds, 1),
+                            Test::new(w, score, folds, singles.unwrap_or(1)),
+                        )
                     })
                 })
-            });
-            match idle {
-                Some(None) => {
-                    if best
-                        .as_ref()
-                        .is_none_or(|(_, b, _, _)| score.cv_rms < book.score(*b).cv_rms)
-                    {
-                        best = Some((block.clone(), i, test, *family));
-                    }
+                .collect();
+            // A block with an effect whose gain given the others is within noise is another
+            // block with a passenger: neither added nor shown.
+            let Some(members) = members.filter(|m| m.iter().all(|(one, _)| one.significant()))
+            else {
+                continue;
+            };
+            // Every effect earns its place in the block: it passes its test at the rule's
+            // threshold.
+            let idle = members.iter().position(|(_, rule)| !rule.passes());
+            if test.passes() && idle.is_none() {
+                if best
+                    .as_ref()
+                    .is_none_or(|(_, b, _, _)| score.cv_rms < book.score(*b).cv_rms)
+                {
+                    best = Some((block.clone(), i, test, *family));
                 }
-                idle => held_back.push(HeldBack {
+            } else {
+                held_back.push(HeldBack {
                     effects: block.iter().map(|&k| proposals[k].0).collect(),
                     cv_rms: score.cv_rms,
                     fold_mse: score.fold_mse.clone(),
                     test,
-                    idle: idle.flatten().map(|k| proposals[k].0),
-                }),
+                    idle: idle
+                        .filter(|_| test.passes())
+                        .map(|k| proposals[block[k]].0),
+                });
             }
         }
     }
