@@ -940,40 +940,33 @@ fn z_axis_screw_lagging_the_nut_sensor_is_found_though_the_cold_run_is_the_refer
 /// Seed 2 above accepts nothing, but the report does not say the base model is right: the
 /// true terms (the lag and the expansion change) gain beyond noise held out and are shown
 /// held back, with the RMS of each run held out — the four warm runs predicted better than
-/// by the base model, the cold reference run worse (it is extrapolated from the warm runs) —
-/// and the line under "Accepted" says that gains beyond noise failed the rule's other
-/// conditions.
+/// by the base model, the cold reference run worse (it is extrapolated from the warm runs), by
+/// more than the others gain in the pooled RMS — and the line under "Accepted" says that
+/// gains beyond noise were not taken.
 #[test]
 fn z_axis_seed_2_shows_the_true_terms_held_back_by_the_cold_run() {
     let found = Fixture::z_axis().discover(2);
     let json = found.discovery.to_json();
     assert!(found.discovery.accepted().is_empty());
     let base = fold_rms(&json["baseline"]["fold_cv_rms_um"]);
-    let truth = json["held_back"]
+    let held_back = json["held_back"].as_array().expect("held_back");
+    // The true terms are the only block in which each effect gains beyond noise given the
+    // other and that the rule held back.
+    assert_eq!(held_back.len(), 1, "{}", found.discovery.to_text());
+    let truth = &held_back[0];
+    let mut effects: Vec<&str> = truth["effects"]
         .as_array()
-        .expect("held_back")
+        .unwrap()
         .iter()
-        .find(|b| {
-            let mut effects: Vec<&str> = b["effects"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|e| e.as_str().unwrap())
-                .collect();
-            effects.sort();
-            effects == ["thermal_lag", "thermal_scale"]
-        })
-        .unwrap_or_else(|| {
-            panic!(
-                "the true terms are not held back:\n{}",
-                found.discovery.to_text()
-            )
-        });
-    assert!(truth["gain_z"].as_f64().unwrap() >= truth["z_needed"].as_f64().unwrap());
-    assert!(truth["rest_z"].as_f64().unwrap() >= truth["z_needed"].as_f64().unwrap());
-    assert!(truth["gain_pct"].as_f64().unwrap() < 5.0);
-    assert_eq!(truth["idle"], serde_json::Value::Null);
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    effects.sort();
+    assert_eq!(effects, ["thermal_lag", "thermal_scale"]);
     let folds = fold_rms(&truth["fold_cv_rms_um"]);
+    // The runs have the same number of readings: the pooled RMS is the folds' quadratic mean,
+    // and the cold run's loss outweighs the four warm runs' gains in it.
+    let pooled = |f: &[f64]| (f.iter().map(|v| v * v).sum::<f64>() / f.len() as f64).sqrt();
+    assert!(pooled(&folds) > pooled(&base), "{folds:?} against {base:?}");
     assert!(folds[0] > base[0], "cold run: {folds:?} against {base:?}");
     for k in 1..folds.len() {
         assert!(
@@ -984,7 +977,7 @@ fn z_axis_seed_2_shows_the_true_terms_held_back_by_the_cold_run() {
     }
     let text = found.discovery.to_text();
     assert!(
-        text.contains("held back gain beyond noise held out"),
+        text.contains("held-out gains beyond noise come from"),
         "{text}"
     );
 }

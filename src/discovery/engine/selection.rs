@@ -139,8 +139,8 @@ pub struct Selection<E, F> {
     /// rule out, lowest held-out RMS first (empty for [`forward_selection`]).
     pub alternatives: Vec<Alternative<E>>,
     /// The blocks of the last round held back although their held-out gains are beyond
-    /// noise, lowest held-out RMS first (empty for
-    /// [`forward_selection`], and for a lean search whose last round scored no block).
+    /// noise, lowest held-out RMS first (empty for [`forward_selection`], and for a search
+    /// without blocks, [`Search::largest_block`] 1).
     pub held_back: Vec<HeldBack<E>>,
 }
 
@@ -377,7 +377,7 @@ impl<E: Copy, F> Selection<E, F> {
 fn held_back_reason<E: Copy>(block: &HeldBack<E>, id: &impl Fn(E) -> String) -> String {
     match block.idle {
         Some(e) => format!("{} does not earn its place in it", id(e)),
-        None => "the pooled held-out RMS drops by less than 5 %".into(),
+        None => "its pooled held-out gain falls short of the 5 % a term needs".into(),
     }
 }
 
@@ -406,7 +406,7 @@ impl<E: Copy, F> Selection<E, F> {
             None => String::new(),
         };
         format!(
-            "  nothing passes the rule, though {list} gain beyond noise held out: they fail its other conditions (below, with why and the held-out RMS of each fold)\n"
+            "  nothing passes the rule, though held-out gains beyond noise come from {list} (below: why each was not taken, and the held-out RMS of each fold)\n"
         )
     }
 

@@ -135,7 +135,8 @@ impl Search {
 /// [`MIN_RELATIVE_GAIN`] below theirs, so by the rule's condition (1) it does not beat them
 /// — and in which the incoming effect does something (the exchanged model has a lower
 /// held-out RMS than the final model without the outgoing effect): two causes the file cannot
-/// separate. Every scored model is kept (score and fit) and found again by its effects, so no
+/// separate; and as `held_back` the last round's blocks whose gains are beyond noise but that
+/// the rule did not take ([`HeldBack`]). Every scored model is kept (score and fit) and found again by its effects, so no
 /// model is fitted twice; models are scored in parallel and gathered in order, so the result
 /// does not depend on the thread count. `progress` hears about each model scored.
 pub fn stepwise_selection<P: Problem + Sync>(
@@ -448,11 +449,8 @@ where
                         book.find(&model(&rest))
                     };
                     without.map(|w| {
-                        let w = book.score(w);
-                        (
-                            Test::new(w, score, folds, 1),
-                            Test::new(w, score, folds, singles.unwrap_or(1)),
-                        )
+                        let one = Test::new(book.score(w), score, folds, 1);
+                        (one, one.among(singles.unwrap_or(1)))
                     })
                 })
                 .collect();

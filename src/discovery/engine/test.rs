@@ -132,7 +132,7 @@ impl Test {
         Test {
             gain,
             z,
-            threshold: normal_quantile(1.0 - ROUND_ALPHA / candidates.max(1) as Real),
+            threshold: threshold(candidates),
             rest_z,
         }
     }
@@ -148,20 +148,34 @@ impl Test {
         self.z >= self.threshold && self.rest_z >= self.threshold
     }
 
-    /// The first condition of [`RULE`] the candidate fails, by its number there: 2 (the
-    /// combined z is within noise), then 3 (the z rests on one fold), then 1 (the pooled
-    /// held-out RMS drops by less than [`MIN_RELATIVE_GAIN`]); `None` when it passes.
+    /// The first condition of [`RULE`] the candidate fails, by its number there, looked at in
+    /// the order 2 (the combined z is within noise), 3 (the z rests on one fold), 1 (the pooled
+    /// held-out RMS drops by less than [`MIN_RELATIVE_GAIN`]); `None` when it passes. A NaN
+    /// fails the condition it is in.
     pub fn failed_condition(&self) -> Option<u8> {
-        if self.z < self.threshold {
-            Some(2)
-        } else if self.rest_z < self.threshold {
-            Some(3)
-        } else if self.gain < MIN_RELATIVE_GAIN {
-            Some(1)
-        } else {
+        if self.passes() {
             None
+        } else if self.z.is_nan() || self.z < self.threshold {
+            Some(2)
+        } else if self.rest_z.is_nan() || self.rest_z < self.threshold {
+            Some(3)
+        } else {
+            Some(1)
         }
     }
+
+    /// The same test among `candidates` candidates: only the threshold changes.
+    pub fn among(self, candidates: usize) -> Test {
+        Test {
+            threshold: threshold(candidates),
+            ..self
+        }
+    }
+}
+
+/// The z a round of `candidates` candidates demands: `Φ⁻¹(1 − 0.025/C)` (Bonferroni).
+fn threshold(candidates: usize) -> Real {
+    normal_quantile(1.0 - ROUND_ALPHA / candidates.max(1) as Real)
 }
 
 /// The standard normal quantile `Φ⁻¹(p)` for `0 < p < 1`, by Acklam's rational approximation

@@ -633,9 +633,110 @@ fn significant_gains_one_fold_outweighs_are_held_back_in_the_report() {
         held_back += shown.len();
         let text = selection.nothing_text(|e| names[e].to_string());
         assert!(
-            text.contains("held back gain beyond noise"),
+            text.contains("held-out gains beyond noise come from"),
             "seed {seed}: {text}"
         );
     }
     println!("{held_back} blocks held back in 5 seeds");
+}
+
+/// The condition a test fails is numbered as in [`RULE`], looked at in the order 2, 3, 1, and
+/// a NaN fails the condition it is in.
+#[test]
+fn the_failed_condition_is_numbered_as_the_rule_states_it() {
+    let passing = Test {
+        gain: 0.2,
+        z: 4.0,
+        threshold: 2.5,
+        rest_z: 3.0,
+    };
+    let with = |gain: Real, z: Real, rest_z: Real| Test {
+        gain,
+        z,
+        rest_z,
+        ..passing
+    };
+    assert_eq!(passing.failed_condition(), None);
+    assert_eq!(with(0.01, 4.0, 3.0).failed_condition(), Some(1));
+    assert_eq!(with(0.2, 2.0, 3.0).failed_condition(), Some(2));
+    assert_eq!(with(0.2, 4.0, 2.0).failed_condition(), Some(3));
+    assert_eq!(with(0.01, 2.0, 2.0).failed_condition(), Some(2));
+    assert_eq!(with(0.01, 4.0, 2.0).failed_condition(), Some(3));
+    assert_eq!(with(Real::NAN, 4.0, 3.0).failed_condition(), Some(1));
+    assert_eq!(with(0.2, Real::NAN, 3.0).failed_condition(), Some(2));
+    assert_eq!(with(0.2, 4.0, Real::NAN).failed_condition(), Some(3));
+    assert!(RULE.contains("(1) lower the pooled held-out RMS by at least 5 %"));
+    assert!(RULE.contains("(3) still reach it without the fold that contributes most"));
+    // A test among more candidates keeps its numbers and asks more: Φ⁻¹(1 − 0.025/6).
+    let six = passing.among(6);
+    assert_eq!((six.gain, six.z, six.rest_z), (0.2, 4.0, 3.0));
+    assert!(
+        (six.threshold - 2.638_257).abs() < 1e-6,
+        "{}",
+        six.threshold
+    );
+}
+
+/// The text shows the first [`HELD_BACK_SHOWN`] held-back blocks and counts the rest; the
+/// JSON has every one, with why.
+#[test]
+fn the_report_shows_five_held_back_blocks_and_counts_the_rest() {
+    let problem = mimic_problem(1);
+    let (base, fit) = score(&problem, &[]);
+    let test = Test {
+        gain: 0.01,
+        z: 4.0,
+        threshold: 2.5,
+        rest_z: 3.0,
+    };
+    let held_back: Vec<HeldBack<usize>> = (0..7)
+        .map(|k| HeldBack {
+            effects: vec![k % 7, (k + 1) % 7],
+            cv_rms: 1.0e-6 * (k + 1) as Real,
+            fold_mse: vec![1.0e-12; 5],
+            test,
+            idle: (k == 0).then_some(1),
+        })
+        .collect();
+    let selection = Selection {
+        baseline: (base, fit),
+        steps: Vec::new(),
+        rejected: Vec::new(),
+        moves: Vec::new(),
+        alternatives: Vec::new(),
+        held_back,
+    };
+    let id = |e: usize| problem.names[e].to_string();
+    let text = selection.held_back_text(id, 3);
+    assert_eq!(
+        text.matches("folds: 1.000 1.000 1.000 1.000 1.000 µm")
+            .count(),
+        5,
+        "{text}"
+    );
+    assert!(
+        text.contains("  and 2 more (the JSON report lists them all)"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "m + a: 1.000 µm; +1.0 %; z 4.0, 3.0 / 2.50; a does not earn its place in it"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "a + b: 2.000 µm; +1.0 %; z 4.0, 3.0 / 2.50; its pooled held-out gain falls short"
+        ),
+        "{text}"
+    );
+    let json = selection.held_back_json(id);
+    assert_eq!(json.len(), 7);
+    assert_eq!(json[0]["idle"], "a");
+    assert_eq!(json[1]["idle"], serde_json::Value::Null);
+    assert_eq!(json[6]["effects"], serde_json::json!(["j2", "m"]));
+    assert_eq!(
+        selection.nothing_text(id),
+        "  nothing passes the rule, though held-out gains beyond noise come from 7 blocks held back (below: why each was not taken, and the held-out RMS of each fold)\n"
+    );
 }

@@ -64,8 +64,8 @@ JSON keys (--json): kind, setup, other_setups[], probes[], samples_per_revolutio
 speeds_rpm[], revolutions[], n_samples, validation{scheme, folds, rule},
 baseline{model, base_harmonics, rms_um, cv_rms_um, fold_cv_rms_um[], evidence{}},
 steps[{effect, together_with, cause, evidence, params, rms_um, cv_rms_um, fold_cv_rms_um[],
-gain_um, gain_pct, gain_z, rest_z, z_needed}], rejected[{effect, cv_rms_um, gain_z, rest_z,
-z_needed}], untestable[{effect, reason}],
+gain_um, gain_pct, gain_z, rest_z, z_needed}], rejected[{effect, cv_rms_um, fold_cv_rms_um[],
+gain_z, rest_z, z_needed, fails (the rule's condition it fails)}], untestable[{effect, reason}],
 final{model, params{}, rms_um, cv_rms_um, fold_cv_rms_um[]}. params: harmonic
 {per_revolution, amplitude{PROBE_um}}, asynchronous_line {per_revolution, harmonics, name, hz[],
 amplitude{PROBE_um: [per speed]}}, drift {time_constant_s (null: linear), over_s,
