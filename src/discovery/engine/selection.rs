@@ -412,8 +412,8 @@ impl<E: Copy, F> Selection<E, F> {
 
     /// The held-back blocks as JSON, lowest held-out RMS first: `effects` (from `id`),
     /// `cv_rms_um`, `fold_cv_rms_um`, the block's test (`gain_z`, `rest_z`, `z_needed`),
-    /// `gain_pct` (its pooled held-out gain) and `idle`, the effect that does not earn its
-    /// place (null: the pooled gain is below 5 %).
+    /// `gain_pct` (its pooled held-out gain) and `not_earning_its_place`, the effect that does
+    /// not earn its place in the block (null: the pooled gain is below 5 %).
     pub fn held_back_json(&self, id: impl Fn(E) -> String) -> Vec<serde_json::Value> {
         self.held_back
             .iter()
@@ -430,7 +430,7 @@ impl<E: Copy, F> Selection<E, F> {
                 object.insert("fold_cv_rms_um".into(), fold_rms_json(&b.fold_mse));
                 object.insert("gain_pct".into(), round_json(100.0 * b.test.gain));
                 test_keys(&mut object, &b.test);
-                object.insert("idle".into(), b.idle.map(&id).into());
+                object.insert("not_earning_its_place".into(), b.idle.map(&id).into());
                 serde_json::Value::Object(object)
             })
             .collect()

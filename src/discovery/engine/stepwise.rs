@@ -136,9 +136,9 @@ impl Search {
 /// — and in which the incoming effect does something (the exchanged model has a lower
 /// held-out RMS than the final model without the outgoing effect): two causes the file cannot
 /// separate; and as `held_back` the last round's blocks whose gains are beyond noise but that
-/// the rule did not take ([`HeldBack`]). Every scored model is kept (score and fit) and found again by its effects, so no
-/// model is fitted twice; models are scored in parallel and gathered in order, so the result
-/// does not depend on the thread count. `progress` hears about each model scored.
+/// the rule did not take ([`HeldBack`]). Every scored model is kept (score and fit) and found
+/// again by its effects, so no model is fitted twice; models are scored in parallel and
+/// gathered in order, so the result does not depend on the thread count. `progress` hears about each model scored.
 pub fn stepwise_selection<P: Problem + Sync>(
     problem: &P,
     search: Search,

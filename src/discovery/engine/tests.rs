@@ -732,8 +732,8 @@ fn the_report_shows_five_held_back_blocks_and_counts_the_rest() {
     );
     let json = selection.held_back_json(id);
     assert_eq!(json.len(), 7);
-    assert_eq!(json[0]["idle"], "a");
-    assert_eq!(json[1]["idle"], serde_json::Value::Null);
+    assert_eq!(json[0]["not_earning_its_place"], "a");
+    assert_eq!(json[1]["not_earning_its_place"], serde_json::Value::Null);
     assert_eq!(json[6]["effects"], serde_json::json!(["j2", "m"]));
     assert_eq!(
         selection.nothing_text(id),
