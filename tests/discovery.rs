@@ -1020,3 +1020,47 @@ fn many_runs_are_held_out_in_twenty_blocks_of_consecutive_runs() {
     assert!(folds[0] > 8.0, "{folds:?}");
     assert!(folds[1..].iter().all(|&f| f < 2.0), "{folds:?}");
 }
+
+/// The folds that test extrapolation, on a hand-written file: three runs whose nut sensor
+/// reads 19.50–19.60 °C (run 1), 21.00–21.20 °C (run 2) and 20.00–22.50 °C (run 3). Held out,
+/// run 1 lies 20.00 − 19.50 = 0.50 °C below the other two and run 3 22.50 − 21.20 = 1.30 °C
+/// above; run 2 lies inside. The report names both, with how far, in the text and the JSON.
+#[test]
+fn folds_held_out_outside_the_training_temperatures_are_named() {
+    let temperatures = [(19.5, 19.6), (21.0, 21.2), (20.0, 22.5)];
+    let mut csv = String::from("axis,run,direction,target_mm,deviation_um,temp_x_nut_degc\n");
+    for (run, (from, to)) in temperatures.iter().enumerate() {
+        for k in 0..8 {
+            let (target, sign) = if k < 4 {
+                (100.0 * (k + 1) as f64, "+")
+            } else {
+                (100.0 * (8 - k) as f64, "-")
+            };
+            let t = from + (to - from) * k as f64 / 7.0;
+            let deviation = 0.01 * ((run * 8 + k) * 37 % 11) as f64;
+            csv.push_str(&format!(
+                "X,{},{sign},{target:.1},{deviation:.3},{t:.3}\n",
+                run + 1
+            ));
+        }
+    }
+    let table = PositioningTable::parse(csv.as_bytes(), "hand.csv").unwrap();
+    let d = discover(&table);
+    let json = d.to_json();
+    assert_eq!(json["validation"]["scheme"], "leave-one-run-out");
+    let folds = json["validation"]["extrapolated_folds"].as_array().unwrap();
+    assert_eq!(folds.len(), 2, "{folds:?}");
+    assert_eq!(folds[0]["fold"], 0);
+    assert_eq!(folds[0]["runs"], serde_json::json!(["1"]));
+    assert!((folds[0]["below_degc"].as_f64().unwrap() - 0.50).abs() < 1e-9);
+    assert_eq!(folds[0]["above_degc"].as_f64().unwrap(), 0.0);
+    assert_eq!(folds[1]["fold"], 2);
+    assert_eq!(folds[1]["runs"], serde_json::json!(["3"]));
+    assert_eq!(folds[1]["below_degc"].as_f64().unwrap(), 0.0);
+    assert!((folds[1]["above_degc"].as_f64().unwrap() - 1.30).abs() < 1e-9);
+    let text = d.to_text();
+    assert!(
+        text.contains("run 1 (0.50 °C below); run 3 (1.30 °C above)"),
+        "{text}"
+    );
+}

@@ -37,7 +37,7 @@ mod search;
 pub use diagnostics::{Association, Diagnostics, TargetResidual};
 pub use effects::PositioningEffect;
 pub use fit::PositioningFit;
-pub use problem::PositioningProblem;
+pub use problem::{Extrapolation, PositioningProblem};
 
 use crate::discovery::engine::{self, Folds, Problem, Selection};
 use crate::kinds::positioning::table::PositioningTable;

@@ -298,6 +298,39 @@ impl PositioningProblem {
         &self.untestable
     }
 
+    /// The folds whose held-out readings lie outside the training readings' temperature range
+    /// by at least [`MIN_TEMPERATURE_RANGE`] (the least variation a thermal term needs to be
+    /// tested at all), in fold order; empty without a temperature. Such a fold's held-out RMS
+    /// measures extrapolation: the models are fitted without its thermal state (a cold
+    /// reference run held out is predicted from warm runs alone).
+    pub fn extrapolated_folds(&self) -> Vec<Extrapolation> {
+        let Some(temperature) = &self.temperature else {
+            return Vec::new();
+        };
+        let folds = &self.folds;
+        let range = |keep: &dyn Fn(usize) -> bool| {
+            (0..temperature.len())
+                .filter(|&i| keep(folds.of_sample[i]))
+                .fold((Real::INFINITY, Real::NEG_INFINITY), |(low, high), i| {
+                    (low.min(temperature[i]), high.max(temperature[i]))
+                })
+        };
+        (0..folds.count)
+            .filter_map(|k| {
+                let (held_low, held_high) = range(&|f| f == k);
+                let (low, high) = range(&|f| f != k);
+                let extrapolation = Extrapolation {
+                    fold: k,
+                    below_degc: (low - held_low).max(0.0),
+                    above_degc: (held_high - high).max(0.0),
+                };
+                (extrapolation.below_degc >= MIN_TEMPERATURE_RANGE
+                    || extrapolation.above_degc >= MIN_TEMPERATURE_RANGE)
+                    .then_some(extrapolation)
+            })
+            .collect()
+    }
+
     /// The reference run among the training readings (coldest, else first) and its knots.
     pub(super) fn reference(&self, train: &[bool]) -> Reference {
         let runs = self.run_labels.len();
@@ -376,4 +409,16 @@ impl PositioningProblem {
             .map(|t| 1.0 - (-(t - start) / tau).exp())
             .collect()
     }
+}
+
+/// A fold whose held-out readings lie outside the training readings' temperature range
+/// ([`PositioningProblem::extrapolated_folds`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extrapolation {
+    /// The fold.
+    pub fold: usize,
+    /// How far its coldest reading lies below the training readings' coldest (°C, 0: not).
+    pub below_degc: Real,
+    /// How far its warmest reading lies above the training readings' warmest (°C, 0: not).
+    pub above_degc: Real,
 }

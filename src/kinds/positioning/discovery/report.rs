@@ -110,6 +110,57 @@ impl PositioningDiscovery {
             .collect()
     }
 
+    /// The folds that test extrapolation for people: a line naming each fold whose held-out
+    /// runs lie outside the other runs' temperature range, and by how much; empty when none
+    /// does ([`PositioningProblem::extrapolated_folds`](super::PositioningProblem::extrapolated_folds)).
+    fn extrapolation_text(&self) -> String {
+        let extrapolated = self.problem.extrapolated_folds();
+        if extrapolated.is_empty() {
+            return String::new();
+        }
+        let runs = self.fold_runs();
+        let list: Vec<String> = extrapolated
+            .iter()
+            .map(|e| {
+                let held = &runs[e.fold];
+                let label = match held.as_slice() {
+                    [run] => format!("run {run}"),
+                    runs => format!("runs {}", runs.join(", ")),
+                };
+                let mut sides = Vec::new();
+                if e.below_degc > 0.0 {
+                    sides.push(format!("{:.2} °C below", e.below_degc));
+                }
+                if e.above_degc > 0.0 {
+                    sides.push(format!("{:.2} °C above", e.above_degc));
+                }
+                format!("{label} ({})", sides.join(", "))
+            })
+            .collect();
+        format!(
+            "  Folds that test extrapolation (held out, outside the other runs' temperature range): {}\n",
+            list.join("; ")
+        )
+    }
+
+    /// The folds that test extrapolation as JSON: `fold`, `runs` (held out), `below_degc` and
+    /// `above_degc`.
+    fn extrapolation_json(&self) -> Value {
+        let runs = self.fold_runs();
+        self.problem
+            .extrapolated_folds()
+            .iter()
+            .map(|e| {
+                json!({
+                    "fold": e.fold,
+                    "runs": runs[e.fold],
+                    "below_degc": round(e.below_degc),
+                    "above_degc": round(e.above_degc),
+                })
+            })
+            .collect()
+    }
+
     /// The effects the file cannot show, with why.
     pub fn untestable(&self) -> &[(PositioningEffect, String)] {
         self.problem.untestable()
@@ -177,6 +228,7 @@ impl PositioningDiscovery {
                 "scheme": self.problem.folds.scheme,
                 "folds": self.problem.folds.count,
                 "fold_runs": self.fold_runs(),
+                "extrapolated_folds": self.extrapolation_json(),
                 "rule": engine::STEPWISE_RULE,
             },
             "baseline": {
@@ -305,6 +357,7 @@ impl PositioningDiscovery {
             um(base_score.cv_rms),
             engine::folds_text(base_score, 3)
         ));
+        out.push_str(&self.extrapolation_text());
         let d = self.problem.diagnose(base_fit);
         out.push_str("\nWhat the base model leaves:\n");
         for effect in PositioningEffect::ALL {
