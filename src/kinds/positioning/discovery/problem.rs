@@ -299,8 +299,8 @@ impl PositioningProblem {
     }
 
     /// The folds whose held-out readings lie outside the training readings' temperature range
-    /// by at least [`MIN_TEMPERATURE_RANGE`] (the least variation a thermal term needs to be
-    /// tested at all), in fold order; empty without a temperature. Such a fold's held-out RMS
+    /// by at least 0.1 °C (the least variation a thermal term needs to be tested at all), in
+    /// fold order; empty without a temperature. Such a fold's held-out RMS
     /// measures extrapolation: the models are fitted without its thermal state (a cold
     /// reference run held out is predicted from warm runs alone).
     pub fn extrapolated_folds(&self) -> Vec<Extrapolation> {
