@@ -3,6 +3,7 @@
 //! kind that serves them, taken from the registry ([`mtwin::kinds::KINDS`]).
 
 use anyhow::{Result, bail};
+use clap::builder::TypedValueParser as _;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use mtwin::app::{Scenario, Simulation, simulate, write_outputs};
 use mtwin::kinds::{KINDS, Kind, Verb};
@@ -75,8 +76,9 @@ enum Command {
         /// Make only shard I of N (0-based).
         #[arg(long, value_name = "I/N", conflicts_with = "shards")]
         shard: Option<String>,
-        /// Worker threads (default: all cores). The files do not depend on it.
-        #[arg(long, value_name = "T")]
+        /// Worker threads, 1 to 1024 (default: all cores). The files do not depend on it.
+        #[arg(long, value_name = "T", allow_negative_numbers = true,
+              value_parser = clap::value_parser!(i64).range(1..=MAX_THREADS).map(|t| t as usize))]
         threads: Option<usize>,
         /// Write case K alone as a run folder, as `mtwin run` would (its tables, truth.json,
         /// manifest.json) with case.json (its seed, split and drawn values).
@@ -128,8 +130,11 @@ enum Command {
         )]
         rtest_sphere_mm: Option<Vec<f64>>,
         /// Monte Carlo trials (GUM Supplement 1) propagating the instruments' noise and the
-        /// set-up uncertainties through the twin; 0 for none.
-        #[arg(long, value_name = "N", default_value_t = 0)]
+        /// set-up uncertainties through the twin; 0 for none, at most 1 000 000 (the 10^6
+        /// trials GUM Supplement 1 §7.2 expects to give a 95 % interval to one or two
+        /// significant digits).
+        #[arg(long, value_name = "N", default_value_t = 0, allow_negative_numbers = true,
+              value_parser = clap::value_parser!(i64).range(0..=MAX_MONTE_CARLO).map(|n| n as usize))]
         monte_carlo: usize,
         /// Seed of the Monte Carlo.
         #[arg(long, default_value_t = 1)]
@@ -141,6 +146,12 @@ enum Command {
         /// Print estimate.json instead of the report.
         #[arg(long)]
         json: bool,
+        /// Report and write the estimate even when the fit fails its own checks (χ²/dof above
+        /// 100, an estimate beyond 10 mm or 10 mrad, a residual beyond 1 mm, a number not
+        /// finite), with the failures as warnings. Without it such a fit is refused and
+        /// nothing is written.
+        #[arg(long)]
+        accept_implausible: bool,
         /// Write estimate.json, the identified URDF, LinuxCNC tables (and compensated.toml).
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
@@ -168,8 +179,9 @@ enum Command {
         /// Standard uncertainty of each reading component (µm).
         #[arg(long, default_value_t = 0.2)]
         sigma_um: f64,
-        /// Readings to spend (three per pose).
-        #[arg(long, default_value_t = 240)]
+        /// Readings to spend (three per pose), 3 to 30 000 (10 000 poses).
+        #[arg(long, default_value_t = 240, allow_negative_numbers = true,
+              value_parser = clap::value_parser!(i64).range(3..=MAX_BUDGET).map(|n| n as usize))]
         budget: usize,
         /// Print JSON instead of the report.
         #[arg(long)]
@@ -204,6 +216,15 @@ enum Command {
         json: bool,
     },
 }
+
+/// The most worker threads `--threads` takes: far beyond the cores of one node, so only a typo
+/// is refused.
+const MAX_THREADS: i64 = 1024;
+/// The most Monte Carlo trials `identify --monte-carlo` takes: GUM Supplement 1 §7.2's 10^6.
+const MAX_MONTE_CARLO: i64 = 1_000_000;
+/// The most readings `plan --budget` spends: 10 000 poses of three readings, beyond any
+/// R-test a machine would stand still for.
+const MAX_BUDGET: i64 = 30_000;
 
 /// The command line: `run` and `check`, then `analyze` and `discover` with a subcommand for
 /// each kind that serves them.
@@ -256,7 +277,9 @@ fn main() -> ExitCode {
     match execute(matches) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            // Messages quote the values they were given: 1e300 in scientific notation.
+            let message = mtwin::math::shorten_numbers(&format!("{error:#}"));
+            eprintln!("error: {message}");
             ExitCode::FAILURE
         }
     }
@@ -325,7 +348,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             }
             let scenario = Scenario::load(&scenario)?;
             let simulation = simulate(&scenario)?;
-            let output = simulation.output(&scenario);
+            let output = simulation.output(&scenario)?;
             if let Some(path) = &rrd {
                 record(path, &scenario, &simulation)?;
             }
@@ -378,6 +401,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             seed,
             scenario,
             json,
+            accept_implausible,
             out,
         } => {
             if let Some(u) = sphere_setup_um
@@ -424,6 +448,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 trials: monte_carlo,
                 seed,
                 scenario,
+                accept_implausible,
             };
             let identified = mtwin::app::identify::identify(&request)?;
             if json {
@@ -587,6 +612,12 @@ fn check(file: &Path) -> Result<()> {
         }
         Some("toml") => {
             let scenario = Scenario::load(file)?;
+            // The dataset section too before anything is said: no "ok" before a refusal.
+            let dataset = if mtwin::app::dataset::declared(file) {
+                Some(mtwin::app::dataset::Dataset::load(file)?)
+            } else {
+                None
+            };
             let machine = &scenario.twin.machine;
             say!(
                 "{}: ok, machine \"{}\" ({}), {} error parameters, seed {}",
@@ -599,8 +630,7 @@ fn check(file: &Path) -> Result<()> {
             for line in scenario.describe() {
                 say!("  {line}");
             }
-            if mtwin::app::dataset::declared(file) {
-                let dataset = mtwin::app::dataset::Dataset::load(file)?;
+            if let Some(dataset) = dataset {
                 say!("  {}", dataset.describe());
             }
         }
@@ -647,7 +677,7 @@ fn dataset(
     if let Some(id) = case {
         let case = dataset.case(id);
         let scenario = dataset.scenario_of(&case)?;
-        let mut output = simulate(&scenario)?.output(&scenario);
+        let mut output = simulate(&scenario)?.output(&scenario)?;
         let values: serde_json::Map<String, serde_json::Value> = (dataset.section.priors.iter())
             .zip(&case.values)
             .map(|(prior, value)| (prior.path.column(), serde_json::json!(value)))

@@ -154,6 +154,53 @@ pub fn trimmed(value: Real, decimals: usize) -> String {
     }
 }
 
+/// `value` for a message: as Rust writes it (`150`, `0.25`) when that is short, else in
+/// scientific notation (`1.7976931348623157e308`, not 309 digits).
+pub fn readable(value: Real) -> String {
+    let plain = format!("{value}");
+    if plain.len() > 24 {
+        format!("{value:e}")
+    } else {
+        plain
+    }
+}
+
+/// `text` with every decimal number longer than 24 characters (the way Rust writes 1e300)
+/// rewritten in scientific notation: messages quote what they were given, and a value of 300
+/// digits hides the message. A run of digits inside a word or a path (`run_123…`, `/123…/`)
+/// is not a number and is left alone.
+pub fn shorten_numbers(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let is_part = |b: u8| b.is_ascii_digit() || b == b'.';
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let starts_number = bytes[i].is_ascii_digit()
+            && (i == 0
+                || !(bytes[i - 1].is_ascii_alphanumeric() || b"_/.".contains(&bytes[i - 1])));
+        if !starts_number {
+            let next = text[i..].chars().next().map_or(1, char::len_utf8);
+            out.push_str(&text[i..i + next]);
+            i += next;
+            continue;
+        }
+        let mut end = i;
+        while end < bytes.len() && is_part(bytes[end]) {
+            end += 1;
+        }
+        let token = text[i..end].trim_end_matches('.');
+        let end = i + token.len();
+        let inside_word =
+            end < bytes.len() && (bytes[end].is_ascii_alphabetic() || b"_/".contains(&bytes[end]));
+        match token.parse::<Real>() {
+            Ok(value) if token.len() > 24 && !inside_word => out.push_str(&format!("{value:e}")),
+            _ => out.push_str(token),
+        }
+        i = end;
+    }
+    out
+}
+
 /// The minimum of `f` over `[low, high]` by golden-section search (`iterations` shrinks the
 /// bracket by 0.618 each); returns (argument, value).
 pub fn golden_minimum(
@@ -258,6 +305,22 @@ pub fn local_rates(times: &[Real], values: &[Real]) -> Vec<Real> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn huge_numbers_in_messages_become_scientific() {
+        let max = format!("{}", f64::MAX);
+        assert_eq!(max.len(), 309, "Rust writes f64::MAX with every digit");
+        let message = format!("ballbar.calibration_um: expected at most 1000, got {max}.");
+        assert_eq!(
+            shorten_numbers(&message),
+            "ballbar.calibration_um: expected at most 1000, got 1.7976931348623157e308."
+        );
+        assert_eq!(readable(f64::MAX), "1.7976931348623157e308");
+        assert_eq!(readable(-0.25), "-0.25");
+        // Short numbers, digits in words and paths, and non-ASCII text pass unchanged.
+        let path = format!("/tmp/run_{}/x.csv: 150 µm at 0.5°", "1".repeat(30));
+        assert_eq!(shorten_numbers(&path), path);
+    }
 
     #[test]
     fn golden_section_finds_a_parabola_minimum() {

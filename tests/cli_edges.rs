@@ -274,3 +274,330 @@ fn a_reused_output_folder_with_another_runs_files_gets_a_warning() {
     std::fs::remove_file(out.join("ballbar_xy.csv")).unwrap();
     assert!(!run("vmc3_volumetric.toml").contains("warning"));
 }
+
+// ---------------------------------------------------------------------------------------
+// Bounded work and finite outputs: the fuzzing reproducers (shared/repro) of issue 42. Each
+// input is a few lines that used to run for hours, allocate gigabytes or write `inf` with
+// exit 0; now each is refused at its line, at once, naming the limit.
+// ---------------------------------------------------------------------------------------
+
+/// Writes `text` (with `MODELS` replaced by the bundled models' folder) as `NAME` in `dir`.
+fn scenario_file(dir: &Path, name: &str, text: &str) -> String {
+    let models = format!("{}/models", env!("CARGO_MANIFEST_DIR"));
+    let path = dir.join(name);
+    std::fs::write(&path, text.replace("MODELS", &models)).unwrap();
+    path.display().to_string()
+}
+
+/// `mtwin ARGS` must fail (exit 1, no panic); its message, which must start with `FILE:LINE: `.
+fn refused_at(args: &[&str], file: &str, line: usize) -> String {
+    let out = mtwin(args);
+    let message = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {message}");
+    assert!(
+        message.starts_with(&format!("error: {file}:{line}: ")),
+        "{args:?}: should name {file}:{line}: {message}"
+    );
+    message
+}
+
+const RTEST_SWEEP: &str = "schema = 1
+machine = \"MODELS/trunnion5.urdf\"
+seed = 7
+[rtest]
+sphere_mm = [100.0, 0.0, 250.0]
+[[rtest.test]]
+name = \"CK1 A0\"
+to_deg = { C = ANGLE }
+";
+
+#[test]
+fn a_sweep_of_a_continuous_axis_beyond_ten_turns_is_refused_at_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    // 1e9° used to take ~37 h (the path's collision check is proportional to the degrees);
+    // i64::MIN never ended. Ten turns (3600°) is the limit, either way.
+    for angle in ["1e9", "-9223372036854775808.0", "3600.5", "-3601.0"] {
+        let file = scenario_file(
+            dir.path(),
+            "sweep.toml",
+            &RTEST_SWEEP.replace("ANGLE", angle),
+        );
+        let message = refused_at(&["check", &file], &file, 8);
+        assert!(
+            message.contains("rtest.test.to_deg") && message.contains("-3600 … 3600°"),
+            "{message}"
+        );
+    }
+    // Inside the limit the same sweep is a test (two turns here, to keep the check short).
+    let file = scenario_file(
+        dir.path(),
+        "sweep.toml",
+        &RTEST_SWEEP.replace("ANGLE", "720.0"),
+    );
+    let out = mtwin(&["check", &file]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn a_probing_pose_beyond_ten_turns_of_c_is_refused_at_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "schema = 1
+machine = \"MODELS/trunnion5.urdf\"
+seed = 1
+[probe]
+stylus_diameter_mm = 6.0
+[[probe.sphere]]
+diameter_mm = 25.0
+centre_mm = [60.0, 0.0, 150.0]
+rotary = [{ a_deg = 0.0, c_deg = 0.0 }, { a_deg = 0.0, c_deg = ANGLE }]
+";
+    let file = scenario_file(dir.path(), "probe.toml", &text.replace("ANGLE", "1e9"));
+    let message = refused_at(&["check", &file], &file, 9);
+    assert!(
+        message.contains("C 1000000000°") && message.contains("ten turns"),
+        "{message}"
+    );
+    // The limit itself is a pose: ten turns of C probe the sphere as zero turns do.
+    let file = scenario_file(dir.path(), "probe.toml", &text.replace("ANGLE", "3600.0"));
+    let out = mtwin(&["check", &file]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn a_dataset_prior_on_an_element_that_cannot_exist_is_refused_at_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = "schema = 1
+machine = \"MODELS/vmc3.urdf\"
+seed = 1
+[ballbar]
+length_mm = 150.0
+setup_offset_um = [0.0, 0.0, 0.0]
+[dataset.priors]
+\"PATH\" = { normal = [0.0, 1.0] }
+";
+    // Index 1e9 grew the coefficient list to 8 GiB before anything was checked.
+    for (path, expected) in [
+        (
+            "errors.EXX.polynomial_um[1000000000]",
+            "degree 1000000000 is above the limit of a polynomial, 10",
+        ),
+        (
+            "errors.EXX.polynomial_um[11]",
+            "degree 11 is above the limit of a polynomial, 10",
+        ),
+        (
+            "ballbar.setup_offset_um[7]",
+            "ballbar.setup_offset_um has 3 entries in the scenario; [7] does not exist",
+        ),
+    ] {
+        let file = scenario_file(dir.path(), "prior.toml", &base.replace("PATH", path));
+        let message = refused_at(&["check", &file], &file, 8);
+        assert!(message.contains(expected), "{path}: {message}");
+        assert!(!String::from_utf8_lossy(&mtwin(&["check", &file]).stdout).contains("ok"));
+    }
+    // Degree 10 is a polynomial a scenario accepts, and so is a prior on it.
+    let file = scenario_file(
+        dir.path(),
+        "prior.toml",
+        &base.replace("PATH", "errors.EXX.polynomial_um[10]"),
+    );
+    let out = mtwin(&["check", &file]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn a_header_of_a_hundred_thousand_columns_is_read_through() {
+    // The header check was pairwise (13-17 s for 100 000 columns before the first message); a
+    // repeated name is still found when it is the last column repeating the first.
+    let dir = tempfile::tempdir().unwrap();
+    simulate("trunnion5_rtest.toml", dir.path());
+    let text = std::fs::read_to_string(dir.path().join("rtest.csv")).unwrap();
+    let header_line = text.lines().position(|l| !l.starts_with('#')).unwrap();
+    let wide = |extra: &str| -> String {
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        let columns: String = (0..100_000).map(|i| format!(",c{i}")).collect();
+        lines[header_line] = format!("{}{columns}{extra}", lines[header_line]);
+        lines.join("\n") + "\n"
+    };
+    let file = dir.path().join("wide.csv");
+    let file_name = file.display().to_string();
+    std::fs::write(&file, wide("")).unwrap();
+    let message = refused_at(
+        &["analyze", "rtest", &file_name],
+        &file_name,
+        header_line + 1,
+    );
+    assert!(message.contains("unknown column `c0`"), "{message}");
+    let first = text
+        .lines()
+        .nth(header_line)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap();
+    std::fs::write(&file, wide(&format!(",{first}"))).unwrap();
+    let message = refused_at(
+        &["analyze", "rtest", &file_name],
+        &file_name,
+        header_line + 1,
+    );
+    assert!(
+        message.contains(&format!("column `{first}` appears twice")),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_ball_bar_calibration_beyond_the_transducer_range_is_refused_not_run_to_inf() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenario("vmc3_ballbar_xy.toml"))
+        .unwrap()
+        .replace("\"../models/", "\"MODELS/");
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("calibration_um"))
+        .expect("the scenario sets calibration_um")
+        + 1;
+    let set = |value: &str| {
+        let lines: Vec<String> = (text.lines())
+            .map(|l| {
+                if l.starts_with("calibration_um") {
+                    format!("calibration_um = {value}")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect();
+        scenario_file(dir.path(), "cal.toml", &(lines.join("\n") + "\n"))
+    };
+    // f64::MAX used to pass `check`, and `run` wrote every deviation as `inf` with exit 0.
+    for value in ["1.7976931348623157e308", "1000.5", "-2000.0"] {
+        let file = set(value);
+        let out_dir = dir.path().join("run");
+        let message = refused_at(
+            &["run", &file, "--out", out_dir.to_str().unwrap()],
+            &file,
+            line,
+        );
+        assert!(
+            message.contains("ballbar.calibration_um") && message.contains("±1000"),
+            "{message}"
+        );
+        // Huge values are quoted in scientific notation, not as 309 digits.
+        assert!(!message.contains("17976931348623157000"), "{message}");
+        assert!(!out_dir.exists(), "nothing is written");
+    }
+    let out = mtwin(&["check", &set("-999.0")]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn an_estimate_given_as_the_truth_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    simulate("trunnion5_rtest.toml", &dir.path().join("run"));
+    let id = dir.path().join("id");
+    let machine = format!("{}/models/trunnion5.urdf", env!("CARGO_MANIFEST_DIR"));
+    let rtest = dir.path().join("run/rtest.csv");
+    let out = mtwin(&[
+        "identify",
+        "--machine",
+        &machine,
+        "--params",
+        "location",
+        rtest.to_str().unwrap(),
+        "--out",
+        id.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let estimate = id.join("estimate.json");
+    let estimate = estimate.to_str().unwrap();
+    // Scored against itself it was "8 of 8 covered, compensated RMS 0.000 µm", exit 0.
+    let out = mtwin(&["score", estimate, estimate]);
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{message}");
+    assert!(
+        message.contains("truth") && message.contains("\"estimate\""),
+        "{message}"
+    );
+    assert!(out.stdout.is_empty());
+    // The truth the run wrote says what it is, and scores.
+    let truth = dir.path().join("run/truth.json");
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&truth).unwrap()).unwrap();
+    assert_eq!(written["mtwin"], "truth");
+    let out = mtwin(&["score", estimate, truth.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn count_flags_refuse_zero_and_negative_values_by_their_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("ds");
+    for (args, expected) in [
+        (vec!["--threads", "0"], "0 is not in 1..=1024"),
+        (vec!["--threads", "-2"], "-2 is not in 1..=1024"),
+    ] {
+        let mut all = vec![
+            "dataset",
+            "scenarios/vmc3_dataset_volumetric.toml",
+            "--count",
+            "4",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        all.extend(args);
+        let out = Command::new(env!("CARGO_BIN_EXE_mtwin"))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .args(&all)
+            .output()
+            .unwrap();
+        let message = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{message}");
+        assert!(message.contains(expected), "{message}");
+        assert!(!out_dir.exists(), "nothing is written");
+    }
+    let machine = format!("{}/models/trunnion5.urdf", env!("CARGO_MANIFEST_DIR"));
+    for (budget, expected) in [
+        ("0", "0 is not in 3..=30000"),
+        ("-10", "-10 is not in 3..=30000"),
+    ] {
+        let out = mtwin(&[
+            "plan",
+            "--machine",
+            &machine,
+            "--params",
+            "location",
+            "--sphere-mm",
+            "100,0,250",
+            "--budget",
+            budget,
+        ]);
+        let message = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{message}");
+        assert!(message.contains(expected), "{message}");
+    }
+}

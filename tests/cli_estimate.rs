@@ -241,3 +241,200 @@ fn plan_chooses_tests_that_identify_the_location_errors() {
         "a turn at A = 0 sees none of A: {two:?}"
     );
 }
+
+// ---------------------------------------------------------------------------------------
+// The door: plausible-looking but wrong tables (a unit off, a mistyped set-up, one wild
+// reading) must not give a compensation file. Each is built from a clean table the way a real
+// export or a tired user gets it wrong; the clean table passes the same door.
+// ---------------------------------------------------------------------------------------
+
+/// `text` with column `column` of every data row transformed by `f`.
+fn with_column(text: &str, column: &str, f: impl Fn(f64) -> f64) -> String {
+    let mut out = String::new();
+    let mut index = None;
+    for line in text.lines() {
+        if line.starts_with('#') {
+            out += line;
+            out += "\n";
+            continue;
+        }
+        let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+        match index {
+            None => index = Some(fields.iter().position(|f| f == column).expect("the column")),
+            Some(i) => fields[i] = format!("{}", f(fields[i].parse::<f64>().unwrap())),
+        }
+        out += &fields.join(",");
+        out += "\n";
+    }
+    out
+}
+
+/// `identify` with `args` must be refused by its checks (exit 1), naming `expected` and the
+/// likely cause `cause`, with nothing written into `out`.
+fn refused_by_the_door(args: &[&OsStr], out: &Path, expected: &[&str], cause: &str) -> String {
+    let mut all: Vec<&OsStr> = vec!["identify".as_ref()];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out".as_ref(), out.as_os_str()]);
+    let output = mtwin(&all);
+    let message = failed(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("fails its own checks"), "{message}");
+    for e in expected {
+        assert!(message.contains(e), "should name {e}: {message}");
+    }
+    assert!(
+        message.contains(cause),
+        "should name the cause {cause}: {message}"
+    );
+    assert!(!out.exists(), "nothing may be written: {message}");
+    assert!(output.stdout.is_empty(), "no estimate printed");
+    message
+}
+
+#[test]
+fn laser_deviations_in_nanometres_are_refused_not_compensated() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/vmc3_iso230_2.toml"), dir.path(), "run");
+    let text = std::fs::read_to_string(run.join("positioning.csv")).unwrap();
+    // The export wrote nanometres in a column named deviation_um: every value ×1000.
+    let nm = dir.path().join("nm.csv");
+    std::fs::write(&nm, with_column(&text, "deviation_um", |v| v * 1000.0)).unwrap();
+    let machine = root("models/vmc3.urdf");
+    let args = |table: &Path| -> Vec<std::ffi::OsString> {
+        vec![
+            "--machine".into(),
+            machine.clone().into(),
+            "--params".into(),
+            "EXX:2".into(),
+            table.into(),
+        ]
+    };
+    let nm_args = args(&nm);
+    let nm_refs: Vec<&OsStr> = nm_args.iter().map(|a| a.as_os_str()).collect();
+    let message = refused_by_the_door(
+        &nm_refs,
+        &dir.path().join("id"),
+        &["χ²/dof", "nm.csv"],
+        "units or set-up",
+    );
+    assert!(message.contains("residual RMS"), "{message}");
+    // The clean table is refused too, for another reason: the scenario injects 3 µm of lost
+    // motion that EXX:2 cannot hold (χ²/dof in the thousands at the laser's 0.02 µm), and the
+    // door names that cause, not units: its residuals are micrometres, not millimetres.
+    let clean = run.join("positioning.csv");
+    let clean_args = args(&clean);
+    let clean_refs: Vec<&OsStr> = clean_args.iter().map(|a| a.as_os_str()).collect();
+    let message = refused_by_the_door(
+        &clean_refs,
+        &dir.path().join("id"),
+        &["χ²/dof"],
+        "a term the model lacks (lost motion",
+    );
+    assert!(!message.contains("units or set-up"), "{message}");
+
+    // --accept-implausible writes it, with the warnings in the report and the estimate.
+    let id = dir.path().join("accepted");
+    let mut all: Vec<&OsStr> = vec!["identify".as_ref()];
+    all.extend_from_slice(&nm_refs);
+    all.extend_from_slice(&[
+        "--accept-implausible".as_ref(),
+        "--out".as_ref(),
+        id.as_os_str(),
+    ]);
+    let report = ok(&mtwin(&all));
+    assert!(
+        report.starts_with("CAUTION: the fit fails its own checks"),
+        "{report}"
+    );
+    let estimate: Value =
+        serde_json::from_slice(&std::fs::read(id.join("estimate.json")).unwrap()).unwrap();
+    assert!(
+        !estimate["warnings"].as_array().unwrap().is_empty(),
+        "{estimate}"
+    );
+}
+
+#[test]
+fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/trunnion5_rtest.toml"), dir.path(), "run");
+    let text = std::fs::read_to_string(run.join("rtest.csv")).unwrap();
+    let machine = root("models/trunnion5.urdf");
+    // An export without its preamble, the sphere typed 50 mm off in X (150 for 100): the fit
+    // puts the 50 mm into EX0C with a good χ², so only the size of the estimate tells.
+    let bare = dir.path().join("bare.csv");
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    std::fs::write(&bare, rows.join("\n") + "\n").unwrap();
+    let table = format!("rtest:{}", bare.display());
+    let message = refused_by_the_door(
+        &[
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            table.as_ref(),
+            "--rtest-sphere-mm".as_ref(),
+            "150,0,250".as_ref(),
+        ],
+        &dir.path().join("id"),
+        &["EX0C", "10000 um"],
+        "units or set-up",
+    );
+    assert!(message.contains("small-motion error model"), "{message}");
+    // The right sphere on the same bare export passes the door.
+    ok(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        table.as_ref(),
+        "--rtest-sphere-mm".as_ref(),
+        "100,0,250".as_ref(),
+    ]));
+    // Angles exported in radians in the _deg columns.
+    let radians = dir.path().join("radians.csv");
+    let text = with_column(&text, "a_deg", f64::to_radians);
+    std::fs::write(&radians, with_column(&text, "c_deg", f64::to_radians)).unwrap();
+    refused_by_the_door(
+        &[
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            radians.as_os_str(),
+        ],
+        &dir.path().join("id"),
+        &["radians.csv", "residual RMS"],
+        "units or set-up",
+    );
+}
+
+#[test]
+fn one_wild_reading_is_refused_not_fitted_to_zero_plus_minus_infinity() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/trunnion5_rtest.toml"), dir.path(), "run");
+    let text = std::fs::read_to_string(run.join("rtest.csv")).unwrap();
+    // One reading of 1e300 µm (a logger's overflow), the rest as measured.
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let header = lines.iter().position(|l| l.starts_with("test,")).unwrap();
+    let column = lines[header].split(',').position(|c| c == "dx_um").unwrap();
+    let mut fields: Vec<String> = lines[header + 5].split(',').map(str::to_string).collect();
+    fields[column] = "1e300".into();
+    lines[header + 5] = fields.join(",");
+    let table = dir.path().join("wild.csv");
+    std::fs::write(&table, lines.join("\n") + "\n").unwrap();
+    let message = refused_by_the_door(
+        &[
+            "--machine".as_ref(),
+            root("models/trunnion5.urdf").as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            table.as_os_str(),
+        ],
+        &dir.path().join("id"),
+        &["wild.csv"],
+        "units or set-up",
+    );
+    assert!(!message.contains("inf µm"), "{message}");
+}

@@ -41,6 +41,21 @@ pub enum RunError {
     /// An output could not be written.
     #[error(transparent)]
     Write(#[from] crate::io::WriteError),
+    /// A table holds a number that is not finite: a scenario value so large that the
+    /// simulation overflowed (nothing is written).
+    #[error(
+        "{file}:{line}: {column} = {value} is not a finite number; a value of the scenario is too large for the simulation (an instrument's calibration, noise or an error function's coefficients): nothing written"
+    )]
+    NotFiniteTable {
+        /// The table's file name.
+        file: String,
+        /// The 1-based line in it.
+        line: u64,
+        /// The column or preamble key.
+        column: String,
+        /// The text found there.
+        value: String,
+    },
 }
 
 /// The files of one run, in memory, in the order they are listed in the manifest.
@@ -146,7 +161,7 @@ pub fn simulate(scenario: &Scenario) -> Result<Simulation, RunError> {
 
 /// Computes every output of `scenario` in memory ([`simulate`], then [`Simulation::output`]).
 pub fn run_scenario(scenario: &Scenario) -> Result<RunOutput, RunError> {
-    Ok(simulate(scenario)?.output(scenario))
+    simulate(scenario)?.output(scenario)
 }
 
 impl Simulation {
@@ -171,8 +186,10 @@ impl Simulation {
 
     /// The files of the run: `volumetric.csv`, `positioning.csv`, `ballbar_<plane>.csv`,
     /// `drift.csv`, `rtest.csv`, `probe.csv`, `spheres.csv`, `spindle.csv` (as the scenario asks), `truth.json` and `manifest.json`.
-    pub fn output(&self, scenario: &Scenario) -> RunOutput {
-        let mut files = self.tables(scenario);
+    ///
+    /// Fails, with nothing to write, when a table holds a number that is not finite.
+    pub fn output(&self, scenario: &Scenario) -> Result<RunOutput, RunError> {
+        let mut files = self.tables(scenario)?;
         let records = (self.laser.as_ref())
             .and_then(|run| run.thermal.as_ref())
             .or(self.etve.as_ref().map(|run| &run.records))
@@ -217,12 +234,13 @@ impl Simulation {
             "files": listed,
         });
         files.push(("manifest.json".into(), to_json_bytes(&manifest)));
-        RunOutput { files }
+        Ok(RunOutput { files })
     }
 
     /// The measurement tables alone (`output`'s files before `truth.json`), as `(file name,
-    /// bytes)`: what a dataset keeps of a case.
-    pub fn tables(&self, scenario: &Scenario) -> Vec<(String, Vec<u8>)> {
+    /// bytes)`: what a dataset keeps of a case. Every number in them is finite, or this fails
+    /// naming the first that is not.
+    pub fn tables(&self, scenario: &Scenario) -> Result<Vec<(String, Vec<u8>)>, RunError> {
         let mut files: Vec<(String, Vec<u8>)> = Vec::new();
         if let Some(map) = &self.volumetric {
             let mut bytes = Vec::new();
@@ -286,7 +304,17 @@ impl Simulation {
                 spindle::table::write_csv(table).into_bytes(),
             ));
         }
-        files
+        for (file, bytes) in &files {
+            if let Some((line, column, value)) = crate::io::first_non_finite(bytes) {
+                return Err(RunError::NotFiniteTable {
+                    file: file.clone(),
+                    line,
+                    column,
+                    value,
+                });
+            }
+        }
+        Ok(files)
     }
 }
 
@@ -351,7 +379,11 @@ fn truth(scenario: &Scenario) -> Value {
     let laser_test = scenario.laser_test.as_ref().map(positioning::run::truth);
     let thermal_model = scenario.thermal.as_ref().map(ThermalSetup::truth);
     json!({
+        "mtwin": "truth",
+        "schema": 1,
         "machine": machine.name(),
+        "machine_sha256": scenario.machine_sha256,
+        "scenario_sha256": scenario.sha256,
         "seed": scenario.seed,
         "laser_test": laser_test,
         "ballbar_test": scenario.ballbar_test.as_ref().map(ballbar::run::truth),

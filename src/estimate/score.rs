@@ -807,6 +807,22 @@ pub fn score(estimate: &Value, truth: &Value, machine: &Machine) -> Result<Score
             .in_file("estimate"));
         }
     }
+    // A truth says it is one (`mtwin run` writes `"mtwin": "truth"`); one that says it is
+    // something else (an estimate given twice, a score) would score the estimate against
+    // itself. A truth from elsewhere that says nothing is taken as it is.
+    match truth.get("mtwin") {
+        None | Some(Value::Null) => {}
+        Some(Value::String(kind)) if kind == "truth" => {}
+        Some(other) => {
+            return Err(ScoreError::shape(
+                "mtwin",
+                format!(
+                    "expected \"truth\", got {other}: this is not a truth (give the truth.json `mtwin run` wrote)"
+                ),
+            )
+            .in_file("truth"));
+        }
+    }
     match estimate.get("schema") {
         None | Some(Value::Null) => {}
         Some(schema) if schema.as_i64() == Some(1) => {}

@@ -265,17 +265,53 @@ pub struct AxisInfo {
     pub slot: usize,
 }
 
+/// How far (rad) a scenario may set a continuous axis either side of zero: ten turns
+/// (±3600°).
+///
+/// A continuous joint has no travel limits, but a scenario angle beyond ten turns is a typo,
+/// not a test: the kinematic tests of ISO 10791-6 turn a rotary table once (twice with a
+/// return), and a programme's path is checked for collisions at steps of the angle travelled,
+/// so an angle of 1e9° would take hours. The spindle's own rotation is not a scenario angle
+/// and is not bounded by this.
+pub const CONTINUOUS_SCENARIO_TRAVEL_RAD: Real = 10.0 * std::f64::consts::TAU;
+
 impl AxisInfo {
-    /// Whether `value` (m or rad) is a number within the travel, allowing 1e-9 of the larger
-    /// limit for values written in rounded file units.
+    /// Whether `value` (m or rad) is a number a scenario may set this axis to: within the
+    /// travel, allowing 1e-9 of the larger limit for values written in rounded file units, or
+    /// for a continuous axis within [`CONTINUOUS_SCENARIO_TRAVEL_RAD`] of zero.
     pub fn within_travel(&self, value: Real) -> bool {
-        match self.limits {
-            _ if !value.is_finite() => false,
-            None => true,
-            Some((lower, upper)) => {
-                let tolerance = 1e-9 * (1.0 + lower.abs().max(upper.abs()));
-                value >= lower - tolerance && value <= upper + tolerance
-            }
+        let (lower, upper) = self.scenario_travel();
+        let tolerance = 1e-9 * (1.0 + lower.abs().max(upper.abs()));
+        value.is_finite() && value >= lower - tolerance && value <= upper + tolerance
+    }
+
+    /// The range (m or rad) a scenario may set this axis to: its travel limits, or
+    /// ±[`CONTINUOUS_SCENARIO_TRAVEL_RAD`] for a continuous axis.
+    pub fn scenario_travel(&self) -> (Real, Real) {
+        self.limits.unwrap_or((
+            -CONTINUOUS_SCENARIO_TRAVEL_RAD,
+            CONTINUOUS_SCENARIO_TRAVEL_RAD,
+        ))
+    }
+
+    /// That range in file units for messages: `-110 … 110°`, `0 … 760 mm`, or
+    /// `-3600 … 3600° (a continuous axis: ten turns either way)`.
+    pub fn scenario_travel_text(&self) -> String {
+        let (lower, upper) = self.scenario_travel();
+        let (scale, unit) = if self.axis.is_linear() {
+            (1e3, " mm")
+        } else {
+            (180.0 / std::f64::consts::PI, "°")
+        };
+        let range = format!(
+            "{} … {}{unit}",
+            crate::math::trimmed(lower * scale, 6),
+            crate::math::trimmed(upper * scale, 6)
+        );
+        if self.limits.is_none() {
+            format!("{range} (a continuous axis: ten turns either way in a scenario)")
+        } else {
+            range
         }
     }
 
@@ -371,8 +407,10 @@ impl Machine {
     pub fn check_limits(&self, position: &AxisValues) -> Result<(), (Axis, Real, (Real, Real))> {
         for info in &self.axes {
             let value = position[info.axis];
-            if !info.within_travel(value) {
-                let limits = info.limits.unwrap_or((Real::NEG_INFINITY, Real::INFINITY));
+            let limits = info.limits.unwrap_or((Real::NEG_INFINITY, Real::INFINITY));
+            let tolerance = 1e-9 * (1.0 + limits.0.abs().max(limits.1.abs()).min(1e300));
+            let inside = value >= limits.0 - tolerance && value <= limits.1 + tolerance;
+            if !(value.is_finite() && inside) {
                 return Err((info.axis, value, limits));
             }
         }

@@ -15,9 +15,17 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use toml::Spanned;
 
+/// The highest degree of a polynomial error function a scenario may give (11 coefficients).
+///
+/// In file units (µm per mm^k) a degree-10 term over a 1 m travel already has a coefficient of
+/// order 1e-30 for a micrometre of error, near where f64 stops resolving it; a shape that needs
+/// more is a table function. The limit also bounds a dataset prior on `polynomial_um[k]`, which
+/// fills the coefficients below k with zeros.
+pub const MAX_POLYNOMIAL_DEGREE: usize = 10;
+
 /// The largest error the small-motion model is meant for: 10 mm or 10 mrad. Larger values are
 /// typing mistakes (a unit off by 10³), not machine errors.
-const LARGEST_ERROR: Real = 1e-2;
+pub const LARGEST_ERROR: Real = 1e-2;
 
 /// The terms of one error parameter, in file units (the `[errors.NAME]` table).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -423,6 +431,18 @@ fn spec_to_function(
         if coefficients.is_empty() {
             return fail(Value, key, "give at least one coefficient".into());
         }
+        if coefficients.len() > MAX_POLYNOMIAL_DEGREE + 1 {
+            return fail(
+                Value,
+                key,
+                format!(
+                    "{} coefficients make degree {}; the limit is degree {MAX_POLYNOMIAL_DEGREE} \
+                     (finer shapes are a table function)",
+                    coefficients.len(),
+                    coefficients.len() - 1
+                ),
+            );
+        }
         let si = coefficients
             .iter()
             .enumerate()
@@ -723,7 +743,7 @@ fn spec_to_dynamics(
 /// Why an error parameter is not a plausible machine error, if it is not: its largest value
 /// over its axis's travel (or a turn, sampled at 1001 points) beyond [`LARGEST_ERROR`], or not
 /// finite once in SI units (e.g. a period that underflows to zero).
-fn implausible(parameter: &ErrorParameter, machine: &Machine) -> Option<String> {
+pub fn implausible(parameter: &ErrorParameter, machine: &Machine) -> Option<String> {
     let (lower, upper) = match parameter.name {
         ParameterName::Component { axis, .. } => machine
             .axis(axis)

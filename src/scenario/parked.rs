@@ -72,7 +72,7 @@ pub fn parked<'a>(
                     (None, _) => 0.0,
                 };
                 if !info.within_travel(position) {
-                    let (lo, hi) = info.limits.unwrap_or((Real::NAN, Real::NAN));
+                    let (lo, hi) = info.scenario_travel();
                     let why = Why::OutsideTravel {
                         position: position / scale,
                         lower: lo / scale,

@@ -5,6 +5,7 @@
 //! adding or removing one prior leaves every other prior's values unchanged.
 
 use crate::math::{Real, seeded_rng, standard_normal};
+use crate::scenario::errors::MAX_POLYNOMIAL_DEGREE;
 use rand::RngExt;
 use serde::Deserialize;
 
@@ -352,6 +353,24 @@ impl ParamPath {
                     let list = entry.as_array_mut().ok_or_else(|| {
                         format!("`{}`: {} is not a list in the scenario", self.text, here())
                     })?;
+                    // Only a polynomial grows to take a new coefficient (the ones below it are
+                    // zero), up to the degree a scenario accepts; any other list has the
+                    // entries it has (a 3-vector has no [7]).
+                    if is_last && name.starts_with("polynomial_") {
+                        if *index > MAX_POLYNOMIAL_DEGREE {
+                            return Err(format!(
+                                "`{}`: degree {index} is above the limit of a polynomial, {MAX_POLYNOMIAL_DEGREE}",
+                                self.text
+                            ));
+                        }
+                    } else if *index >= list.len() {
+                        return Err(format!(
+                            "`{}`: {} has {} entries in the scenario; [{index}] does not exist",
+                            self.text,
+                            here(),
+                            list.len()
+                        ));
+                    }
                     while list.len() <= *index {
                         list.push(if is_last {
                             toml::Value::Float(0.0)

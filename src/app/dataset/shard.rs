@@ -318,8 +318,13 @@ fn csv_files(dataset: &Dataset, case: &Case) -> Result<Vec<(String, String)>, Da
         id: case.id,
         source,
     })?;
-    Ok(simulation
+    let tables = simulation
         .tables(&scenario)
+        .map_err(|source| DatasetError::Run {
+            id: case.id,
+            source,
+        })?;
+    Ok(tables
         .into_iter()
         .filter_map(|(name, bytes)| {
             let stem = name.strip_suffix(".csv")?.to_string();

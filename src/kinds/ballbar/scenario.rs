@@ -111,6 +111,57 @@ pub struct BallbarTest {
     pub servo: Servo,
 }
 
+/// The largest value a scenario may give each ball-bar quantity, with the reason; every one
+/// is far beyond a real test, so that only typos and overflows are refused.
+pub const LIMITS: [(&str, Real, &str); 9] = [
+    ("arc_deg", 360.0, "a full circle"),
+    (
+        "overshoot_deg",
+        360.0,
+        "a turn before and after the data arc",
+    ),
+    (
+        "calibration_um",
+        1000.0,
+        "a ball-bar's transducer reads ±1 mm about its calibrated length",
+    ),
+    (
+        "feed_mm_per_min",
+        120_000.0,
+        "2 m/s, beyond the rapid traverse of machining centres",
+    ),
+    (
+        "sample_rate_hz",
+        100_000.0,
+        "a hundred times a ball-bar's usual 1 kHz; the samples of a circle grow with it",
+    ),
+    (
+        "acceleration_mm_per_s2",
+        100_000.0,
+        "10 g, beyond any machining centre's axes",
+    ),
+    ("dwell_s", 3600.0, "an hour at each end of a circle"),
+    (
+        "noise_um",
+        1000.0,
+        "the transducer's ±1 mm range: more is no ball-bar reading",
+    ),
+    (
+        "resolution_um",
+        1000.0,
+        "the transducer's ±1 mm range: more is no ball-bar reading",
+    ),
+];
+
+/// The limit of `key` and its reason, from [`LIMITS`].
+fn limit(key: &str) -> (Real, &'static str) {
+    LIMITS
+        .iter()
+        .find(|(k, _, _)| *k == key)
+        .map(|(_, max, why)| (*max, *why))
+        .expect("every ball-bar quantity has a limit")
+}
+
 pub(crate) fn ballbar_test(
     context: &Context<'_>,
     machine: &Machine,
@@ -126,7 +177,8 @@ pub(crate) fn ballbar_test(
             format!("ballbar.{key}: {message}"),
         )
     };
-    // A value that must be finite and positive (or ≥ 0), with its default.
+    // A value that must be positive (or ≥ 0) and at most `max` ([`LIMITS`] says why), with
+    // its default.
     let value = |v: &Option<Spanned<Real>>,
                  key: &str,
                  default: Real,
@@ -134,14 +186,18 @@ pub(crate) fn ballbar_test(
      -> Result<Real, ScenarioError> {
         let Some(v) = v else { return Ok(default) };
         let x = *v.get_ref();
-        if x.is_finite() && (x > 0.0 || (allow_zero && x == 0.0)) {
+        let (max, why) = limit(key);
+        if x.is_finite() && (x > 0.0 || (allow_zero && x == 0.0)) && x <= max {
             Ok(x)
         } else {
             let expected = if allow_zero { "≥ 0" } else { "positive" };
             Err(fail(
                 Some(v.span()),
                 key,
-                format!("expected a finite {expected} number, got {x}"),
+                format!(
+                    "expected a {expected} number up to {max} ({why}), got {}",
+                    crate::math::readable(x)
+                ),
             ))
         }
     };
@@ -193,13 +249,17 @@ pub(crate) fn ballbar_test(
     let dwell = value(&b.dwell_s, "dwell_s", 1.0, true)?;
     let calibration = b.calibration_um.as_ref().map_or(Ok(0.0), |c| {
         let v = *c.get_ref();
-        if v.is_finite() {
+        let (max, why) = limit("calibration_um");
+        if v.is_finite() && v.abs() <= max {
             Ok(v * M_PER_UM)
         } else {
             Err(fail(
                 Some(c.span()),
                 "calibration_um",
-                "expected a finite number".into(),
+                format!(
+                    "expected a number within ±{max} ({why}), got {}",
+                    crate::math::readable(v)
+                ),
             ))
         }
     })?;
@@ -281,7 +341,11 @@ pub(crate) fn ballbar_test(
             return Err(fail(
                 span,
                 key,
-                format!("{} is outside the travel of {axis}", position / scale),
+                format!(
+                    "{} is outside the travel of {axis}, {}",
+                    position / scale,
+                    info.scenario_travel_text()
+                ),
             ));
         }
         centre[axis] = position;
@@ -296,13 +360,6 @@ pub(crate) fn ballbar_test(
             if full { 360.0 } else { 180.0 },
             false,
         )?;
-        if arc_deg > 360.0 {
-            return Err(fail(
-                b.arc_deg.as_ref().map(|v| v.span()),
-                "arc_deg",
-                format!("{arc_deg}° is more than a full circle"),
-            ));
-        }
         let partial = arc_deg < 360.0;
         let overshoot_deg = value(
             &b.overshoot_deg,

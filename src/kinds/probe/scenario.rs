@@ -516,7 +516,10 @@ impl Plan<'_> {
                 return Err(self.check.fail(
                     Some(span),
                     key,
-                    format!("{axis} {deg}° is outside its travel"),
+                    format!(
+                        "{axis} {deg}° is outside its travel, {}",
+                        info.scenario_travel_text()
+                    ),
                 ));
             }
             values[axis] = value;

@@ -438,7 +438,10 @@ pub(crate) fn rtest(
                     return Err(fail(
                         map.span(),
                         &format!("test.{field}"),
-                        format!("{key}: {letter} = {value}° is outside its travel"),
+                        format!(
+                            "{key}: {letter} = {value}° is outside its travel, {}",
+                            info.scenario_travel_text()
+                        ),
                     ));
                 }
                 out[info.axis] = v;

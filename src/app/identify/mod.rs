@@ -14,6 +14,8 @@ use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+pub mod checks;
+
 /// The table kinds `identify` reads, by the name a table's first line gives
 /// (`# mtwin rtest table`) or a `KIND:` prefix on the path.
 pub const TABLE_KINDS: [&str; 4] = ["rtest", "spheres", "positioning", "ballbar"];
@@ -43,6 +45,13 @@ pub enum IdentifyError {
     /// Something else about an input, with the file.
     #[error("{0}")]
     Input(String),
+    /// The fit failed its own checks ([`checks`]): nothing is written.
+    #[error(
+        "the fit fails its own checks, so no estimate or compensation is written:\n{}\n{}\n(--accept-implausible writes them all the same, with these warnings)",
+        .0.problems.iter().map(|p| format!("  - {p}")).collect::<Vec<_>>().join("\n"),
+        .0.cause
+    )]
+    Implausible(checks::Findings),
 }
 
 /// What `identify` is asked.
@@ -69,6 +78,9 @@ pub struct Request {
     /// The scenario the tables were simulated from: a `compensated.toml` extending it is
     /// written (its errors minus the estimate), for `mtwin run`.
     pub scenario: Option<PathBuf>,
+    /// Write the estimate and the compensation even when the fit fails its checks (as
+    /// warnings); by default such a fit is refused.
+    pub accept_implausible: bool,
 }
 
 /// What `identify` produced.
@@ -234,6 +246,22 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
             .collect();
     }
     let identified = report::identified_model(&set, &problem, &fit, &machine);
+    let findings = checks::check(&fit, &sets, &sources, &identified, &machine);
+    if !findings.passed() {
+        if !request.accept_implausible {
+            return Err(IdentifyError::Implausible(findings));
+        }
+        let mut caution = String::from(
+            "CAUTION: the fit fails its own checks (written because of --accept-implausible):\n",
+        );
+        for problem in &findings.problems {
+            caution += &format!("  - {problem}\n");
+        }
+        caution += &format!("  {}\n\n", findings.cause);
+        text = caution + &text;
+        json["warnings"] = serde_json::json!(findings.problems);
+        json["warnings_cause"] = serde_json::json!(findings.cause);
+    }
     let mut files = vec![(
         "estimate.json".to_string(),
         super::run::to_json_bytes(&json),

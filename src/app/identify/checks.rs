@@ -1,0 +1,139 @@
+//! The door between a fit and the files that drive a machine: before `identify` writes a
+//! LinuxCNC table, an identified URDF or a compensated scenario, the fit must pass its own
+//! checks. A fit fails when
+//!
+//! - χ²/dof exceeds [`MAX_CHI2_PER_DOF`]: the residuals are more than ten times the readings'
+//!   stated standard uncertainty, so the model describes little of what was measured. Below
+//!   that the fit scales its uncertainties by χ²/dof (Birge) and stays honest; above it the
+//!   scaled figures would describe a model that is not the machine. Units (nm in a µm column,
+//!   radians in a degree column), a mistyped set-up position and a term the model lacks
+//!   (lost motion, drift) all land here;
+//! - an identified parameter reaches beyond what a scenario accepts (10 mm or 10 mrad over its
+//!   axis's travel, [`crate::scenario::errors::LARGEST_ERROR`]): no machine error is that
+//!   large, a unit or a set-up value is wrong;
+//! - an estimate, an uncertainty or χ² is not a finite number (one reading of 1e300).
+//!
+//! Each problem says what was found against what limit, and the message names the likely
+//! cause. With `--accept-implausible` the files are written all the same, with the problems
+//! as warnings in the report and in `estimate.json` (`warnings`).
+
+use crate::errors::ErrorModel;
+use crate::estimate::Readings;
+use crate::estimate::fit::Fit;
+use crate::machine::Machine;
+use crate::math::Real;
+
+/// The largest χ²/dof a fit may have and still write compensation: residuals ten times the
+/// readings' stated standard uncertainty (see the module doc).
+pub const MAX_CHI2_PER_DOF: Real = 100.0;
+
+/// A residual RMS above this (m) is no machine error a small-motion model misses: the data are
+/// in another unit or the set-up is wrong.
+const UNITS_RESIDUAL: Real = 1e-3;
+
+/// What the checks found: each problem in a sentence, and the likely cause.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Findings {
+    /// Each failed check, for people.
+    pub problems: Vec<String>,
+    /// The likely cause, when there are problems.
+    pub cause: String,
+}
+
+impl Findings {
+    /// Whether the fit passed every check.
+    pub fn passed(&self) -> bool {
+        self.problems.is_empty()
+    }
+}
+
+/// Checks `fit` of `sets` (named by `sources`) and the `identified` model on `machine`.
+pub fn check(
+    fit: &Fit,
+    sets: &[Readings],
+    sources: &[String],
+    identified: &ErrorModel,
+    machine: &Machine,
+) -> Findings {
+    let mut problems = Vec::new();
+    let mut units = false;
+    let chi2_per_dof = fit.chi2 / fit.dof.max(1) as Real;
+    if !chi2_per_dof.is_finite() || !fit.z.iter().all(|z| z.is_finite()) {
+        problems.push(
+            "the fit is not finite (χ² or an estimate is not a number): a reading is far beyond \
+             any instrument's range"
+                .to_string(),
+        );
+        units = true;
+    } else if fit.dof > 0 && chi2_per_dof > MAX_CHI2_PER_DOF {
+        problems.push(format!(
+            "χ²/dof = {} is above {MAX_CHI2_PER_DOF}: the residuals are {:.0} times the readings' \
+             stated uncertainty, so the model does not describe these data",
+            significant(chi2_per_dof),
+            chi2_per_dof.sqrt()
+        ));
+    }
+    for (k, set) in sets.iter().enumerate() {
+        let rms = fit.residual_rms.get(k).copied().unwrap_or(0.0);
+        let sigma = set.sigma.iter().sum::<Real>() / set.sigma.len().max(1) as Real;
+        if !rms.is_finite() {
+            units = true;
+            problems.push(format!(
+                "{}: the residuals are not finite numbers (a reading beyond any instrument's range)",
+                sources.get(k).map_or(set.kind, String::as_str)
+            ));
+        } else if rms > UNITS_RESIDUAL {
+            units = true;
+            problems.push(format!(
+                "{}: residual RMS {} µm ({} times its readings' uncertainty of {} µm)",
+                sources.get(k).map_or(set.kind, String::as_str),
+                significant(rms * 1e6),
+                significant(rms / sigma),
+                significant(sigma * 1e6)
+            ));
+        }
+    }
+    let infinite = (0..fit.z.len())
+        .filter(|&j| fit.identified[j] && fit.uncertainty(j).is_none_or(|u| !u.is_finite()))
+        .count();
+    if infinite > 0 {
+        problems.push(format!(
+            "{infinite} of the {} identified unknowns have no finite uncertainty",
+            fit.identified.iter().filter(|i| **i).count()
+        ));
+        units = true;
+    }
+    for parameter in identified.parameters() {
+        if let Some(why) = crate::scenario::errors::implausible(parameter, machine) {
+            problems.push(format!("{}: the estimate {why}", parameter.name));
+            units = true;
+        }
+    }
+    let cause = if problems.is_empty() {
+        String::new()
+    } else if units {
+        "likely cause: units or set-up: a column in another unit than its name says (nm or mm \
+         in a `_um` column, radians in a `_deg` column), a mistyped set-up position \
+         (--rtest-sphere-mm, the preamble), or a table of another machine"
+            .to_string()
+    } else {
+        "likely cause: a term the model lacks (lost motion, thermal drift during the test, a \
+         component error not in --params), a set-up the model does not free (--free-setup), or \
+         readings' uncertainty stated too small (--sigma-um)"
+            .to_string()
+    };
+    Findings { problems, cause }
+}
+
+/// A value with four significant digits, in scientific notation when large.
+fn significant(value: Real) -> String {
+    if !value.is_finite() {
+        "not finite".into()
+    } else if value.abs() >= 1e5 {
+        format!("{value:.3e}")
+    } else if value.abs() >= 100.0 {
+        format!("{value:.0}")
+    } else {
+        format!("{value:.3}")
+    }
+}
