@@ -355,32 +355,126 @@ fn laser_deviations_in_nanometres_are_refused_not_compensated() {
 }
 
 #[test]
+fn an_estimate_beyond_ten_millimetres_is_named_and_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/vmc3_iso230_2.toml"), dir.path(), "run");
+    let clean = run.join("positioning.csv");
+    let text = std::fs::read_to_string(&clean).unwrap();
+    // A scale error of 2 % on top of the readings (20 µm per mm of target: the deviation
+    // column of a file whose positions were in another unit): EXX then reaches 15 mm at
+    // 750 mm, a perfectly fitting line that is no machine error.
+    let mut target_column = None;
+    let mut lines = Vec::new();
+    for line in text.lines() {
+        if line.starts_with('#') {
+            lines.push(line.to_string());
+            continue;
+        }
+        let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+        match target_column {
+            None => target_column = fields.iter().position(|f| f == "target_mm"),
+            Some(t) => {
+                let target: f64 = fields[t].parse().unwrap();
+                let column = text
+                    .lines()
+                    .find(|l| !l.starts_with('#'))
+                    .unwrap()
+                    .split(',')
+                    .position(|c| c == "deviation_um")
+                    .unwrap();
+                let deviation: f64 = fields[column].parse().unwrap();
+                fields[column] = format!("{:.4}", deviation + 20.0 * target);
+            }
+        }
+        lines.push(fields.join(","));
+    }
+    let scaled = dir.path().join("scaled.csv");
+    std::fs::write(&scaled, lines.join("\n") + "\n").unwrap();
+    // The readings' uncertainty stated at 3 µm, the size of the lost motion EXX:2 cannot
+    // hold, so that the clean table passes. The scaled one is refused naming EXX's size (the
+    // readings' model is not linear in so large an error, so χ²/dof fails too).
+    let args = |table: &Path| -> Vec<std::ffi::OsString> {
+        vec![
+            "--machine".into(),
+            root("models/vmc3.urdf").into(),
+            "--params".into(),
+            "EXX:2".into(),
+            "--sigma-um".into(),
+            "positioning=3".into(),
+            table.into(),
+        ]
+    };
+    let scaled_args = args(&scaled);
+    let refs: Vec<&OsStr> = scaled_args.iter().map(|a| a.as_os_str()).collect();
+    let message = refused_by_the_door(
+        &refs,
+        &dir.path().join("id"),
+        &["EXX: the estimate reaches", "more than the 10000 um"],
+        "units or set-up",
+    );
+    // The same table without the scale error passes the door and writes its files.
+    let clean_args = args(&clean);
+    let mut all: Vec<&OsStr> = vec!["identify".as_ref()];
+    all.extend(clean_args.iter().map(|a| a.as_os_str()));
+    let id = dir.path().join("clean");
+    all.extend_from_slice(&["--out".as_ref(), id.as_os_str()]);
+    ok(&mtwin(&all));
+    assert!(id.join("linuxcnc_X.comp").exists() || id.join("estimate.json").exists());
+}
+
+#[test]
 fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let run = run_into(&root("scenarios/trunnion5_rtest.toml"), dir.path(), "run");
     let text = std::fs::read_to_string(run.join("rtest.csv")).unwrap();
     let machine = root("models/trunnion5.urdf");
-    // An export without its preamble, the sphere typed 50 mm off in X (150 for 100): the fit
-    // puts the 50 mm into EX0C with a good χ², so only the size of the estimate tells.
+    // An export without its preamble, the sphere typed 50 mm off in X (150 for 100). Its own
+    // commanded x_mm, y_mm, z_mm keep the tool on the real sphere, so the reader sees the
+    // contradiction at the first row.
     let bare = dir.path().join("bare.csv");
     let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     std::fs::write(&bare, rows.join("\n") + "\n").unwrap();
     let table = format!("rtest:{}", bare.display());
-    let message = refused_by_the_door(
-        &[
-            "--machine".as_ref(),
-            machine.as_os_str(),
-            "--params".as_ref(),
-            "location".as_ref(),
-            table.as_ref(),
-            "--rtest-sphere-mm".as_ref(),
-            "150,0,250".as_ref(),
-        ],
-        &dir.path().join("id"),
-        &["EX0C", "10000 um"],
-        "units or set-up",
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        table.as_ref(),
+        "--rtest-sphere-mm".as_ref(),
+        "150,0,250".as_ref(),
+    ]));
+    assert!(
+        message.contains("bare.csv") && message.contains("50 mm from the sphere at 150 0 250 mm"),
+        "{message}"
     );
-    assert!(message.contains("small-motion error model"), "{message}");
+    // Without those columns (an export of the probe readings alone) the reader follows the
+    // sphere where the flag puts it, and the machine cannot reach it at every pose.
+    let drop = |text: &str| -> String {
+        let mut out = Vec::new();
+        for line in text.lines() {
+            let fields: Vec<&str> = line.split(',').collect();
+            out.push([&fields[..5], &fields[8..]].concat().join(","));
+        }
+        out.join("\n") + "\n"
+    };
+    assert!(rows[0].starts_with("test,point,time_s,a_deg,c_deg,x_mm,y_mm,z_mm,dx_um"));
+    std::fs::write(&bare, drop(&rows.join("\n"))).unwrap();
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        table.as_ref(),
+        "--rtest-sphere-mm".as_ref(),
+        "150,0,250".as_ref(),
+    ]));
+    assert!(
+        message.contains("bare.csv") && message.contains("cannot reach the sphere"),
+        "{message}"
+    );
     // The right sphere on the same bare export passes the door.
     ok(&mtwin(&[
         "identify".as_ref(),
@@ -392,10 +486,32 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
         "--rtest-sphere-mm".as_ref(),
         "100,0,250".as_ref(),
     ]));
-    // Angles exported in radians in the _deg columns.
+    // Angles exported in radians in the _deg columns: the commanded positions no longer keep
+    // the tool on the sphere at those angles.
     let radians = dir.path().join("radians.csv");
     let text = with_column(&text, "a_deg", f64::to_radians);
-    std::fs::write(&radians, with_column(&text, "c_deg", f64::to_radians)).unwrap();
+    let text = with_column(&text, "c_deg", f64::to_radians);
+    std::fs::write(&radians, &text).unwrap();
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        radians.as_os_str(),
+    ]));
+    assert!(
+        message.contains("radians.csv") && message.contains("the angles' unit is wrong"),
+        "{message}"
+    );
+    // And without the commanded positions, the door refuses the fit.
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    let preamble: Vec<&str> = text.lines().filter(|l| l.starts_with('#')).collect();
+    std::fs::write(
+        &radians,
+        preamble.join("\n") + "\n" + &drop(&rows.join("\n")),
+    )
+    .unwrap();
     refused_by_the_door(
         &[
             "--machine".as_ref(),
@@ -405,7 +521,7 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
             radians.as_os_str(),
         ],
         &dir.path().join("id"),
-        &["radians.csv", "residual RMS"],
+        &["EB0A: the estimate reaches", "χ²/dof"],
         "units or set-up",
     );
 }
@@ -437,4 +553,63 @@ fn one_wild_reading_is_refused_not_fitted_to_zero_plus_minus_infinity() {
         "units or set-up",
     );
     assert!(!message.contains("inf µm"), "{message}");
+}
+
+#[test]
+fn a_table_given_twice_or_a_target_beyond_the_travel_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/trunnion5_rtest.toml"), dir.path(), "run");
+    let table = run.join("rtest.csv");
+    // A renamed copy: the same readings twice would shrink every uncertainty by √2.
+    let copy = dir.path().join("copy.csv");
+    std::fs::copy(&table, &copy).unwrap();
+    let out = dir.path().join("id");
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        root("models/trunnion5.urdf").as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        table.as_os_str(),
+        copy.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]));
+    assert!(
+        message.contains("copy.csv") && message.contains("the same data rows as"),
+        "{message}"
+    );
+    assert!(!out.exists());
+
+    // A laser table whose last target is 5000 mm, on vmc3's 760 mm X.
+    let run = run_into(&root("scenarios/vmc3_iso230_2.toml"), dir.path(), "laser");
+    let text = std::fs::read_to_string(run.join("positioning.csv")).unwrap();
+    let last = text
+        .lines()
+        .find_map(|l| l.strip_prefix("# targets_mm = "))
+        .unwrap()
+        .rsplit(", ")
+        .next()
+        .unwrap()
+        .to_string();
+    assert_eq!(last, "750");
+    let far = dir.path().join("far.csv");
+    let moved = text
+        .replace(", 750\n", ", 5000\n")
+        .replace(",750.000000,", ",5000.000000,");
+    std::fs::write(&far, moved).unwrap();
+    let far_text = std::fs::read_to_string(&far).unwrap();
+    assert!(far_text.contains("5000."), "the test must move a target");
+    let message = failed(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        root("models/vmc3.urdf").as_os_str(),
+        "--params".as_ref(),
+        "EXX:2".as_ref(),
+        far.as_os_str(),
+    ]));
+    assert!(
+        message.contains("far.csv") && message.contains("X = 5000 mm is outside the travel of X"),
+        "{message}"
+    );
 }

@@ -132,9 +132,25 @@ fn machine_named(path: &Path) -> Option<String> {
 /// Reads every table into readings for `machine`.
 pub fn load_readings(request: &Request, machine: &Machine) -> Result<Vec<Readings>, IdentifyError> {
     let mut sets = Vec::new();
+    // The data rows of each table read so far, by their hash: a table given twice (or a
+    // renamed copy) would count its readings twice and shrink every uncertainty by √2.
+    let mut seen: BTreeMap<String, String> = BTreeMap::new();
     for argument in &request.tables {
         let (kind, path) = kind_of(argument)?;
         let file = path.display().to_string();
+        let bytes = std::fs::read(&path)
+            .map_err(|e| IdentifyError::Input(format!("{file}: cannot read: {e}")))?;
+        let rows: Vec<&[u8]> = bytes
+            .split(|b| *b == b'\n')
+            .map(<[u8]>::trim_ascii)
+            .filter(|l| !l.is_empty() && !l.starts_with(b"#"))
+            .collect();
+        let hash = crate::math::sha256_hex(&rows.join(&b'\n'));
+        if let Some(earlier) = seen.insert(hash, file.clone()) {
+            return Err(IdentifyError::Input(format!(
+                "{file}: the same data rows as {earlier}: a table given twice would count its readings twice (every uncertainty √2 too small); give each measurement once"
+            )));
+        }
         if let Some(named) = machine_named(&path).filter(|n| n != machine.name()) {
             return Err(EstimateError::OtherMachine {
                 file,

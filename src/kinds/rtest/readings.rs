@@ -26,7 +26,7 @@ use super::table::RtestTable;
 use crate::errors::ErrorModel;
 use crate::estimate::{Quantity, ReadingModel, Readings, ReadingsError};
 use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
-use crate::math::{M_PER_MM, Real, Rotation, Vector, rigid_inverse};
+use crate::math::{M_PER_MM, RAD_PER_DEG, Real, Rotation, Vector, rigid_inverse, trimmed};
 
 /// Default standard uncertainty of each displacement component: 0.2 µm, the nest noise of
 /// the bundled scenarios and of contact R-tests (wave2-anchors §1.4).
@@ -107,6 +107,11 @@ impl ReadingModel for RtestModel {
     }
 }
 
+/// How far (m) the table's commanded positions may put the nominal tool tip from the sphere:
+/// 1 mm, far beyond any machine error (an R-test keeps the tip on the sphere within the
+/// machine's errors, tens of µm).
+pub const MAX_TIP_OFF_SPHERE: Real = 1e-3;
+
 /// The readings of an R-test table measured on `machine` (`file` names it in messages).
 pub fn readings(
     table: &RtestTable,
@@ -166,7 +171,37 @@ pub fn readings(
             None => follow(machine, &mut workspace, &angles, sphere)
                 .map_err(|e| fail(format!("row {}: {e}", line + 1)))?,
         };
-        workspace.workpiece_from_tool(machine, &command, None);
+        if let Err((axis, value, (lower, upper))) = machine.check_limits(&command) {
+            let scale = if axis.is_linear() {
+                M_PER_MM
+            } else {
+                RAD_PER_DEG
+            };
+            return Err(fail(format!(
+                "row {}: {axis} = {} is outside its travel on machine \"{}\" ({} … {}): a table of another machine, or a column in another unit",
+                line + 1,
+                trimmed(value / scale, 6),
+                machine.name(),
+                trimmed(lower / scale, 6),
+                trimmed(upper / scale, 6)
+            )));
+        }
+        let tip = workspace
+            .workpiece_from_tool(machine, &command, None)
+            .translation;
+        // The table's own commanded positions must keep the nominal tool tip on the sphere
+        // (tool-centre-point control): a sphere position mistyped, or angles in radians in a
+        // `_deg` column, put it far off. A millimetre is far beyond any machine error.
+        if row.linear.is_some() && (tip - sphere).length() > MAX_TIP_OFF_SPHERE {
+            let mm = |v: Vector| (v / M_PER_MM).to_array().map(|c| trimmed(c, 3)).join(" ");
+            return Err(fail(format!(
+                "row {}: the commanded positions put the nominal tool tip at {} mm, {} mm from the sphere at {} mm: an R-test keeps the tip on the sphere, so the sphere position (preamble or --rtest-sphere-mm) or the angles' unit is wrong",
+                line + 1,
+                mm(tip),
+                trimmed((tip - sphere).length() / M_PER_MM, 3),
+                mm(sphere)
+            )));
+        }
         let world_from_tool = workspace.world_from_ends().0.matrix3;
         rows.push(Row {
             state: MachineState::at(command),

@@ -18,8 +18,10 @@ use crate::twin::EvaluationModel;
 use serde::Deserialize;
 use toml::Spanned;
 
-/// The most grid points a volumetric map may have (its rows are held in memory).
-pub const MAX_GRID_POINTS: usize = 10_000_000;
+/// The most grid points a volumetric map may have: a million (100 per axis of a 3-axis
+/// machine), so that the largest map runs in about 2.5 s and writes about 100 MB (ten million
+/// took 24 s, 1.6 GB of memory and 0.9 GB of table on the 2-core machine of the README's figures).
+pub const MAX_GRID_POINTS: usize = 1_000_000;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

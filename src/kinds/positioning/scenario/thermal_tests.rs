@@ -102,13 +102,18 @@ pub(crate) fn warmup_test(
             "targets_mm: finite from < to and a positive step".into(),
         ));
     }
-    let count = ((to - from) / step + 1e-9).floor() as usize + 1;
-    if !(2..=10_000).contains(&count) {
+    // Counted in f64 first: (to − from)/step of 1e300 is no usize.
+    let intervals = ((to - from) / step + 1e-9).floor();
+    if !(1.0..=9_999.0).contains(&intervals) {
         return Err(fail(
             span,
-            format!("targets_mm: {count} targets; expected 2 to 10000"),
+            format!(
+                "targets_mm: {} targets; expected 2 to 10000",
+                crate::math::readable(intervals + 1.0)
+            ),
         ));
     }
+    let count = intervals as usize + 1;
     let targets: Vec<Real> = (0..count)
         .map(|i| (from + step * i as Real) * M_PER_MM)
         .collect();
