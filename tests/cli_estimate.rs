@@ -406,7 +406,7 @@ fn an_estimate_beyond_ten_millimetres_is_named_and_refused() {
     };
     let scaled_args = args(&scaled);
     let refs: Vec<&OsStr> = scaled_args.iter().map(|a| a.as_os_str()).collect();
-    let message = refused_by_the_door(
+    refused_by_the_door(
         &refs,
         &dir.path().join("id"),
         &["EXX: the estimate reaches", "more than the 10000 um"],
