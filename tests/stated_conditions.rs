@@ -6,7 +6,6 @@
 
 use mtwin::kinds::rtest::RtestTable;
 use mtwin::kinds::spindle::table::parse;
-use std::path::Path;
 use std::process::{Command, Output};
 
 fn mtwin(args: &[&std::ffi::OsStr]) -> Output {
@@ -225,7 +224,7 @@ fn analyze_spindle_refuses_a_preamble_that_disagrees_and_writes_nothing() {
     );
     assert!(output.stdout.is_empty());
     assert!(!plots.exists(), "nothing written for a refused table");
-    assert!(Path::new(&file).exists());
+    assert!(file.exists(), "the table itself is left alone");
 }
 
 // ---------------------------------------------------------------------------------------------
