@@ -209,7 +209,8 @@ fn run_vmc3_spindle(dir: &Path) -> PathBuf {
 }
 
 /// Writes to `to` the preamble, the header and the rows of `from` whose revolution is below
-/// `keep`, at the speeds `speeds` (as written in the table, e.g. "2000.000"; all when empty).
+/// `keep`, at the speeds `speeds` (as written in the table, e.g. "2000.000"; all when empty),
+/// with the preamble's `revolutions` and `speeds_rpm` saying so (the reader checks them).
 ///
 /// Why not the whole table: it keeps the test short (the full record is 5.3 MB; reading it
 /// once took 77 s while the reader counted lines from the file's start for every row, a bug
@@ -221,6 +222,15 @@ fn first_revolutions(from: &Path, to: &Path, keep: usize, speeds: &[&str]) {
     let mut out = String::new();
     let header = loop {
         let line = lines.next().expect("a header");
+        // The preamble says what the rows hold: the revolutions and speeds kept.
+        if line.starts_with("# revolutions = ") {
+            out += &format!("# revolutions = {keep}\n");
+            continue;
+        }
+        if line.starts_with("# speeds_rpm = ") && !speeds.is_empty() {
+            out += &format!("# speeds_rpm = {}\n", speeds.join(" "));
+            continue;
+        }
         out += line;
         out.push('\n');
         if !line.starts_with('#') {

@@ -450,3 +450,107 @@ fn false_acceptance_rate() {
         assert!(records <= 5, "{what}: {records}");
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Bounds and statistics that cannot be formed (issue 42).
+
+#[test]
+fn base_harmonics_beyond_the_record_or_the_ceiling_are_refused() {
+    use mtwin::kinds::spindle::discovery::{MOST_BASE_HARMONICS, SpindleDiscoveryError};
+    // 16 samples a revolution: the Nyquist order is 8, the highest searchable harmonic 7, so a
+    // base of 6 leaves order 7 to search and a base of 7 leaves nothing.
+    let r = record(&[3000.0], 5, 16, 7, base);
+    let with = |k: usize| Options {
+        base_harmonics: k,
+        ..Options::default()
+    };
+    assert!(discover_spindle(&r, 16, &with(6), |_| {}).is_ok());
+    let error = discover_spindle(&r, 16, &with(7), |_| {}).unwrap_err();
+    assert_eq!(
+        error,
+        SpindleDiscoveryError::BaseHarmonics {
+            harmonics: 7,
+            samples: 16
+        }
+    );
+    assert!(error.to_string().contains("at most 6"), "{error}");
+    // The fixed ceiling holds whatever the record could resolve (1024 samples: up to 510).
+    let wide = record(&[3000.0], 5, 1024, 7, base);
+    let error = discover_spindle(&wide, 1024, &with(MOST_BASE_HARMONICS + 1), |_| {}).unwrap_err();
+    assert_eq!(
+        error,
+        SpindleDiscoveryError::TooManyBaseHarmonics(MOST_BASE_HARMONICS + 1)
+    );
+
+    // Through the binary: refused (not clamped), naming the file and the flag, nothing printed.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("sixteen.csv");
+    let t = table::SpindleTable {
+        record: r,
+        conditions: mtwin::io::Conditions::default(),
+        samples_per_revolution: 16,
+    };
+    std::fs::write(&file, table::write_csv(&t)).unwrap();
+    for (k, words) in [("7", "at most 6"), ("1000000", "at most 64")] {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_mtwin"))
+            .args(["discover", "spindle"])
+            .arg(&file)
+            .args(["--base-harmonics", k])
+            .output()
+            .unwrap();
+        assert!(!output.status.success());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            stderr.contains("sixteen.csv")
+                && stderr.contains(&format!("--base-harmonics {k}"))
+                && stderr.contains(words),
+            "{stderr}"
+        );
+        assert!(output.stdout.is_empty());
+    }
+}
+
+#[test]
+fn a_flat_probe_column_is_refused_in_words_not_scored() {
+    // A record whose z probe reads 1.5 µm at every sample (a dead or saturated channel),
+    // written to a file as an analyser would export it. Its residual under the base model is
+    // round-off (1e-22 m), from which t, F and z come out as numbers that mean nothing (before
+    // this check: `t = inf`, or effects "accepted" on round-off): it is refused by name.
+    let mut r = record(&[3000.0, 6000.0], 10, 64, 11, base);
+    r.readings[2].fill(1.5e-6);
+    let error = discover_spindle(&r, 64, &Options::default(), |_| {}).unwrap_err();
+    assert!(
+        matches!(&error, mtwin::kinds::spindle::discovery::SpindleDiscoveryError::FlatProbe { probe, .. } if probe == "z"),
+        "{error}"
+    );
+    let mut alone = r.clone();
+    alone.probes.drain(..2);
+    alone.readings.drain(..2);
+    let dir = tempfile::tempdir().unwrap();
+    for (name, record) in [("with_others.csv", r), ("flat_only.csv", alone)] {
+        let file = dir.path().join(name);
+        let t = table::SpindleTable {
+            record,
+            conditions: mtwin::io::Conditions::default(),
+            samples_per_revolution: 64,
+        };
+        std::fs::write(&file, table::write_csv(&t)).unwrap();
+        for json in [false, true] {
+            let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_mtwin"));
+            command.args(["discover", "spindle"]).arg(&file);
+            if json {
+                command.arg("--json");
+            }
+            let output = command.output().unwrap();
+            assert!(!output.status.success(), "{name}");
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert!(
+                stderr.contains(name)
+                    && stderr.contains("probe z reads 1.500000 µm at every sample")
+                    && stderr.contains("no statistic (t, F, z) can be formed"),
+                "{stderr}"
+            );
+            assert!(output.stdout.is_empty(), "{name}: nothing printed");
+        }
+    }
+}

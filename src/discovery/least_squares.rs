@@ -83,8 +83,11 @@ impl Design {
 }
 
 /// The least-squares coefficient of `r` on `column` alone (no intercept: centre both first
-/// for a slope) and its t statistic (n − 1 degrees of freedom).
-pub fn regression(column: &[Real], r: &[Real]) -> Option<(Real, Real)> {
+/// for a slope) and its t statistic (n − 1 degrees of freedom); `None` for the column when it
+/// is zero or there are fewer than 3 values. The t statistic is `None` when the residual has no
+/// scatter (an exact fit, or nothing in `r` at all): it cannot be formed then, and a report
+/// says so in words ([`T_UNDEFINED`]) rather than printing an infinity.
+pub fn regression(column: &[Real], r: &[Real]) -> Option<(Real, Option<Real>)> {
     let n = r.len() as Real;
     let (cc, cr, rr) = column
         .iter()
@@ -97,13 +100,14 @@ pub fn regression(column: &[Real], r: &[Real]) -> Option<(Real, Real)> {
     }
     let slope = cr / cc;
     let variance = ((rr - slope * cr) / (n - 1.0)).max(0.0);
-    let t = if variance > 0.0 {
-        slope / (variance / cc).sqrt()
-    } else {
-        Real::INFINITY.copysign(slope)
-    };
+    let t = (variance > 0.0)
+        .then(|| slope / (variance / cc).sqrt())
+        .filter(|t| t.is_finite());
     Some((slope, t))
 }
+
+/// What a report says where [`regression`] could not form a t statistic.
+pub const T_UNDEFINED: &str = "t not defined: the residual has no scatter";
 
 #[cfg(test)]
 mod tests {
@@ -117,7 +121,15 @@ mod tests {
         let r = [2.1, -1.9, 1.9, -2.1];
         let (slope, t) = regression(&c, &r).unwrap();
         assert!((slope - 2.0).abs() < 1e-12);
-        assert!((t - 2.0 / (0.04_f64 / 3.0 / 4.0).sqrt()).abs() < 1e-9);
+        assert!((t.unwrap() - 2.0 / (0.04_f64 / 3.0 / 4.0).sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn regression_t_is_not_formed_without_scatter() {
+        // r = 2·c exactly: slope 2, nothing left, so no t; r = 0: slope 0, no t either.
+        let c = [1.0, -1.0, 1.0, -1.0];
+        assert_eq!(regression(&c, &[2.0, -2.0, 2.0, -2.0]), Some((2.0, None)));
+        assert_eq!(regression(&c, &[0.0; 4]), Some((0.0, None)));
     }
 
     #[test]

@@ -37,7 +37,7 @@
 use crate::discovery::engine::{
     self, Folds, Problem, ResidualStep, Score, Selection, params_json, round_json as round,
 };
-use crate::discovery::least_squares::regression;
+use crate::discovery::least_squares::{T_UNDEFINED, regression};
 use crate::kinds::ballbar::iso230_4::{
     BallbarError, Blocks, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term,
     covered_arc, diagnostic_column,
@@ -369,7 +369,7 @@ impl BallbarProblem {
                         let tau = low * (high / low).powf(k as Real / (SPIKE_PROBES - 1) as Real);
                         let mut shape = Shape::default();
                         shape.decay[which] = tau;
-                        regression(&column(&shape), r).map(|(h, t)| (tau, h, t))
+                        regression(&column(&shape), r).and_then(|(h, t)| Some((tau, h, t?)))
                     })
                     .max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()))
                     .filter(|(_, _, t)| t.abs() >= PROPOSAL_T)
@@ -419,6 +419,12 @@ impl BallbarProblem {
             }
             _ => {
                 let (slope, t) = regression(&column(&Shape::default()), r)?;
+                // No t (no scatter about the shape): said in words when the shape is there.
+                let statistic = match t {
+                    Some(t) if t.abs() >= PROPOSAL_T => format!("t = {t:.1}"),
+                    None if slope != 0.0 => T_UNDEFINED.to_string(),
+                    _ => return None,
+                };
                 let what = match effect {
                     BallbarEffect::ServoMismatch => {
                         "sin 2θ with opposite signs in the two senses".to_string()
@@ -445,8 +451,7 @@ impl BallbarProblem {
                     _ => "a radius difference between the senses (ccw − cw)".to_string(),
                 };
                 let unit = unit.replace("um", "µm").replace("_per_", "/");
-                (t.abs() >= PROPOSAL_T)
-                    .then(|| format!("{what}: {:.3} {unit} (t = {t:.1})", slope * scale))
+                Some(format!("{what}: {:.3} {unit} ({statistic})", slope * scale))
             }
         }
     }

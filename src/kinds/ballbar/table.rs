@@ -247,9 +247,11 @@ impl BallbarTable {
         );
         let time_column = column("time_s");
         let mut readings = Vec::new();
+        let mut first_line = None;
         for record in reader.records() {
             let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
+            first_line = first_line.or(Some(line));
             let number = |index: usize, name: &str| finite_number(&record, index, name, file);
             let sense = match record[direction_column].to_ascii_lowercase().as_str() {
                 "ccw" => Sense::Ccw,
@@ -284,6 +286,34 @@ impl BallbarTable {
                 None,
                 "no readings: expected one row per reading after the header".into(),
             ));
+        }
+        // `first_direction` against the rows: the sense of the first reading (the earliest
+        // when every reading has a time).
+        if let (Some(first), Some((text, line))) = (conditions.first, stated.get("first_direction"))
+        {
+            let earliest = readings
+                .iter()
+                .enumerate()
+                .map(|(i, r)| r.time.map(|t| (i, t)))
+                .collect::<Option<Vec<_>>>()
+                .and_then(|timed| timed.into_iter().min_by(|a, b| a.1.total_cmp(&b.1)))
+                .map_or(0, |(i, _)| i);
+            let sense = readings[earliest].sense;
+            if sense != first {
+                let at = if earliest == 0 {
+                    first_line.flatten()
+                } else {
+                    None
+                };
+                return Err(fail(
+                    Some(line),
+                    format!(
+                        "first_direction = {text} in the preamble, but the first reading{} runs {}",
+                        at.map_or_else(|| " in time".to_string(), |l| format!(" (line {l})")),
+                        sense.name()
+                    ),
+                ));
+            }
         }
         Ok(BallbarTable {
             readings,

@@ -15,6 +15,7 @@ use super::table::{ProbeTable, ProbeTouch, RowKey, SphereRow, SpheresTable};
 use crate::math::{M_PER_MM, M_PER_UM, Real, Vector};
 use nalgebra::{Matrix3, SymmetricEigen};
 use serde_json::{Value, json};
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 /// Why a table could not be evaluated.
@@ -41,12 +42,29 @@ pub enum EvaluationError {
         /// What differs.
         what: &'static str,
     },
+    /// A ball plate with more calibrated balls than [`MOST_PLATE_BALLS`].
+    #[error(
+        "cycle {cycle}: a ball plate of {balls} calibrated balls; at most {MOST_PLATE_BALLS} are evaluated \
+         (every pair's distance is reported: the list grows with the square of the balls)"
+    )]
+    TooManyBalls {
+        /// The cycle.
+        cycle: usize,
+        /// Its calibrated balls.
+        balls: usize,
+    },
     /// The stylus radius is not known or not valid.
     #[error(
         "the stylus radius is needed: give the table a `# stylus_radius_mm = R` preamble or --stylus-radius-mm"
     )]
     NoStylusRadius,
 }
+
+/// Most calibrated balls on one plate: the distance of every pair is evaluated and reported,
+/// n(n − 1)/2 of them (1 000 balls: 499 500 distances), far beyond the ball plates in use
+/// (5 × 5 to 11 × 11 balls). Features are grouped in linear time, so their count has no limit
+/// beyond the memory their rows take.
+pub const MOST_PLATE_BALLS: usize = 1000;
 
 /// A sphere feature's fit.
 #[derive(Clone, Debug, PartialEq)]
@@ -168,15 +186,14 @@ pub struct ProbeEvaluation {
     pub mesh_points: Vec<SurfacePoint>,
 }
 
-/// The rows of each (cycle, feature), in order of first appearance.
+/// The rows of each (cycle, feature), in order of first appearance: one hash look-up per row,
+/// so the grouping is linear in the rows whatever the number of features.
 fn features(table: &ProbeTable) -> Result<Vec<Vec<&ProbeTouch>>, EvaluationError> {
     let mut groups: Vec<Vec<&ProbeTouch>> = Vec::new();
+    let mut index: HashMap<(usize, usize), usize> = HashMap::new();
     for touch in &table.touches {
         let key = (touch.key.cycle, touch.key.feature);
-        match groups
-            .iter_mut()
-            .find(|g| (g[0].key.cycle, g[0].key.feature) == key)
-        {
+        match index.get(&key).map(|&i| &mut groups[i]) {
             Some(group) => {
                 let first = group[0].key;
                 let what = if first.kind != touch.key.kind {
@@ -195,7 +212,10 @@ fn features(table: &ProbeTable) -> Result<Vec<Vec<&ProbeTouch>>, EvaluationError
                 }
                 group.push(touch);
             }
-            None => groups.push(vec![touch]),
+            None => {
+                index.insert(key, groups.len());
+                groups.push(vec![touch]);
+            }
         }
     }
     Ok(groups)
@@ -246,19 +266,29 @@ pub fn evaluate(
             }
         }
     }
-    let mut cycles: Vec<usize> = evaluation
-        .spheres
-        .iter()
-        .filter(|s| s.key.kind == CycleKind::Plate)
-        .map(|s| s.key.cycle)
-        .collect();
-    cycles.dedup();
-    for cycle in cycles {
-        let balls: Vec<&SphereResult> = evaluation
-            .spheres
-            .iter()
-            .filter(|s| s.key.cycle == cycle && s.key.calibrated_centre.is_some())
-            .collect();
+    // The calibrated balls of each plate cycle, cycles in order of first appearance.
+    let mut plates: Vec<(usize, Vec<&SphereResult>)> = Vec::new();
+    let mut plate_of: HashMap<usize, usize> = HashMap::new();
+    for s in &evaluation.spheres {
+        if s.key.kind != CycleKind::Plate {
+            continue;
+        }
+        let at = *plate_of.entry(s.key.cycle).or_insert_with(|| {
+            plates.push((s.key.cycle, Vec::new()));
+            plates.len() - 1
+        });
+        if s.key.calibrated_centre.is_some() {
+            plates[at].1.push(s);
+        }
+    }
+    if let Some((cycle, balls)) = plates.iter().find(|(_, b)| b.len() > MOST_PLATE_BALLS) {
+        return Err(EvaluationError::TooManyBalls {
+            cycle: *cycle,
+            balls: balls.len(),
+        });
+    }
+    let mut results = Vec::new();
+    for (cycle, balls) in plates {
         let mut distances = Vec::new();
         for (n, a) in balls.iter().enumerate() {
             for b in &balls[n + 1..] {
@@ -272,9 +302,10 @@ pub fn evaluate(
             }
         }
         if !distances.is_empty() {
-            evaluation.plates.push(PlateResult { cycle, distances });
+            results.push(PlateResult { cycle, distances });
         }
     }
+    evaluation.plates = results;
     Ok(evaluation)
 }
 

@@ -83,6 +83,7 @@ pub fn readings(
     let mut features = Vec::new();
     let mut measured = Vec::new();
     let mut cycles: Vec<usize> = Vec::new();
+    let mut index_of: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut starts = Vec::new();
     for (row, sphere) in table.spheres.iter().enumerate() {
         if sphere.key.kind != CycleKind::Sphere {
@@ -107,9 +108,10 @@ pub fn readings(
                 row + 1
             ))
         })?;
-        let cycle = match cycles.iter().position(|c| *c == sphere.key.cycle) {
-            Some(index) => index,
+        let cycle = match index_of.get(&sphere.key.cycle) {
+            Some(&index) => index,
             None => {
+                index_of.insert(sphere.key.cycle, cycles.len());
                 cycles.push(sphere.key.cycle);
                 let mut axes = rotary;
                 axes[Axis::X] = sphere.centre.x;

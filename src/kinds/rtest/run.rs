@@ -218,7 +218,7 @@ fn conditions(twin: &Twin, test: &RTest) -> Conditions {
     if test.zero == Zero::FirstPose {
         pairs.push(("zero", Zero::FirstPose.name().into()));
     }
-    pairs.push(("frame", "machine".into()));
+    pairs.push(("frame", super::table::FRAMES[0].into()));
     Conditions::from_pairs(pairs)
 }
 

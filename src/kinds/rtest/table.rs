@@ -12,8 +12,10 @@
 //! | `probe1_um` … `probe4_um` | no | the raw readings (+ when the sphere pushes the probe in) |
 //!
 //! Preamble keys (`# key = value`, see [`crate::io::Conditions`]): `machine`, `sphere_mm`
-//! (`x y z` in the workpiece frame), `sphere_diameter_mm`, `tip`, `calibration`, `mode`.
-//! Analyses need none of them.
+//! (`x y z` in the workpiece frame), `sphere_diameter_mm`, `tip`, `calibration`, `mode`,
+//! `zero`, `frame`. Analyses need none of them. `frame` states the axes `dx_um`, `dy_um`,
+//! `dz_um` are along; only [`FRAMES`] (the machine's X, Y, Z) is accepted, and a table that
+//! declares another frame is refused at the `frame` line rather than read as machine axes.
 
 use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
 use crate::machine::Axis;
@@ -60,6 +62,11 @@ pub struct RtestTable {
     pub conditions: Conditions,
 }
 
+/// The frames a table's deviations may be stated in (`# frame = …`): `machine`, the machine's
+/// X, Y, Z axes, which the evaluation and the readings model take them along. A table without
+/// the line is read in machine axes.
+pub const FRAMES: [&str; 1] = ["machine"];
+
 const ANGLES: [&str; 3] = ["a_deg", "b_deg", "c_deg"];
 const LINEAR: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
 const DEVIATION: [&str; 3] = ["dx_um", "dy_um", "dz_um"];
@@ -88,6 +95,49 @@ impl RtestTable {
     pub fn parse(bytes: &[u8], file: &str) -> Result<RtestTable, TableError> {
         let fail = |line: Option<u64>, message: String| TableError::new(file, line, message);
         let conditions = Conditions::parse(bytes, file)?;
+        if let Some((frame, line)) = conditions.get("frame")
+            && !FRAMES.contains(&frame)
+        {
+            return Err(fail(
+                Some(line),
+                format!(
+                    "frame = {frame}: dx_um, dy_um, dz_um are read along the machine's X, Y, Z; \
+                     accepted frames: {}",
+                    FRAMES.join(", ")
+                ),
+            ));
+        }
+        // The instrument's set-up as the writer states it: no column can confirm these, but a
+        // value outside what the writer writes is refused rather than passed over (`zero`
+        // decides the readings model's datum).
+        let named: [(&str, &[&str]); 4] = [
+            (
+                "zero",
+                &[super::Zero::EachTest.name(), super::Zero::FirstPose.name()],
+            ),
+            ("tip", &["flat", "point"]),
+            ("calibration", &["nominal", "six_point"]),
+            ("mode", &["static", "dynamic"]),
+        ];
+        for (key, values) in named {
+            if let Some((value, line)) = conditions.get(key)
+                && !values.contains(&value)
+            {
+                return Err(fail(
+                    Some(line),
+                    format!("{key} = {value}: expected {}", values.join(" or ")),
+                ));
+            }
+        }
+        if let Some(d) = conditions.number("sphere_diameter_mm", file)?
+            && d <= 0.0
+        {
+            let line = conditions.get("sphere_diameter_mm").map(|(_, l)| l);
+            return Err(fail(
+                line,
+                format!("sphere_diameter_mm = {d}: expected a positive diameter"),
+            ));
+        }
         let mut reader = csv_reader(bytes);
         let (header, header_line) = read_header(&mut reader, file)?;
         let known = |name: &str| {

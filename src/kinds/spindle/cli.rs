@@ -81,7 +81,9 @@ struct DiscoverArgs {
     /// The set-up to search, for a record of several (default: the first in the file).
     #[arg(long, value_name = "NAME")]
     setup: Option<String>,
-    /// The base model's harmonics of the angle, 1..=K.
+    /// The base model's harmonics of the angle, 1..=K: at most 64, and at most samples per
+    /// revolution / 2 − 2 (a harmonic above the base is left to search below Nyquist); more is
+    /// refused.
     #[arg(long, value_name = "K", default_value_t = DEFAULT_BASE_HARMONICS)]
     base_harmonics: usize,
     /// Rolling elements of the spindle bearing (with the two diameters: names lines by

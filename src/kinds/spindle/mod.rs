@@ -13,6 +13,7 @@
 //! | [`instrument`] | the virtual analyser: artefact (eccentricity, form), probes (gain, noise, resolution, bandwidth) |
 //! | [`run`] | the record through the twin, and its truth |
 //! | [`table`] | the `spindle` table |
+//! | [`stated`] | the preamble's `revolutions`, `speeds_rpm` and `setups` checked against the rows |
 //! | [`analysis`] | ISO 230-7 evaluation: synchronous / asynchronous decomposition, the five polar-plot centres, values, spectrum, error separation |
 //! | [`evaluate`] | which tests the probes allow (radial, axial, face, tilt; fixed or rotating sensitive direction), scored per set-up and speed, and the form separations |
 //! | [`cli`] | `mtwin analyze spindle`: text, JSON and SVG |
@@ -32,6 +33,7 @@ pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]
 pub mod scene;
+pub mod stated;
 pub mod table;
 
 pub use record::{Sensing, SpindleProbe, SpindleRecord};

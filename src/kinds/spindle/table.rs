@@ -42,6 +42,10 @@
 //! | `face_radius_mm` | radius of the `face` probe's point |
 //! | `bandwidth_hz`, `resolution_nm` | the instrumentation (§5.2 j) |
 //!
+//! `revolutions`, `speeds_rpm` and `setups` (what [`super::run`] writes) are checked against
+//! the rows when given (see [`super::stated`]): a preamble that says another number of
+//! revolutions, other speeds or other set-ups than the rows is refused at its line with both.
+//!
 //! Numbers among these are checked when given; every key, these and any other (`date`,
 //! `instrument`, `sample_rate_hz`, `temperature_c`, …), is kept in
 //! [`SpindleTable::conditions`]. Frames and signs are those of [`super::record`].
@@ -387,6 +391,16 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
         }
         (None, None) => vec![0.0; rows.len()], // refused at the header
     };
+    let summaries: Vec<super::stated::RunSummary<'_>> = runs
+        .iter()
+        .map(|&(start, end)| super::stated::RunSummary {
+            setup: &rows[start].setup,
+            speed_rpm: speed[start] / RAD_PER_S_PER_RPM,
+            revolutions: revolution[end - 1] + 1,
+            line: rows[start].line,
+        })
+        .collect();
+    super::stated::check(&conditions, file, &summaries)?;
     let time = match given_time {
         Some(time) => time,
         None if speed.iter().all(|w| *w != 0.0) => {

@@ -54,6 +54,12 @@ use std::sync::Mutex;
 pub const SLOTS: usize = 4;
 /// The base model's harmonics by default (1 = eccentricity, 2 = an elliptical orbit).
 pub const DEFAULT_BASE_HARMONICS: usize = 2;
+/// Most base harmonics, whatever the samples per revolution: the base stands for the set-up
+/// (1 UPR) and the low-order synchronous error motion, and every harmonic adds two columns
+/// as long as the record to every fit of every fold and candidate (memory grows with K times
+/// the samples, time with K² times the samples). A record also limits K: a harmonic above the
+/// base must be left to search below the Nyquist order, so K + 1 < samples per revolution / 2.
+pub const MOST_BASE_HARMONICS: usize = 64;
 /// Most folds (blocks of revolutions held out).
 const MOST_FOLDS: usize = 5;
 /// False-alarm probability of a search's evidence over the values searched.
@@ -151,9 +157,15 @@ pub enum SpindleDiscoveryError {
     /// The bearing geometry.
     #[error(transparent)]
     Bearing(#[from] bearing::BearingError),
-    /// A base with no room for a harmonic beyond it.
+    /// A base with no room for a harmonic beyond it below the Nyquist order.
     #[error(
-        "{harmonics} base harmonics leave nothing to search with {samples} samples per revolution"
+        "--base-harmonics {harmonics}: {} with {samples} samples per revolution (a harmonic \
+         above the base must be left to search below the Nyquist order, K + 1 < samples per \
+         revolution / 2)",
+        match (samples / 2).checked_sub(2) {
+            Some(most) => format!("at most {most}"),
+            None => "no base at all can be searched".to_string(),
+        }
     )]
     BaseHarmonics {
         /// Asked.
@@ -161,6 +173,27 @@ pub enum SpindleDiscoveryError {
         /// Samples per revolution.
         samples: usize,
     },
+    /// A probe that reads one value at every sample of the set-up: its residual is round-off,
+    /// and no t, F or z formed from it means anything.
+    #[error(
+        "probe {probe} reads {value_um:.6} µm at every sample of set-up `{setup}`: a flat channel \
+         has no scatter, so no statistic (t, F, z) can be formed from it; drop its column or \
+         check the probe"
+    )]
+    FlatProbe {
+        /// The probe.
+        probe: String,
+        /// Its one reading (µm).
+        value_um: Real,
+        /// The set-up searched.
+        setup: String,
+    },
+    /// More base harmonics than [`MOST_BASE_HARMONICS`].
+    #[error(
+        "--base-harmonics {0}: at most {MOST_BASE_HARMONICS} (the base stands for the set-up and \
+         the low-order synchronous motion; every harmonic adds two record-long columns to every fit)"
+    )]
+    TooManyBaseHarmonics(usize),
 }
 
 /// What discovery needs besides the record.
@@ -223,8 +256,24 @@ impl SpindleProblem {
         samples_per_revolution: usize,
         options: &Options,
     ) -> Result<SpindleProblem, SpindleDiscoveryError> {
+        if options.base_harmonics > MOST_BASE_HARMONICS {
+            return Err(SpindleDiscoveryError::TooManyBaseHarmonics(
+                options.base_harmonics,
+            ));
+        }
         let data = Data::new(record, samples_per_revolution, options.setup.as_deref())?;
-        if options.base_harmonics + 1 > samples_per_revolution / 2 - 1 {
+        for (probe, readings) in data.probes.iter().zip(&data.readings) {
+            if let Some(&first) = readings.first()
+                && readings.iter().all(|v| *v == first)
+            {
+                return Err(SpindleDiscoveryError::FlatProbe {
+                    probe: probe.clone(),
+                    value_um: first * 1e6,
+                    setup: data.setup.clone(),
+                });
+            }
+        }
+        if options.base_harmonics + 2 > samples_per_revolution / 2 {
             return Err(SpindleDiscoveryError::BaseHarmonics {
                 harmonics: options.base_harmonics,
                 samples: samples_per_revolution,

@@ -460,6 +460,7 @@ pub fn search_harmonic(
     }
     let fft = FftPlanner::<Real>::new().plan_fft_forward(m);
     let mut total = vec![0.0; highest + 1];
+    let mut series = 0usize;
     for r in residuals {
         // The training residual averaged at each angle of the index grid.
         let mut sum = vec![Complex::new(0.0, 0.0); m];
@@ -475,6 +476,7 @@ pub fn search_harmonic(
         if n == 0 || sse <= 0.0 {
             continue;
         }
+        series += 1;
         for (s, &c) in sum.iter_mut().zip(&count) {
             if c > 0 {
                 s.re /= c as Real;
@@ -487,6 +489,10 @@ pub fn search_harmonic(
             let amplitude = 2.0 * sum[k].norm() / m as Real;
             *t += n as Real * amplitude * amplitude / 4.0 / variance;
         }
+    }
+    if series == 0 {
+        // No probe's residual has any scatter: no F can be formed.
+        return None;
     }
     (lowest..=highest)
         .filter(|k| !taken.contains(k))

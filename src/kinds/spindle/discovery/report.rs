@@ -4,7 +4,7 @@
 use super::model::{Column, false_alarm_level, fit_linear, search_harmonic, search_line};
 use super::{FALSE_ALARM, Searched, SpindleDiscovery, SpindleEffect, SpindleFit, SpindleProblem};
 use crate::discovery::engine::{self, Score, round_json};
-use crate::discovery::least_squares::regression;
+use crate::discovery::least_squares::{T_UNDEFINED, regression};
 use crate::math::Real;
 use serde_json::{Value, json};
 use std::f64::consts::TAU;
@@ -70,7 +70,13 @@ pub(super) fn evidence(
     let train = vec![true; data.len()];
     let residuals = &fit.linear.residuals;
     let probes = data.probes.len();
+    // A search's F is each probe's gain over its residual variance: with no scatter left in
+    // any probe it cannot be formed, which is said in words rather than as a number.
+    let scatter = residuals.iter().any(|r| r.iter().any(|v| *v != 0.0));
     match effect {
+        SpindleEffect::Harmonic(_) | SpindleEffect::AsynchronousLine(_) if !scatter => {
+            "F not defined: the residual has no scatter in any probe".to_string()
+        }
         SpindleEffect::Harmonic(_) => {
             let taken: Vec<usize> = fit
                 .searched
@@ -121,18 +127,24 @@ pub(super) fn evidence(
             let (t0, t1) = data.time_span();
             let column = Column::Drift(None, t0, t1);
             let x: Vec<Real> = (0..data.len()).map(|i| column.value(data, i)).collect();
-            let (probe, slope, t) = residuals
+            // The probe with the largest |t|; a probe whose residual has no scatter has no t.
+            let strongest = residuals
                 .iter()
                 .enumerate()
-                .filter_map(|(p, r)| slope(&x, r).map(|(s, t)| (p, s, t)))
-                .max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()))
-                .unwrap_or((0, 0.0, 0.0));
-            format!(
-                "a trend over the {:.1} s of the record: strongest in {} ({:+.3} µm, t = {t:.1})",
-                t1 - t0,
-                data.probes[probe],
-                slope * UM
-            )
+                .filter_map(|(p, r)| slope(&x, r).and_then(|(s, t)| Some((p, s, t?))))
+                .max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()));
+            match strongest {
+                Some((probe, slope, t)) => format!(
+                    "a trend over the {:.1} s of the record: strongest in {} ({:+.3} µm, t = {t:.1})",
+                    t1 - t0,
+                    data.probes[probe],
+                    slope * UM
+                ),
+                None => format!(
+                    "a trend over the {:.1} s of the record: {T_UNDEFINED} in any probe",
+                    t1 - t0
+                ),
+            }
         }
         SpindleEffect::SpeedDependence => {
             let mut columns = fit.linear.columns.clone();
@@ -161,8 +173,9 @@ pub(super) fn evidence(
     }
 }
 
-/// The least-squares slope of `r` on `x` with an intercept (both centred) and its t statistic.
-fn slope(x: &[Real], r: &[Real]) -> Option<(Real, Real)> {
+/// The least-squares slope of `r` on `x` with an intercept (both centred) and its t statistic
+/// (`None` when the residual has no scatter).
+fn slope(x: &[Real], r: &[Real]) -> Option<(Real, Option<Real>)> {
     let centred = |v: &[Real]| -> Vec<Real> {
         let mean = v.iter().sum::<Real>() / v.len().max(1) as Real;
         v.iter().map(|a| a - mean).collect()
