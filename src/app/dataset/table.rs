@@ -199,9 +199,10 @@ impl TableSchema {
     }
 
     /// The Arrow schema of the same columns, each column's unit (from `units`, one per
-    /// column; none where empty) in its field metadata `unit`: what pyarrow, polars and the
-    /// parquet crate's Arrow reader find in the file's `ARROW:schema`.
-    fn arrow(&self, units: &[String]) -> arrow_schema::Schema {
+    /// column; none where empty) in its field metadata `unit`, and the file's `metadata` as
+    /// its own: what pyarrow, polars and the parquet crate's Arrow reader find in the file's
+    /// `ARROW:schema` (pyarrow's `schema.metadata` is this one's, not the file's).
+    fn arrow(&self, units: &[String], metadata: &[(String, String)]) -> arrow_schema::Schema {
         let fields: Vec<Field> = (self.columns.iter())
             .zip(
                 units
@@ -222,7 +223,7 @@ impl TableSchema {
                 }
             })
             .collect();
-        arrow_schema::Schema::new(fields)
+        arrow_schema::Schema::new_with_metadata(fields, metadata.iter().cloned().collect())
     }
 
     /// The Parquet schema.
@@ -411,11 +412,11 @@ impl ParquetTable {
             .set_compression(Compression::SNAPPY)
             .set_created_by(format!("mtwin {}", env!("CARGO_PKG_VERSION")))
             .set_key_value_metadata(Some(
-                (metadata.into_iter())
-                    .map(|(key, value)| KeyValue::new(key, value))
+                (metadata.iter())
+                    .map(|(key, value)| KeyValue::new(key.clone(), value.clone()))
                     .chain([KeyValue::new(
                         ARROW_SCHEMA_META_KEY.to_string(),
-                        encode_arrow_schema(&schema.arrow(units)),
+                        encode_arrow_schema(&schema.arrow(units, &metadata)),
                     )])
                     .collect(),
             ))
