@@ -349,6 +349,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             let scenario = Scenario::load(&scenario)?;
             let simulation = simulate(&scenario)?;
             let output = simulation.output(&scenario)?;
+            mtwin::app::check_run_folder(&out)?;
             if let Some(path) = &rrd {
                 record(path, &scenario, &simulation)?;
             }
@@ -757,8 +758,10 @@ fn dataset(
     }
     if summary.complete {
         say!(
-            "{}: complete ({count} cases in {shards} shards)",
-            out.join("manifest.json").display()
+            "{}: complete ({} in {})",
+            out.join("manifest.json").display(),
+            mtwin::app::dataset::counted(count, "case", "cases"),
+            mtwin::app::dataset::counted(shards, "shard", "shards")
         );
     } else {
         say!(

@@ -1,6 +1,8 @@
 //! `mtwin dataset`: determinism across runs, shard layouts and thread counts; resumption after
 //! a kill; the truth in `cases` against `mtwin run`'s truth.json for the same case; the
-//! Parquet schema read back; bad priors refused before anything is written.
+//! Parquet schema read back, with each column's unit in its field metadata; bad priors
+//! refused before anything is written. (Concurrent makers and folder refusals:
+//! `dataset_robust.rs`.)
 
 mod common;
 
@@ -438,4 +440,81 @@ fn bad_priors_are_refused_at_their_line_before_anything_is_written() {
         assert!(!output.status.success(), "--shard {shard}");
         assert!(!tmp.path().join("o").join("manifest.json").exists());
     }
+}
+
+#[test]
+fn readers_find_units_per_column_numbers_for_the_centre_and_an_integer_shard_key() {
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("bb");
+    dataset(BALLBAR, &out, &["--count", "4", "--shards", "1"]);
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("manifest.json")).unwrap()).unwrap();
+    // The units the column names and the priors' keys state (README: `_um` µm, `_mm` mm,
+    // `_mm_per_min` mm/min, `_per_s` 1/s, a polynomial's coefficient 1 of a µm error µm/mm).
+    let expected: [(&str, &str, Option<&str>); 9] = [
+        ("cases", "case_id", None),
+        ("cases", "servo_X_kv_per_s", Some("1/s")),
+        ("cases", "EXX_polynomial_um_1", Some("µm/mm")),
+        ("cases", "ballbar_noise_um", Some("µm")),
+        ("ballbar_xy", "case_id", None),
+        ("ballbar_xy", "deviation_um", Some("µm")),
+        ("ballbar_xy", "radius_mm", Some("mm")),
+        ("ballbar_xy", "feed_mm_per_min", Some("mm/min")),
+        ("ballbar_xy", "centre_y_mm", Some("mm")),
+    ];
+    for file in manifest["files"].as_array().unwrap() {
+        let relative = file["path"].as_str().unwrap();
+        // `shard=0`, not `shard=00000`: what DuckDB, polars and pyarrow type as a number.
+        let shard = relative
+            .split('/')
+            .find_map(|p| p.strip_prefix("shard="))
+            .unwrap();
+        assert_eq!(shard, "0", "{relative}");
+        let reader = ParquetRecordBatchReaderBuilder::try_new(
+            std::fs::File::open(out.join(relative)).unwrap(),
+        )
+        .unwrap();
+        let schema = reader.schema();
+        for (table, column, unit) in expected {
+            if file["table"] != table {
+                continue;
+            }
+            let field = schema.field_with_name(column).unwrap();
+            assert_eq!(
+                field.metadata().get("unit").map(String::as_str),
+                unit,
+                "{table}.{column}"
+            );
+        }
+        if file["table"] == "ballbar_xy" {
+            assert!(schema.field_with_name("centre_mm").is_err());
+            for axis in ["x", "y", "z"] {
+                let field = schema
+                    .field_with_name(&format!("centre_{axis}_mm"))
+                    .unwrap();
+                assert_eq!(field.data_type(), &arrow_schema::DataType::Float64);
+            }
+            assert_eq!(
+                schema.field_with_name("plane").unwrap().data_type(),
+                &arrow_schema::DataType::Utf8
+            );
+        }
+    }
+    // The scenario's `centre_mm = { x = 380.0, y = 205.0, z = 300.0 }`, on every row.
+    let table = rows(&out, "ballbar_xy");
+    assert!(!table.is_empty());
+    for (_, row) in &table {
+        assert_eq!(
+            [
+                &row["centre_x_mm"],
+                &row["centre_y_mm"],
+                &row["centre_z_mm"]
+            ],
+            [380.0, 205.0, 300.0]
+        );
+    }
+    let card = std::fs::read_to_string(out.join("README.md")).unwrap();
+    assert!(card.contains("in 1 shard."), "{card}");
+    assert!(!card.contains("1 shards"));
 }

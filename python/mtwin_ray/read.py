@@ -13,7 +13,7 @@ from .layout import manifest_tables
 
 PathLike = Union[str, os.PathLike]
 
-#: The Hive partition columns of every table (``machine=…/split=…/shard=IIIII``). Typed here
+#: The Hive partition columns of every table (``machine=…/split=…/shard=I``). Typed here
 #: rather than inferred: a machine named ``5`` stays a string, a shard is always an integer.
 PARTITIONING = ds.partitioning(
     pa.schema([("machine", pa.string()), ("split", pa.string()), ("shard", pa.int32())]),

@@ -13,11 +13,14 @@
 //! ```
 
 pub mod dataset;
+pub mod folder;
 pub mod identify;
 #[cfg(feature = "viz")]
 pub mod record;
 mod run;
 mod scenario;
 
-pub use run::{RunError, RunOutput, Simulation, run_scenario, simulate, write_outputs};
+pub use run::{
+    RunError, RunOutput, Simulation, check_run_folder, run_scenario, simulate, write_outputs,
+};
 pub use scenario::Scenario;

@@ -56,6 +56,16 @@ pub enum RunError {
         /// The text found there.
         value: String,
     },
+    /// The output folder holds another kind of output (a dataset).
+    #[error(
+        "{dir}: holds {holds}; a run's files would replace its manifest.json: give another --out"
+    )]
+    Folder {
+        /// The folder.
+        dir: String,
+        /// What it holds.
+        holds: String,
+    },
 }
 
 /// The files of one run, in memory, in the order they are listed in the manifest.
@@ -336,8 +346,23 @@ impl RunOutput {
     }
 }
 
+/// Refuses a folder that holds a dataset (`mtwin dataset`): a run's files there would replace
+/// its `manifest.json`. A run folder, an empty or absent one, or one with other files is fine
+/// (a run leaves files it does not write as they are).
+pub fn check_run_folder(dir: &Path) -> Result<(), RunError> {
+    match super::folder::holds(dir) {
+        super::folder::Holds::Dataset(holds) => Err(RunError::Folder {
+            dir: dir.display().to_string(),
+            holds,
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Writes the files into `dir` (created if needed), all or none: see [`crate::io::write_files`].
+/// A folder holding a dataset is refused ([`check_run_folder`]).
 pub fn write_outputs(output: &RunOutput, dir: &Path) -> Result<(), RunError> {
+    check_run_folder(dir)?;
     Ok(crate::io::write_files(&output.files, dir)?)
 }
 

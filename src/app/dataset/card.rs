@@ -63,6 +63,14 @@ fn scenario_name(dataset: &Dataset) -> String {
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
 }
 
+/// The unit of every column of `schema`'s table, in order (empty for none): each column's
+/// Parquet field metadata `unit`.
+pub fn column_units(dataset: &Dataset, schema: &TableSchema) -> Vec<String> {
+    (schema.columns.iter())
+        .map(|(name, _)| unit(dataset, name))
+        .collect()
+}
+
 /// The key-value metadata of each Parquet file of `schema`'s table.
 pub fn file_metadata(
     dataset: &Dataset,
@@ -151,6 +159,11 @@ pub fn manifest(
     })
 }
 
+/// `n` and the noun, singular for one: "1 shard", "4 shards".
+pub fn counted(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// The dataset card, `README.md`.
 pub fn readme(
     dataset: &Dataset,
@@ -166,13 +179,13 @@ pub fn readme(
     }
     let _ = writeln!(
         s,
-        "{} simulated cases of the machine `{}` (each case one machine and condition drawn from the priors below), made by mtwin {} (dataset schema {SCHEMA_VERSION}) from `{name}` (SHA-256 {}), master seed {}, in {} shards. Tests run in every case: {}.\n",
-        options.count,
+        "{} of the machine `{}` (each case one machine and condition drawn from the priors below), made by mtwin {} (dataset schema {SCHEMA_VERSION}) from `{name}` (SHA-256 {}), master seed {}, in {}. Tests run in every case: {}.\n",
+        counted(options.count, "simulated case", "simulated cases"),
         dataset.machine_name,
         env!("CARGO_PKG_VERSION"),
         dataset.scenario.sha256,
         dataset.section.seed,
-        options.shards,
+        counted(options.shards, "shard", "shards"),
         dataset.tests.join(", ")
     );
     let _ = writeln!(
@@ -203,7 +216,7 @@ pub fn readme(
     let _ = writeln!(s, "## Tables\n");
     let _ = writeln!(
         s,
-        "Each table is a folder of Parquet files (snappy), Hive-partitioned as `<table>/machine=…/split=train|test/shard=NNNNN/part-0.parquet`; every row carries `case_id`. Measurement tables hold the columns of the CSV that `mtwin run` writes for the test (units in the column names; the CSV preamble's set-up lines as columns too); numbers are doubles, text is UTF-8, empty cells are nulls.\n"
+        "Each table is a folder of Parquet files (snappy), Hive-partitioned as `<table>/machine=…/split=train|test/shard=N/part-0.parquet` (`shard` an integer, unpadded, so readers type it as one); every row carries `case_id`. Measurement tables hold the columns of the CSV that `mtwin run` writes for the test (units in the column names; the CSV preamble's set-up lines as columns too, a vector such as `centre_mm` as one column per component); numbers are doubles, text is UTF-8, empty cells are nulls. Each column's unit is also in its Parquet field metadata (`unit`, in the file's Arrow schema: `pyarrow.parquet.read_schema(file).field(\"deviation_um\").metadata`).\n"
     );
     let tables = &manifest["tables"];
     for schema in schemas {
@@ -222,7 +235,7 @@ pub fn readme(
     let _ = writeln!(s, "\n## Loading\n");
     let _ = writeln!(
         s,
-        "```python\nimport pyarrow.dataset as ds\ncases = ds.dataset(\"cases\", partitioning=\"hive\").to_table().to_pandas()\nrows = ds.dataset(\"{measurement}\", partitioning=\"hive\").to_table().to_pandas()\njoined = rows.merge(cases, on=[\"case_id\", \"machine\", \"split\", \"shard\"])\n\nimport polars as pl\nrows = pl.scan_parquet(\"{measurement}/**/*.parquet\", hive_partitioning=True).collect()\n```\n"
+        "```python\nimport pyarrow.dataset as ds\ncases = ds.dataset(\"cases\", partitioning=\"hive\").to_table().to_pandas()\nrows = ds.dataset(\"{measurement}\", partitioning=\"hive\").to_table().to_pandas()\njoined = rows.merge(cases, on=[\"case_id\", \"machine\", \"split\", \"shard\"])\n\nimport pandas as pd  # plain Hive types: shard an integer, machine and split strings (pandas' default makes them categories)\nrows = pd.read_parquet(\"{measurement}\", partitioning=ds.partitioning(flavor=\"hive\"))\n\nimport polars as pl\nrows = pl.scan_parquet(\"{measurement}/**/*.parquet\", hive_partitioning=True).collect()\n```\n"
     );
     let _ = writeln!(
         s,

@@ -36,11 +36,13 @@
 //! line with the scenario's own message).
 
 mod card;
+mod guard;
 pub mod priors;
 mod shard;
 pub mod spec;
 mod table;
 
+pub use card::counted;
 pub use shard::{DatasetError, Options, Progress, Summary, generate, record_name};
 pub use spec::{Prior, Section, SplitRule};
 pub use table::{ColumnKind, TableSchema};
@@ -53,8 +55,9 @@ use rand::RngExt;
 use std::path::Path;
 
 /// The version of the dataset layout (tables, columns, files); it changes when a reader would
-/// need to change.
-pub const SCHEMA_VERSION: u32 = 1;
+/// need to change. 2: `shard=N` folders unpadded, a vector preamble line (`centre_mm`) as one
+/// column per component, units in each column's Parquet field metadata.
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// Cases per shard when neither `--shards` nor `[dataset] shards` says.
 pub const CASES_PER_SHARD: u64 = 10_000;

@@ -406,27 +406,39 @@ impl ParamPath {
     }
 }
 
+/// The unit suffixes of scenario keys and column names, with their units (the longer first
+/// where one ends another).
+const SUFFIXES: &[(&str, &str)] = &[
+    ("_mm_per_min", "mm/min"),
+    ("_per_s", "1/s"),
+    ("_um", "µm"),
+    ("_urad", "µrad"),
+    ("_mm", "mm"),
+    ("_deg", "deg"),
+    ("_ms", "ms"),
+    ("_min", "min"),
+    ("_hz", "Hz"),
+    ("_rpm", "1/min"),
+    ("_degc", "°C"),
+    ("_c", "°C"),
+    ("_w", "W"),
+    ("_s", "s"),
+];
+
 /// The unit a scenario key's suffix names.
 pub(super) fn unit_of_key(key: &str) -> &'static str {
-    const SUFFIXES: &[(&str, &str)] = &[
-        ("_mm_per_min", "mm/min"),
-        ("_per_s", "1/s"),
-        ("_um", "µm"),
-        ("_urad", "µrad"),
-        ("_mm", "mm"),
-        ("_deg", "deg"),
-        ("_ms", "ms"),
-        ("_min", "min"),
-        ("_hz", "Hz"),
-        ("_rpm", "1/min"),
-        ("_c", "°C"),
-        ("_w", "W"),
-        ("_s", "s"),
-    ];
     SUFFIXES
         .iter()
         .find(|(suffix, _)| key.ends_with(suffix))
         .map_or("", |(_, unit)| unit)
+}
+
+/// The unit suffix a key ends with (`_mm` of `centre_mm`), if any.
+pub(super) fn unit_suffix(key: &str) -> Option<&'static str> {
+    SUFFIXES
+        .iter()
+        .find(|(suffix, _)| key.ends_with(suffix) && key.len() > suffix.len())
+        .map(|(suffix, _)| *suffix)
 }
 
 #[cfg(test)]

@@ -1,7 +1,15 @@
-//! Making a dataset shard by shard: each shard's files are written under `.tmp/`, renamed into
-//! place, and only then recorded in `_shards/` — a shard with a record is complete. A rerun
-//! skips the shards whose record and files agree and redoes the others; the process that
-//! records the last shard writes `manifest.json` and the dataset card.
+//! Making a dataset shard by shard: each shard's files are written into a folder under
+//! `.tmp/` private to the call that makes it, renamed into place, and only then recorded in
+//! `_shards/` — a shard with a record is complete. A rerun skips the shards whose record and
+//! files agree and redoes the others; the process that records the last shard writes
+//! `manifest.json` and the dataset card.
+//!
+//! Any number of processes (or threads) may make the same shard at once — a resubmitted Slurm
+//! array task, a Ray retry of a task on a node declared dead: none touches another's private
+//! folder (a folder is removed only by its maker, or, once its process has died, by a later
+//! maker on the same host), every published file is renamed whole into place, and the content
+//! is a function of the command alone, so whoever renames last publishes the same bytes and
+//! every maker succeeds.
 
 use super::table::{Block, ParquetTable, TableSchema};
 use super::{Case, Dataset, SCHEMA_VERSION, card};
@@ -64,7 +72,7 @@ pub enum DatasetError {
     },
 }
 
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> DatasetError + '_ {
+pub(super) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> DatasetError + '_ {
     move |e| DatasetError::Io {
         path: path.display().to_string(),
         message: e.to_string(),
@@ -152,11 +160,14 @@ pub fn generate(
         )));
     }
     let out = &options.out;
-    let records = out.join("_shards");
-    std::fs::create_dir_all(&records).map_err(io_error(&records))?;
-    let identity = identity(dataset, options);
-    check_layout(&records, &identity, out)?;
     let schemas = schemas(dataset)?;
+    let records = out.join("_shards");
+    let identity = identity(dataset, options);
+    if records.is_dir() {
+        check_layout(&records, &identity, out)?;
+    }
+    super::guard::check_folder(out, &schemas)?;
+    std::fs::create_dir_all(&records).map_err(io_error(&records))?;
 
     let wanted: Vec<u64> = match options.only {
         Some(shard) => vec![shard],
@@ -356,10 +367,12 @@ fn case_blocks(
     Ok((case.test, blocks))
 }
 
-/// The path of a table's file of one shard and split, relative to the dataset folder.
+/// The path of a table's file of one shard and split, relative to the dataset folder. The
+/// shard number is not padded: pyarrow, polars and DuckDB type `shard=12` as an integer, while
+/// DuckDB keeps `shard=00012` as text.
 fn table_path(dataset: &Dataset, table: &str, split: &str, shard: u64) -> String {
     format!(
-        "{table}/machine={}/split={split}/shard={shard:05}/part-0.parquet",
+        "{table}/machine={}/split={split}/shard={shard}/part-0.parquet",
         dataset.machine_name
     )
 }
@@ -374,19 +387,13 @@ fn make_shard(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<u64, DatasetError> {
     let out = &options.out;
-    // Remains of a killed run of this shard go first; the new folder's name is this process's
-    // (process id and start time, so two hosts sharing the folder do not meet either).
+    // A folder of this call's own: another maker of the same shard (a retried task) has its
+    // own, and nobody removes a live maker's folder; what makers that died left goes first.
     let stem = format!("shard-{shard:05}-of-{:05}.", options.shards);
     let tmp_root = out.join(".tmp");
-    if let Ok(entries) = std::fs::read_dir(&tmp_root) {
-        for entry in entries.flatten() {
-            if entry.file_name().to_string_lossy().starts_with(&stem) {
-                let _ = std::fs::remove_dir_all(entry.path()); // best effort: remains only
-            }
-        }
-    }
-    let tmp = tmp_root.join(format!("{stem}{}", process_tag()));
-    std::fs::create_dir_all(&tmp).map_err(io_error(&tmp))?;
+    remove_dead_makers(&tmp_root);
+    let tmp = tmp_root.join(format!("{stem}{}", unique_tag()));
+    create_folder(&tmp)?;
     let result = write_shard(dataset, options, schemas, shard, &tmp, progress);
     let files = match result {
         Ok(files) => files,
@@ -425,16 +432,80 @@ fn make_shard(
     Ok(readings)
 }
 
-/// This process's tag in temporary names: its id and the time it started (nanoseconds).
-fn process_tag() -> String {
-    static TAG: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    TAG.get_or_init(|| {
-        let nanos = std::time::SystemTime::now()
+/// A tag unique to one call, for temporary names: this process's id and start time
+/// (nanoseconds), a count of the calls in this process (threads of one process making the
+/// same shard do not meet either) and the host (`PID-NANOS-N@HOST`).
+fn unique_tag() -> String {
+    static START: std::sync::OnceLock<u128> = std::sync::OnceLock::new();
+    static CALLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let nanos = START.get_or_init(|| {
+        std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        format!("{}-{nanos}", std::process::id())
+            .map_or(0, |d| d.as_nanos())
+    });
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    format!("{}-{nanos}-{call}@{}", std::process::id(), host())
+}
+
+/// This host's name (letters, digits, `-` and `.` kept), or `unknown`.
+fn host() -> &'static str {
+    static HOST: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    HOST.get_or_init(|| {
+        let name = ["/proc/sys/kernel/hostname", "/etc/hostname"]
+            .iter()
+            .find_map(|p| std::fs::read_to_string(p).ok())
+            .unwrap_or_default();
+        let name: String = (name.trim().chars())
+            .filter(|c| c.is_ascii_alphanumeric() || *c == '-' || *c == '.')
+            .collect();
+        if name.is_empty() {
+            "unknown".into()
+        } else {
+            name
+        }
     })
-    .clone()
+}
+
+/// Removes the private folders under `tmp_root` whose maker has died: made on this host (a
+/// process on another host sharing the folder is never judged here) by a process that no
+/// longer exists (`/proc/PID` gone). Where `/proc` is not there, or the host is unknown,
+/// nothing is removed. Best effort: what cannot be removed stays, harmless.
+fn remove_dead_makers(tmp_root: &Path) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() || host() == "unknown" {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(tmp_root) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let Some((tag, on)) = name.rsplit_once('@') else {
+            continue;
+        };
+        let pid = (tag.rsplit_once('.'))
+            .and_then(|(_, tag)| tag.split('-').next())
+            .and_then(|pid| pid.parse::<u32>().ok());
+        if let Some(pid) = pid
+            && on == host()
+            && pid != std::process::id()
+            && !proc.join(pid.to_string()).exists()
+        {
+            let _ = std::fs::remove_dir_all(entry.path()); // best effort: remains only
+        }
+    }
+}
+
+/// Creates `dir` and its parents. A maker that finishes removes `.tmp/` when it is empty;
+/// should that happen between making `.tmp/` and `dir`, it is tried again.
+fn create_folder(dir: &Path) -> Result<(), DatasetError> {
+    let mut attempts = 0;
+    loop {
+        match std::fs::create_dir_all(dir) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound && attempts < 10 => attempts += 1,
+            result => return result.map_err(io_error(dir)),
+        }
+    }
 }
 
 /// Writes `value` to `path` atomically (pretty JSON, a final newline).
@@ -444,15 +515,19 @@ pub(super) fn write_json(path: &Path, value: &Value) -> Result<(), DatasetError>
     write_atomically(path, &bytes)
 }
 
-/// Writes `bytes` to `path` through a temporary name unique to this process; a file that
-/// already holds these bytes is left as it is (a rerun changes nothing, not even times).
+/// Writes `bytes` to `path` through a temporary name unique to this call (two processes or
+/// threads writing the same file each rename a whole file of their own); a file that already
+/// holds these bytes is left as it is (a rerun changes nothing, not even times).
 pub(super) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
     if std::fs::read(path).is_ok_and(|existing| existing == bytes) {
         return Ok(());
     }
     let name = path.file_name().expect("a file").to_string_lossy();
-    let temporary = path.with_file_name(format!(".{name}.{}.partial", process_tag()));
-    std::fs::write(&temporary, bytes).map_err(io_error(path))?;
+    let temporary = path.with_file_name(format!(".{name}.{}.partial", unique_tag()));
+    if let Err(e) = std::fs::write(&temporary, bytes) {
+        let _ = std::fs::remove_file(&temporary); // best effort: already failing
+        return Err(io_error(path)(e));
+    }
     std::fs::rename(&temporary, path).map_err(io_error(path))
 }
 
@@ -486,7 +561,8 @@ impl Writers {
                         let relative = table_path(dataset, &schemas[index].name, split, shard);
                         let file = tmp.join(relative.replace('/', "_"));
                         let metadata = card::file_metadata(dataset, &schemas[index], options);
-                        let writer = ParquetTable::create(&file, &schemas[index], metadata)
+                        let units = card::column_units(dataset, &schemas[index]);
+                        let writer = ParquetTable::create(&file, &schemas[index], metadata, &units)
                             .map_err(parquet_error(&file))?;
                         entry.insert((relative, writer))
                     }

@@ -6,16 +6,21 @@
 //! lines (the test's set-up: plane, radius, feed, …) become columns as well (prefixed `meta_`
 //! if a data column or a partition key has the same name: `machine` is both a preamble line
 //! and the `machine=` key, and pandas refuses a file column that repeats a partition key), so
-//! each row stands alone. A column is a number
+//! each row stands alone; a line holding a vector (`# centre_mm = 380 205 300`) becomes one
+//! number column per component (`centre_x_mm`, `centre_y_mm`, `centre_z_mm`). A column is a number
 //! (Parquet DOUBLE) if every value of the schema's first case reads as one, else text (UTF-8);
 //! empty cells are nulls. `case_id` comes first in every table.
 
+use super::priors::unit_suffix;
+use arrow_schema::{DataType, Field};
+use parquet::arrow::{ARROW_SCHEMA_META_KEY, encode_arrow_schema};
 use parquet::basic::{Compression, LogicalType, Repetition, Type as PhysicalType};
 use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::types::{ColumnPath, Type};
+use std::collections::HashMap;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
@@ -46,8 +51,36 @@ pub struct TableSchema {
     pub name: String,
     /// Name and kind of every column.
     pub columns: Vec<(String, ColumnKind)>,
-    /// How many leading columns come from the CSV's preamble (after `case_id`).
-    pub preamble: usize,
+    /// The CSV preamble's `key = value` lines, in order: how many columns each makes (1, or
+    /// the number of components of a vector). Their columns follow `case_id`.
+    pub preamble: Vec<usize>,
+}
+
+/// The components of a preamble value if it is a vector (two or more numbers separated by
+/// spaces, as in `380 205 300`), else `None`.
+fn vector(value: &str) -> Option<Vec<f64>> {
+    let parts: Vec<f64> = (value.split_whitespace())
+        .map(|part| part.parse::<f64>().ok())
+        .collect::<Option<_>>()?;
+    (parts.len() >= 2).then_some(parts)
+}
+
+/// The column names of a vector's components: `centre_mm` → `centre_x_mm`, `centre_y_mm`,
+/// `centre_z_mm` (x, y, z for three components, else 0, 1, …), the unit suffix kept last.
+fn component_names(key: &str, count: usize) -> Vec<String> {
+    let suffix = unit_suffix(key).unwrap_or("");
+    let stem = &key[..key.len() - suffix.len()];
+    (0..count)
+        .map(|i| {
+            let component = match (count, i) {
+                (3, 0) => "x".to_string(),
+                (3, 1) => "y".to_string(),
+                (3, 2) => "z".to_string(),
+                _ => i.to_string(),
+            };
+            format!("{stem}_{component}{suffix}")
+        })
+        .collect()
 }
 
 /// A CSV table read into lines: the preamble's pairs, the header and the rows.
@@ -105,7 +138,7 @@ impl TableSchema {
         TableSchema {
             name: "cases".into(),
             columns,
-            preamble: 0,
+            preamble: Vec::new(),
         }
     }
 
@@ -120,13 +153,30 @@ impl TableSchema {
             }
         }
         let mut columns = vec![("case_id".to_string(), ColumnKind::Integer)];
-        for (key, value) in &csv.preamble {
-            let name = if csv.header.contains(key) || PARTITION_KEYS.contains(key) {
-                format!("meta_{key}")
+        let mut preamble = Vec::new();
+        let column_name = |name: String| {
+            if csv.header.contains(&name.as_str()) || PARTITION_KEYS.contains(&name.as_str()) {
+                format!("meta_{name}")
             } else {
-                key.to_string()
-            };
-            columns.push((name, number(std::iter::once(*value))));
+                name
+            }
+        };
+        for (key, value) in &csv.preamble {
+            match vector(value) {
+                Some(parts) => {
+                    for name in component_names(key, parts.len()) {
+                        columns.push((column_name(name), ColumnKind::Number));
+                    }
+                    preamble.push(parts.len());
+                }
+                None => {
+                    columns.push((
+                        column_name(key.to_string()),
+                        number(std::iter::once(*value)),
+                    ));
+                    preamble.push(1);
+                }
+            }
         }
         for (index, column) in csv.header.iter().enumerate() {
             let kind = number(csv.rows.iter().map(|row| row[index]));
@@ -135,7 +185,7 @@ impl TableSchema {
         let schema = TableSchema {
             name: name.to_string(),
             columns,
-            preamble: csv.preamble.len(),
+            preamble,
         };
         let mut seen = std::collections::BTreeSet::new();
         if let Some((name, _)) = schema
@@ -146,6 +196,34 @@ impl TableSchema {
             return Err(format!("the column {name} appears twice"));
         }
         Ok(schema)
+    }
+
+    /// The Arrow schema of the same columns, each column's unit (from `units`, one per
+    /// column; none where empty) in its field metadata `unit`, and the file's `metadata` as
+    /// its own: what pyarrow, polars and the parquet crate's Arrow reader find in the file's
+    /// `ARROW:schema` (pyarrow's `schema.metadata` is this one's, not the file's).
+    fn arrow(&self, units: &[String], metadata: &[(String, String)]) -> arrow_schema::Schema {
+        let fields: Vec<Field> = (self.columns.iter())
+            .zip(
+                units
+                    .iter()
+                    .map(String::as_str)
+                    .chain(std::iter::repeat("")),
+            )
+            .map(|((name, kind), unit)| {
+                let field = match kind {
+                    ColumnKind::Integer => Field::new(name, DataType::Int64, false),
+                    ColumnKind::Number => Field::new(name, DataType::Float64, true),
+                    ColumnKind::Text => Field::new(name, DataType::Utf8, true),
+                };
+                if unit.is_empty() {
+                    field
+                } else {
+                    field.with_metadata(HashMap::from([("unit".to_string(), unit.to_string())]))
+                }
+            })
+            .collect();
+        arrow_schema::Schema::new_with_metadata(fields, metadata.iter().cloned().collect())
     }
 
     /// The Parquet schema.
@@ -209,26 +287,43 @@ impl Block {
     /// Case `id`'s rows of a table of `schema`, from its CSV `text`.
     pub fn from_csv(schema: &TableSchema, id: u64, text: &str) -> Result<Block, String> {
         let csv = read_csv(text)?;
-        let names: Vec<&str> = schema.columns[1 + schema.preamble..]
+        let width: usize = schema.preamble.iter().sum();
+        let names: Vec<&str> = schema.columns[1 + width..]
             .iter()
             .map(|(n, _)| n.as_str())
             .collect();
-        if csv.header != names || csv.preamble.len() != schema.preamble {
+        if csv.header != names || csv.preamble.len() != schema.preamble.len() {
             return Err(format!(
                 "its columns ({}; {} preamble lines) are not the dataset's ({}; {}), which come from the priors' centres",
                 csv.header.join(","),
                 csv.preamble.len(),
                 names.join(","),
-                schema.preamble
+                schema.preamble.len()
             ));
+        }
+        // Each preamble column's cell: the line's value, or one component of its vector.
+        let mut preamble_cells: Vec<&str> = Vec::with_capacity(width);
+        for ((key, value), &parts) in csv.preamble.iter().zip(&schema.preamble) {
+            if parts == 1 {
+                preamble_cells.push(*value);
+            } else {
+                let components: Vec<&str> = value.split_whitespace().collect();
+                if components.len() != parts {
+                    return Err(format!(
+                        "the preamble's {key} = {value} has {} components, the dataset's {parts}",
+                        components.len()
+                    ));
+                }
+                preamble_cells.extend(components);
+            }
         }
         let rows = csv.rows.len();
         let mut columns = vec![Values::Integer(vec![id as i64; rows])];
         let cells = |index: usize| -> Box<dyn Iterator<Item = &str> + '_> {
-            if index < schema.preamble {
-                Box::new(std::iter::repeat_n(csv.preamble[index].1, rows))
+            if index < width {
+                Box::new(std::iter::repeat_n(preamble_cells[index], rows))
             } else {
-                let i = index - schema.preamble;
+                let i = index - width;
                 Box::new(csv.rows.iter().map(move |row| row[i]))
             }
         };
@@ -295,11 +390,13 @@ pub type ParquetError = parquet::errors::ParquetError;
 
 impl ParquetTable {
     /// Creates `path` for a table of `schema`, with `metadata` as the file's key-value
-    /// metadata.
+    /// metadata and `units` (one per column, empty for none) as each column's field metadata
+    /// `unit`.
     pub fn create(
         path: &Path,
         schema: &TableSchema,
         metadata: Vec<(String, String)>,
+        units: &[String],
     ) -> Result<ParquetTable, ParquetError> {
         let file = File::create(path)?;
         // Dictionaries for text and the integer ids (few distinct values), not for measured
@@ -315,9 +412,12 @@ impl ParquetTable {
             .set_compression(Compression::SNAPPY)
             .set_created_by(format!("mtwin {}", env!("CARGO_PKG_VERSION")))
             .set_key_value_metadata(Some(
-                metadata
-                    .into_iter()
-                    .map(|(key, value)| KeyValue::new(key, value))
+                (metadata.iter())
+                    .map(|(key, value)| KeyValue::new(key.clone(), value.clone()))
+                    .chain([KeyValue::new(
+                        ARROW_SCHEMA_META_KEY.to_string(),
+                        encode_arrow_schema(&schema.arrow(units, &metadata)),
+                    )])
                     .collect(),
             ))
             .build();
@@ -463,5 +563,43 @@ mod tests {
                 .contains("`n/a` is not a number")
         );
         assert!(Block::from_csv(&schema, 0, "a,b\n1,2,3\n").is_err());
+    }
+
+    #[test]
+    fn a_vector_in_the_preamble_becomes_one_number_column_per_component() {
+        let text =
+            "# plane = XY\n# centre_mm = 380 205.5 -300\nangle_deg,deviation_um\n0,1\n90,2\n";
+        let schema = TableSchema::of_csv("ballbar_xy", text).unwrap();
+        let names: Vec<&str> = schema.columns.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "case_id",
+                "plane",
+                "centre_x_mm",
+                "centre_y_mm",
+                "centre_z_mm",
+                "angle_deg",
+                "deviation_um"
+            ]
+        );
+        assert_eq!(schema.preamble, [1, 3]);
+        assert!(
+            schema.columns[2..5]
+                .iter()
+                .all(|(_, k)| *k == ColumnKind::Number)
+        );
+        let block = Block::from_csv(&schema, 3, text).unwrap();
+        let expected = [380.0, 205.5, -300.0];
+        for (column, value) in block.columns[2..5].iter().zip(expected) {
+            assert_eq!(*column, Values::Number(vec![Some(value), Some(value)]));
+        }
+        // A case whose vector has another number of components does not fit the schema.
+        let short = text.replace("380 205.5 -300", "380 205.5");
+        assert!(
+            Block::from_csv(&schema, 3, &short)
+                .unwrap_err()
+                .contains("components")
+        );
     }
 }
