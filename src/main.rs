@@ -65,13 +65,13 @@ enum Command {
         /// The scenario (TOML) with a [dataset] section.
         scenario: PathBuf,
         /// Number of cases (default: [dataset] count).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", allow_negative_numbers = true)]
         count: Option<u64>,
         /// The dataset folder (created if needed), or with --case the run folder.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
         /// Shard layout (default: [dataset] shards, else one shard per 10 000 cases).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", allow_negative_numbers = true)]
         shards: Option<u64>,
         /// Make only shard I of N (0-based).
         #[arg(long, value_name = "I/N", conflicts_with = "shards")]
@@ -82,7 +82,7 @@ enum Command {
         threads: Option<usize>,
         /// Write case K alone as a run folder, as `mtwin run` would (its tables, truth.json,
         /// manifest.json) with case.json (its seed, split and drawn values).
-        #[arg(long, value_name = "K", conflicts_with_all = ["shard", "shards", "count", "threads"])]
+        #[arg(long, value_name = "K", conflicts_with_all = ["shard", "shards", "count", "threads"], allow_negative_numbers = true)]
         case: Option<u64>,
     },
     /// Validate a scenario (.toml) or a machine model (.urdf) without running it.
@@ -118,7 +118,7 @@ enum Command {
         free_setup: bool,
         /// Standard uncertainty of the R-test sphere's position as the preset found it (µm;
         /// default 0.5), a set-up input of the Monte Carlo.
-        #[arg(long, value_name = "UM")]
+        #[arg(long, value_name = "UM", allow_negative_numbers = true)]
         sphere_setup_um: Option<f64>,
         /// The R-test sphere centre in the workpiece frame (mm), for an R-test export whose
         /// preamble does not state it.
@@ -137,7 +137,7 @@ enum Command {
               value_parser = clap::value_parser!(i64).range(0..=MAX_MONTE_CARLO).map(|n| n as usize))]
         monte_carlo: usize,
         /// Seed of the Monte Carlo.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
         seed: u64,
         /// The scenario the tables were simulated from: --out then holds compensated.toml,
         /// that scenario compensated with the estimate, for `mtwin run`.
@@ -177,7 +177,7 @@ enum Command {
         )]
         sphere_mm: Vec<f64>,
         /// Standard uncertainty of each reading component (µm).
-        #[arg(long, default_value_t = 0.2)]
+        #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
         sigma_um: f64,
         /// Readings to spend (three per pose), 3 to 30 000 (10 000 poses).
         #[arg(long, default_value_t = 240, allow_negative_numbers = true,

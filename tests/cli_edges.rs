@@ -301,6 +301,16 @@ fn refused_at(args: &[&str], file: &str, line: usize) -> String {
     message
 }
 
+/// `mtwin check FILE` must accept the scenario.
+fn accepted(file: &str) {
+    let out = mtwin(&["check", file]);
+    assert!(
+        out.status.success(),
+        "{file}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 const RTEST_SWEEP: &str = "schema = 1
 machine = \"MODELS/trunnion5.urdf\"
 seed = 7
@@ -334,12 +344,7 @@ fn a_sweep_of_a_continuous_axis_beyond_ten_turns_is_refused_at_its_line() {
         "sweep.toml",
         &RTEST_SWEEP.replace("ANGLE", "720.0"),
     );
-    let out = mtwin(&["check", &file]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    accepted(&file);
 }
 
 #[test]
@@ -363,12 +368,7 @@ rotary = [{ a_deg = 0.0, c_deg = 0.0 }, { a_deg = 0.0, c_deg = ANGLE }]
     );
     // The limit itself is a pose: ten turns of C probe the sphere as zero turns do.
     let file = scenario_file(dir.path(), "probe.toml", &text.replace("ANGLE", "3600.0"));
-    let out = mtwin(&["check", &file]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    accepted(&file);
 }
 
 #[test]
@@ -409,12 +409,7 @@ setup_offset_um = [0.0, 0.0, 0.0]
         "prior.toml",
         &base.replace("PATH", "errors.EXX.polynomial_um[10]"),
     );
-    let out = mtwin(&["check", &file]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    accepted(&file);
 }
 
 #[test]
@@ -499,12 +494,7 @@ fn a_ball_bar_calibration_beyond_the_transducer_range_is_refused_not_run_to_inf(
         assert!(!message.contains("17976931348623157000"), "{message}");
         assert!(!out_dir.exists(), "nothing is written");
     }
-    let out = mtwin(&["check", &set("-999.0")]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    accepted(&set("-999.0"));
 }
 
 #[test]

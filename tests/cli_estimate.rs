@@ -422,6 +422,21 @@ fn an_estimate_beyond_ten_millimetres_is_named_and_refused() {
     assert!(id.join("linuxcnc_X.comp").exists() || id.join("estimate.json").exists());
 }
 
+/// `mtwin identify` of the location errors from the R-test `table` (`rtest:FILE`) with the
+/// sphere given as `sphere` (mm).
+fn identify_bare(machine: &Path, table: &str, sphere: &str) -> Output {
+    mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        table.as_ref(),
+        "--rtest-sphere-mm".as_ref(),
+        sphere.as_ref(),
+    ])
+}
+
 #[test]
 fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -435,16 +450,7 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
     let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     std::fs::write(&bare, rows.join("\n") + "\n").unwrap();
     let table = format!("rtest:{}", bare.display());
-    let message = failed(&mtwin(&[
-        "identify".as_ref(),
-        "--machine".as_ref(),
-        machine.as_os_str(),
-        "--params".as_ref(),
-        "location".as_ref(),
-        table.as_ref(),
-        "--rtest-sphere-mm".as_ref(),
-        "150,0,250".as_ref(),
-    ]));
+    let message = failed(&identify_bare(&machine, &table, "150,0,250"));
     assert!(
         message.contains("bare.csv") && message.contains("50 mm from the sphere at 150 0 250 mm"),
         "{message}"
@@ -461,31 +467,13 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
     };
     assert!(rows[0].starts_with("test,point,time_s,a_deg,c_deg,x_mm,y_mm,z_mm,dx_um"));
     std::fs::write(&bare, drop(&rows.join("\n"))).unwrap();
-    let message = failed(&mtwin(&[
-        "identify".as_ref(),
-        "--machine".as_ref(),
-        machine.as_os_str(),
-        "--params".as_ref(),
-        "location".as_ref(),
-        table.as_ref(),
-        "--rtest-sphere-mm".as_ref(),
-        "150,0,250".as_ref(),
-    ]));
+    let message = failed(&identify_bare(&machine, &table, "150,0,250"));
     assert!(
         message.contains("bare.csv") && message.contains("cannot reach the sphere"),
         "{message}"
     );
     // The right sphere on the same bare export passes the door.
-    ok(&mtwin(&[
-        "identify".as_ref(),
-        "--machine".as_ref(),
-        machine.as_os_str(),
-        "--params".as_ref(),
-        "location".as_ref(),
-        table.as_ref(),
-        "--rtest-sphere-mm".as_ref(),
-        "100,0,250".as_ref(),
-    ]));
+    ok(&identify_bare(&machine, &table, "100,0,250"));
     // Angles exported in radians in the _deg columns: the commanded positions no longer keep
     // the tool on the sphere at those angles.
     let radians = dir.path().join("radians.csv");

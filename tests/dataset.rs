@@ -1,10 +1,12 @@
 //! `mtwin dataset`: determinism across runs, shard layouts and thread counts; resumption after
 //! a kill; the truth in `cases` against `mtwin run`'s truth.json for the same case; the
 //! Parquet schema read back, with each column's unit in its field metadata; bad priors
-//! refused before anything is written. (Concurrent makers and folder refusals:
-//! `dataset_robust.rs`.)
+//! refused before anything is written; and, in `dataset/robust.rs`, concurrent makers of one
+//! shard and the folder refusals.
 
 mod common;
+#[path = "dataset/robust.rs"]
+mod robust;
 
 use common::mtwin;
 use parquet::file::reader::{FileReader, SerializedFileReader};

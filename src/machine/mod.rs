@@ -402,6 +402,26 @@ impl Machine {
         Workspace::new(self).workpiece_from_tool(self, position, None)
     }
 
+    /// The first axis of `position` outside its travel limits (or not a number), said for
+    /// people in file units: `X = 5000 mm is outside the travel of X on machine "vmc3" (0 …
+    /// 760 mm)`; `None` when every axis is within its travel.
+    pub fn outside_travel(&self, position: &AxisValues) -> Option<String> {
+        let (axis, value, (lower, upper)) = self.check_limits(position).err()?;
+        let (unit, scale) = if axis.is_linear() {
+            ("mm", 1e-3)
+        } else {
+            ("°", std::f64::consts::PI / 180.0)
+        };
+        let text = |v: Real| crate::math::trimmed(v / scale, 6);
+        Some(format!(
+            "{axis} = {} {unit} is outside the travel of {axis} on machine \"{}\" ({} … {} {unit})",
+            text(value),
+            self.name(),
+            text(lower),
+            text(upper)
+        ))
+    }
+
     /// Whether every axis value lies within its travel limits; the first axis outside them
     /// (or not a number), with its value and limits, otherwise.
     pub fn check_limits(&self, position: &AxisValues) -> Result<(), (Axis, Real, (Real, Real))> {

@@ -84,10 +84,10 @@ struct CircleArgs {
     #[arg(long, value_name = "PLANE")]
     plane: Option<Plane>,
     /// The radius of the test, the bar's nominal length (mm), when the preamble lacks it.
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     radius_mm: Option<f64>,
     /// The programmed feed (mm/min), when the preamble lacks it.
-    #[arg(long, value_name = "MM_PER_MIN")]
+    #[arg(long, value_name = "MM_PER_MIN", allow_negative_numbers = true)]
     feed_mm_per_min: Option<f64>,
 }
 

@@ -77,13 +77,23 @@ struct DiscoverArgs {
     #[arg(long, value_name = "SCENARIO.toml", requires = "write_model")]
     extends: Option<PathBuf>,
     /// Nominal expansion coefficient of the axis in the base model (µm/(m·°C)).
-    #[arg(long, value_name = "PPM", default_value_t = 11.7)]
+    #[arg(
+        long,
+        value_name = "PPM",
+        default_value_t = 11.7,
+        allow_negative_numbers = true
+    )]
     expansion_ppm_per_degc: f64,
     /// The temperature column to use (`<sensor>` of temp_<sensor>_degc); default the first.
     #[arg(long, value_name = "NAME")]
     sensor: Option<String>,
     /// Shortest period the cyclic-error search considers (mm).
-    #[arg(long, value_name = "MM", default_value_t = 2.0)]
+    #[arg(
+        long,
+        value_name = "MM",
+        default_value_t = 2.0,
+        allow_negative_numbers = true
+    )]
     min_period_mm: f64,
 }
 

@@ -286,15 +286,10 @@ pub fn readings(
         })?;
         // A commanded position outside the machine's travel is a table of another machine or
         // in another unit: no reading of this machine was taken there.
-        if let Err((other, value, (lower, upper))) = machine.check_limits(&state.position) {
-            let (name, scale) = unit(other);
+        if let Some(outside) = machine.outside_travel(&state.position) {
             return Err(fail(format!(
-                "reading {}: {other} = {} {name} is outside the travel of {other} on machine \"{}\" ({} … {} {name}): a table of another machine, or positions in another unit",
-                i + 1,
-                trimmed(value / scale, 6),
-                machine.name(),
-                trimmed(lower / scale, 6),
-                trimmed(upper / scale, 6)
+                "reading {}: {outside}: a table of another machine, or positions in another unit",
+                i + 1
             )));
         }
         let run_zero = *first.get_or_insert(i);

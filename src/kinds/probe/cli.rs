@@ -60,7 +60,7 @@ struct ProbeArgs {
     json: bool,
     /// The stylus radius the controller used (mm), when the preamble lacks it; it must agree
     /// when it has it.
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     stylus_radius_mm: Option<f64>,
 }
 

@@ -26,7 +26,7 @@ use super::table::RtestTable;
 use crate::errors::ErrorModel;
 use crate::estimate::{Quantity, ReadingModel, Readings, ReadingsError};
 use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
-use crate::math::{M_PER_MM, RAD_PER_DEG, Real, Rotation, Vector, rigid_inverse, trimmed};
+use crate::math::{M_PER_MM, Real, Rotation, Vector, rigid_inverse, trimmed};
 
 /// Default standard uncertainty of each displacement component: 0.2 µm, the nest noise of
 /// the bundled scenarios and of contact R-tests (wave2-anchors §1.4).
@@ -171,19 +171,10 @@ pub fn readings(
             None => follow(machine, &mut workspace, &angles, sphere)
                 .map_err(|e| fail(format!("row {}: {e}", line + 1)))?,
         };
-        if let Err((axis, value, (lower, upper))) = machine.check_limits(&command) {
-            let scale = if axis.is_linear() {
-                M_PER_MM
-            } else {
-                RAD_PER_DEG
-            };
+        if let Some(outside) = machine.outside_travel(&command) {
             return Err(fail(format!(
-                "row {}: {axis} = {} is outside its travel on machine \"{}\" ({} … {}): a table of another machine, or a column in another unit",
-                line + 1,
-                trimmed(value / scale, 6),
-                machine.name(),
-                trimmed(lower / scale, 6),
-                trimmed(upper / scale, 6)
+                "row {}: {outside}: a table of another machine, or a column in another unit",
+                line + 1
             )));
         }
         let tip = workspace

@@ -84,11 +84,11 @@ struct DiscoverArgs {
     /// The base model's harmonics of the angle, 1..=K: at most 64, and at most samples per
     /// revolution / 2 − 2 (a harmonic above the base is left to search below Nyquist); more is
     /// refused.
-    #[arg(long, value_name = "K", default_value_t = DEFAULT_BASE_HARMONICS)]
+    #[arg(long, value_name = "K", default_value_t = DEFAULT_BASE_HARMONICS, allow_negative_numbers = true)]
     base_harmonics: usize,
     /// Rolling elements of the spindle bearing (with the two diameters: names lines by
     /// bearing frequency).
-    #[arg(long, value_name = "N", requires_all = ["bearing_element_diameter_mm", "bearing_pitch_diameter_mm"])]
+    #[arg(long, value_name = "N", requires_all = ["bearing_element_diameter_mm", "bearing_pitch_diameter_mm"], allow_negative_numbers = true)]
     bearing_elements: Option<usize>,
     /// Rolling-element diameter (mm).
     #[arg(long, value_name = "MM", requires = "bearing_elements")]

@@ -4,37 +4,10 @@
 //! written into a dataset folder, or a dataset into a run folder, is refused with the other
 //! left as it was; so are unrelated files beside a dataset and a stray file in a table folder.
 
-use std::collections::BTreeMap;
+use super::{VOLUMETRIC, files, path};
 use std::path::Path;
 use std::process::{Child, Command, Output};
 use std::time::{Duration, Instant};
-
-const VOLUMETRIC: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/scenarios/vmc3_dataset_volumetric.toml"
-);
-
-fn path(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// Every file under `dir` (relative path → bytes); empty folders leave no trace.
-fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<String, Vec<u8>>) {
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let p = entry.unwrap().path();
-            if p.is_dir() {
-                walk(root, &p, out);
-            } else {
-                let relative = p.strip_prefix(root).unwrap().to_string_lossy().into_owned();
-                out.insert(relative, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    let mut out = BTreeMap::new();
-    walk(dir, dir, &mut out);
-    out
-}
 
 fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_mtwin"))
