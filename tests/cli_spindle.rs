@@ -314,10 +314,14 @@ fn run_then_analyze_reports_the_documented_keys_and_the_values_of_the_table() {
             "segments",
             "speeds",
             "separations",
-            "notes"
+            "notes",
+            "setup"
         ])
     );
     assert_eq!(json["samples_per_revolution"], 1024);
+    // Every key the twin wrote was read; the set-up is said again.
+    assert_eq!(json["setup"]["preamble_not_used"], serde_json::json!([]));
+    assert_eq!(json["setup"]["machine"], "vmc3");
     assert_eq!(json["notes"], serde_json::json!([]), "on the index grid");
     assert_eq!(
         json["separations"],

@@ -347,3 +347,103 @@ fn an_etve_scenario_is_refused_where_it_cannot_run() {
         assert!(error.contains(expected), "case {k}: {error}");
     }
 }
+
+/// A spindle test whose Z grows 5 µm over a 120 min running period and then falls to −3 µm in a
+/// 60 min cool-down: d(Z)_t over the running period is +5 µm (ISO 230-3 Table 1), the whole
+/// record's range −8 µm. Before `run_min` was read, the report gave only the whole record.
+#[test]
+fn a_spindle_tests_running_period_is_where_its_preamble_says() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from(
+        "# mtwin drift table (ISO 230-3)\n# test = iso230_3_spindle\n# control = hold\n\
+         # hold_mm = x 380, y 205, z 260\n# first_mm = 25\n# programme = constant\n\
+         # speed_rpm = 6000\n# run_min = 120\n# stop_min = 60\n# operator = A. N. Other\n\
+         time_min,z_um\n",
+    );
+    for minute in (0..=180).step_by(10) {
+        let t = f64::from(minute);
+        let z = if t <= 120.0 {
+            5.0 * t / 120.0
+        } else {
+            5.0 - 8.0 * (t - 120.0) / 60.0
+        };
+        text += &format!("{t},{z}\n");
+    }
+    let file = dir.path().join("spindle.csv");
+    std::fs::write(&file, &text).unwrap();
+    let path = file.to_str().unwrap();
+    let (ok, out, err) = mtwin(&["analyze", "drift", path, "--json"]);
+    assert!(ok, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let z = &report["channels"][0];
+    assert!(
+        (z["range_run_um"].as_f64().unwrap() - 5.0).abs() < 1e-9,
+        "{z}"
+    );
+    // The whole record: max 5, min −3, the larger excursion from 0 upwards.
+    assert!((z["range_um"].as_f64().unwrap() - 8.0).abs() < 1e-9, "{z}");
+    assert_eq!(report["conditions"]["control"], "hold");
+    assert_eq!(report["conditions"]["first_mm"], 25.0);
+    assert_eq!(report["preamble_not_used"], serde_json::json!(["operator"]));
+    assert_eq!(report["cautions"], serde_json::json!([]));
+    let (ok, out, err) = mtwin(&["analyze", "drift", path]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("t = 120 min") && out.contains("control hold"),
+        "{out}"
+    );
+    assert!(
+        out.contains("Not used from the preamble (unknown to this reader): operator."),
+        "{out}"
+    );
+
+    // A stop longer than the record: the cool-down is incomplete, and the report says so.
+    let short = dir.path().join("short.csv");
+    std::fs::write(&short, text.replace("stop_min = 60", "stop_min = 90")).unwrap();
+    let (ok, out, err) = mtwin(&["analyze", "drift", short.to_str().unwrap(), "--json"]);
+    assert!(ok, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let cautions = report["cautions"].to_string();
+    assert!(
+        cautions.contains("ends 30 min before the stated stop"),
+        "{cautions}"
+    );
+
+    // A running period the record does not hold, and words the reader cannot take.
+    for (from, to, expected) in [
+        (
+            "run_min = 120",
+            "run_min = 200",
+            "run_min = 200: the running period ends after the record, which spans 180 min",
+        ),
+        (
+            "control = hold",
+            "control = standby",
+            "control = standby: expected hold or off",
+        ),
+        (
+            "first_mm = 25",
+            "first_mm = -25",
+            "first_mm = -25: expected a height of 0 or more",
+        ),
+        (
+            "hold_mm = x 380, y 205, z 260",
+            "hold_mm = 380 205 260",
+            "hold_mm = 380 205 260: expected axis letters",
+        ),
+        (
+            "speed_rpm = 6000",
+            "spindle_rpm = 6000",
+            "programme = constant: expected a speed_rpm line",
+        ),
+    ] {
+        let bad = dir.path().join("bad.csv");
+        std::fs::write(&bad, text.replace(from, to)).unwrap();
+        let (ok, out, err) = mtwin(&["analyze", "drift", bad.to_str().unwrap()]);
+        assert!(!ok && out.is_empty(), "{to}: {out}");
+        assert!(
+            err.contains("bad.csv:") && err.contains(expected),
+            "{to}: {err}"
+        );
+    }
+}

@@ -331,22 +331,17 @@ fn the_spectrum_turns_the_spindle_at_each_speed_for_its_duration() {
             .map_or(0.0, |c| c.1);
         assert!((run.speeds[row] - before).abs() < 1e-9, "speed at {t} s");
     }
-    let conditions = &run.table.conditions.other;
-    let get = |key: &str| {
-        conditions
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
-    };
-    assert_eq!(get("programme"), Some("spectrum"));
+    let conditions = &run.table.conditions;
+    assert_eq!(conditions.programme.as_deref(), Some("spectrum"));
     assert_eq!(
-        get("spectrum"),
+        conditions.spectrum.as_deref(),
         Some(
             "4000 rpm for 12.5 min, 0 rpm for 3.25 min, 9000 rpm for 20 min, 2000 rpm for 1.5 min"
         )
     );
-    assert_eq!(get("run_min"), Some("37.25"));
-    assert_eq!(get("stop_min"), Some("61"));
+    // 12.5 + 3.25 + 20 + 1.5 min running, 61 min stopped.
+    assert!((conditions.run_period.unwrap() - 37.25 * 60.0).abs() < 1e-9);
+    assert!((conditions.stop.unwrap() - 61.0 * 60.0).abs() < 1e-9);
     assert!(matches!(test.speeds, SpeedProgramme::Spectrum(ref s) if s.len() == 4));
 }
 
@@ -580,6 +575,16 @@ fn analyze_drift_reports_the_tables_own_ranges_and_stop_criterion() {
     assert_eq!(report["test"], "iso230_3_spindle");
     assert_eq!(report["ambient_sensor"], "air");
     assert_eq!(report["spacing_mm"], 150.0);
+    // Every key the twin wrote is read and said again; none is left unused.
+    let said = &report["conditions"];
+    assert_eq!(said["control"], "hold");
+    assert_eq!(said["hold_mm"], "x 380, y 205, z 260");
+    assert_eq!(said["programme"], "constant");
+    assert_eq!(said["speed_rpm"], 6000.0);
+    assert_eq!(said["run_min"], 240.0);
+    assert_eq!(said["stop_min"], 60.0);
+    assert_eq!(report["preamble_not_used"], serde_json::json!([]));
+    assert_eq!(report["cautions"], serde_json::json!([]));
     // The file by hand: its conditions and its columns.
     let text = String::from_utf8(bytes).unwrap();
     let Csv {
@@ -651,6 +656,13 @@ fn analyze_drift_reports_the_tables_own_ranges_and_stop_criterion() {
             close(&entry[format!("range_{unit}")], whole),
             "{name}: {} vs {whole}",
             entry[format!("range_{unit}")]
+        );
+        // d(·)_t over the running period the preamble states (run_min = 240), not the record.
+        let running = signed(times, values, 240.0);
+        assert!(
+            close(&entry[format!("range_run_{unit}")], running),
+            "{name}: {} vs {running}",
+            entry[format!("range_run_{unit}")]
         );
         // The 15 % rule (ISO 230-3 §6.2) by brute force: the first reading at or after 120 min
         // whose last 60 min (readings on the minute grid, so t − 60 min is a reading) vary less

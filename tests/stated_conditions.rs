@@ -259,3 +259,99 @@ fn a_ballbar_first_direction_that_the_rows_contradict_is_refused() {
         "{error}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Keys that describe the set-up: read, checked for their form, said again by the report.
+
+#[test]
+fn the_spindle_set_up_keys_are_checked_and_said_again() {
+    // A good table with the set-up's description and an unknown key.
+    let good = spindle_table(["2", "600", "normal"], &[600.0], 2, true).replacen(
+        "# mtwin spindle table\n",
+        "# mtwin spindle table\n# machine = vmc3\n# artefact = sphere 25.4 mm\n\
+         # x_mm = 380\n# s_deg = 0\n# operator = A. N. Other\n",
+        1,
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.csv");
+    std::fs::write(&path, &good).unwrap();
+    let out = mtwin(&[
+        "analyze".as_ref(),
+        "spindle".as_ref(),
+        path.as_os_str(),
+        "--json".as_ref(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["setup"]["machine"], "vmc3");
+    assert_eq!(report["setup"]["axes"], "x 380 mm, s 0°");
+    assert_eq!(
+        report["setup"]["preamble_not_used"],
+        serde_json::json!(["operator"])
+    );
+    // Wrong forms are refused at their line.
+    for (from, to, expected) in [
+        (
+            "# x_mm = 380",
+            "# x_mm = far",
+            "x_mm = far: expected a finite number",
+        ),
+        (
+            "# artefact = sphere 25.4 mm",
+            "# artefact =",
+            "artefact = : expected a description",
+        ),
+        (
+            "# operator = A. N. Other",
+            "# reversed_setup = turned 180 deg",
+            "reversed_setup defines a reversed set-up, but no row is in one",
+        ),
+    ] {
+        let bad = good.replace(from, to);
+        let error = parse(bad.as_bytes(), "s.csv").unwrap_err().to_string();
+        assert!(
+            error.starts_with("s.csv:") && error.contains(expected),
+            "{to}: {error}"
+        );
+    }
+}
+
+#[test]
+fn the_rtest_report_says_its_set_up() {
+    let text = rtest_table(Some("machine")).replacen(
+        "# frame = machine\n",
+        "# frame = machine\n# machine = trunnion5\n# sphere_mm = 100 0 250\n# probe_serial = 7\n",
+        1,
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("r.csv");
+    std::fs::write(&path, &text).unwrap();
+    let out = mtwin(&["analyze".as_ref(), "rtest".as_ref(), path.as_os_str()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        printed.contains("Set-up: machine trunnion5, sphere at (100, 0, 250) mm, frame machine."),
+        "{printed}"
+    );
+    assert!(
+        printed.contains("preamble (unknown to this reader): probe_serial."),
+        "{printed}"
+    );
+    // A sphere position that is not three numbers is refused at its line.
+    let bad = text.replace("100 0 250", "100 0");
+    let error = RtestTable::parse(bad.as_bytes(), "r.csv")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.starts_with("r.csv:4: sphere_mm = 100 0: expected three numbers"),
+        "{error}"
+    );
+}

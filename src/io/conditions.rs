@@ -16,11 +16,15 @@
 //! then given on the command line. A key given twice is refused.
 
 use super::TableError;
+use std::cell::Cell;
 
-/// The `# key = value` lines of a table's preamble, in file order, with their lines.
+/// The `# key = value` lines of a table's preamble, in file order, with their lines. It
+/// remembers which keys a reader asked for, so a reader can say which it left unused
+/// ([`Conditions::unread`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Conditions {
     entries: Vec<(String, String, u64)>,
+    read: Vec<Cell<bool>>,
 }
 
 impl Conditions {
@@ -58,14 +62,15 @@ impl Conditions {
             }
             entries.push((key.to_string(), value.trim().to_string(), line_number));
         }
-        Ok(Conditions { entries })
+        let read = vec![Cell::new(false); entries.len()];
+        Ok(Conditions { entries, read })
     }
 
     /// Conditions from `(key, value)` pairs, for writing.
     pub fn from_pairs<K: Into<String>>(pairs: impl IntoIterator<Item = (K, String)>) -> Self {
-        Conditions {
-            entries: pairs.into_iter().map(|(k, v)| (k.into(), v, 0)).collect(),
-        }
+        let entries: Vec<_> = pairs.into_iter().map(|(k, v)| (k.into(), v, 0)).collect();
+        let read = vec![Cell::new(false); entries.len()];
+        Conditions { entries, read }
     }
 
     /// Whether there are none.
@@ -73,12 +78,32 @@ impl Conditions {
         self.entries.is_empty()
     }
 
-    /// The value of `key` and its 1-based line, if given.
+    /// The value of `key` and its 1-based line, if given; the key counts as read.
     pub fn get(&self, key: &str) -> Option<(&str, u64)> {
+        let index = self.entries.iter().position(|(k, _, _)| k == key)?;
+        self.read[index].set(true);
+        let (_, value, line) = &self.entries[index];
+        Some((value.as_str(), *line))
+    }
+
+    /// The value of `key`, if given, without counting it as read: for a reader that carries
+    /// keys it does not know.
+    pub fn value(&self, key: &str) -> Option<&str> {
         self.entries
             .iter()
             .find(|(k, _, _)| k == key)
-            .map(|(_, v, line)| (v.as_str(), *line))
+            .map(|(_, v, _)| v.as_str())
+    }
+
+    /// The keys no reader has asked for ([`Conditions::get`] and the typed getters), with
+    /// their lines, in file order: what a table said that its reader did not use.
+    pub fn unread(&self) -> Vec<(String, u64)> {
+        self.entries
+            .iter()
+            .zip(&self.read)
+            .filter(|(_, read)| !read.get())
+            .map(|((key, _, line), _)| (key.clone(), *line))
+            .collect()
     }
 
     /// The keys, in file order.
@@ -130,6 +155,19 @@ impl Conditions {
         }
         text
     }
+}
+
+/// The report's line for preamble keys its reader does not know (empty without any): they
+/// are kept, but no figure depends on them, and a user should know that.
+pub fn not_used_line<S: AsRef<str>>(keys: impl IntoIterator<Item = S>) -> String {
+    let keys: Vec<String> = keys.into_iter().map(|k| k.as_ref().to_string()).collect();
+    if keys.is_empty() {
+        return String::new();
+    }
+    format!(
+        "Not used from the preamble (unknown to this reader): {}.\n",
+        keys.join(", ")
+    )
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ mod path;
 mod table;
 mod write;
 
-pub use conditions::Conditions;
+pub use conditions::{Conditions, not_used_line};
 pub use path::{PathError, relative_path};
 pub use table::{TableError, first_non_finite};
 pub(crate) use table::{csv_reader, finite_number, read_file, read_header, row};

@@ -3,6 +3,7 @@
 
 use super::iso230_3::drift_report;
 use super::table::DriftTable;
+use crate::io::not_used_line;
 use crate::kinds::{Kind, Verb};
 use crate::math::trimmed;
 use anyhow::{Result, bail};
@@ -105,6 +106,50 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     })
 }
 
+/// What the preamble said of the test, one line (ISO 230-3 §5.4 asks the report to state the
+/// control mode and where the sensors were), and for a spindle test its programme.
+fn conditions_text(c: &serde_json::Value) -> String {
+    let mut said = Vec::new();
+    if let Some(control) = c["control"].as_str() {
+        said.push(format!("control {control}"));
+    }
+    if let Some(hold) = c["hold_mm"].as_str() {
+        said.push(format!("axes at {hold} mm"));
+    }
+    if let Some(first) = c["first_mm"].as_f64() {
+        said.push(format!(
+            "first pair {} mm above the tool point",
+            trimmed(first, 3)
+        ));
+    }
+    let mut out = if said.is_empty() {
+        String::new()
+    } else {
+        format!("Conditions: {}.\n", said.join(", "))
+    };
+    let programme = match (
+        c["programme"].as_str(),
+        c["speed_rpm"].as_f64(),
+        c["spectrum"].as_str(),
+    ) {
+        (Some("constant"), Some(rpm), _) => Some(format!("constant {} rpm", trimmed(rpm, 3))),
+        (Some("spectrum"), _, Some(steps)) => Some(format!("spectrum {steps}")),
+        _ => None,
+    };
+    if let Some(run) = c["run_min"].as_f64() {
+        out += &format!(
+            "Spindle {}running for t = {} min{}; d(·)_t is taken over the running period.\n",
+            programme.map_or_else(String::new, |p| format!("programme {p}, ")),
+            trimmed(run, 3),
+            c["stop_min"].as_f64().map_or_else(String::new, |s| format!(
+                ", then stopped for {} min",
+                trimmed(s, 3)
+            ))
+        );
+    }
+    out
+}
+
 /// The drift report for people.
 fn drift_text(report: &serde_json::Value) -> String {
     let etve_test = report["test"].as_str() == Some("iso230_3_etve");
@@ -126,11 +171,17 @@ fn drift_text(report: &serde_json::Value) -> String {
             trimmed(l, 3)
         );
     }
+    out += &conditions_text(&report["conditions"]);
+    let run_min = report["conditions"]["run_min"].as_f64();
     // ISO 230-3 §5 has no stop criterion: the ETVE test runs as long as possible.
     out += &format!(
-        "\n{:>8} {:>14} {:>14} {}{:>14} {:>12} {:>8}\n",
+        "\n{:>8} {:>14} {}{:>14} {}{:>14} {:>12} {:>8}\n",
         "channel",
         "first 60 min",
+        run_min.map_or_else(String::new, |t| format!(
+            "{:>14} ",
+            format!("t = {} min", trimmed(t, 1))
+        )),
         "whole record",
         if etve_test {
             String::new()
@@ -172,8 +223,13 @@ fn drift_text(report: &serde_json::Value) -> String {
                     .map_or_else(|| "-".into(), |m| format!("{m:.0}"))
             )
         };
+        let run = if run_min.is_some() {
+            format!("{:>9} {shown:<4} ", cell(&c[format!("range_run_{unit}")]))
+        } else {
+            String::new()
+        };
         out += &format!(
-            "{:>8} {:>9} {shown:<4} {:>9} {shown:<4} {stop}{:>9} {shown:<4} {:>12} {:>8}\n",
+            "{:>8} {:>9} {shown:<4} {run}{:>9} {shown:<4} {stop}{:>9} {shown:<4} {:>12} {:>8}\n",
             c["name"].as_str().unwrap_or("").to_uppercase(),
             cell(&c[format!("range_60_{unit}")]),
             cell(&c[format!("range_{unit}")]),
@@ -182,5 +238,15 @@ fn drift_text(report: &serde_json::Value) -> String {
             cell(&c["etve_ambient_range_degc"]),
         );
     }
+    for caution in report["cautions"].as_array().into_iter().flatten() {
+        out += &format!("CAUTION: {}\n", caution.as_str().unwrap_or(""));
+    }
+    out += &not_used_line(
+        report["preamble_not_used"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|k| k.as_str()),
+    );
     out
 }

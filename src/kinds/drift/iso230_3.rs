@@ -177,12 +177,16 @@ pub fn tilts(table: &DriftTable, spacing: Real) -> Vec<DriftChannel> {
 
 /// The ISO 230-3 report of a drift table: per channel (and per tilt from sensor pairs
 /// `spacing` m apart, when given: [`tilts`]) the range over the first 60 min and the whole
-/// record, when the 15 % stop criterion was met, and the ETVE for a test of `etve_duration` s
-/// with its window and the ambient range inside it ([`DriftTable::ambient`]). JSON keys:
-/// `kind` ("drift"), `test`, `etve_duration_min`, `ambient_sensor`, `spacing_mm`, `channels`
-/// (each `name`, `unit` ("um" or "urad"), `derived` (a tilt), `range_60_<unit>`,
-/// `range_<unit>`, `stop_min`, `etve_<unit>`, `etve_window_min` [start, end],
-/// `etve_ambient_range_degc`, `note`).
+/// record, over the running period t when the preamble gives its end (`run_min`: ISO 230-3
+/// Table 1's d(·)_t, the spindle test's figure), when the 15 % stop criterion was met, and the
+/// ETVE for a test of `etve_duration` s with its window and the ambient range inside it
+/// ([`DriftTable::ambient`]). JSON keys: `kind` ("drift"), `test`, `etve_duration_min`,
+/// `ambient_sensor`, `spacing_mm`, `conditions` (what the preamble said: `control`,
+/// `hold_mm`, `first_mm`, `programme`, `speed_rpm`, `spectrum`, `run_min`, `stop_min`, each
+/// null when not said), `preamble_not_used` (keys the reader does not know), `cautions`,
+/// `channels` (each `name`, `unit` ("um" or "urad"), `derived` (a tilt), `range_60_<unit>`,
+/// `range_run_<unit>` (null without `run_min`), `range_<unit>`, `stop_min`, `etve_<unit>`,
+/// `etve_window_min` [start, end], `etve_ambient_range_degc`, `note`).
 pub fn drift_report(
     table: &DriftTable,
     etve_duration: Real,
@@ -191,6 +195,28 @@ pub fn drift_report(
     use serde_json::json;
     let ambient = table.ambient();
     let derived = spacing.map_or_else(Vec::new, |l| tilts(table, l));
+    let c = &table.conditions;
+    let start = table.times.first().copied().unwrap_or(0.0);
+    let end = table.times.last().copied().unwrap_or(0.0);
+    let run_end = c.run_period.map(|run| start + run);
+    let mut cautions = Vec::new();
+    if let (Some(run), Some(stop)) = (c.run_period, c.stop) {
+        // The record should reach the end of the stop; allow the longest interval between
+        // readings, the most an export can lose by sampling.
+        let step = table
+            .times
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(0.0, Real::max);
+        let missing = start + run + stop - end;
+        if missing > step + 1e-6 {
+            cautions.push(format!(
+                "the record ends {} min before the stated stop (run_min + stop_min = {} min): the cool-down is incomplete",
+                crate::math::trimmed(missing / 60.0, 3),
+                crate::math::trimmed((run + stop) / 60.0, 6)
+            ));
+        }
+    }
     let channels: Vec<serde_json::Value> = table
         .channels
         .iter()
@@ -218,6 +244,7 @@ pub fn drift_report(
                 "note": worst.is_none().then_some("the record is shorter than the ETVE test"),
             });
             entry[format!("range_60_{unit}")] = json!(ranges.map(|r| round(r.0)));
+            entry[format!("range_run_{unit}")] = json!(run_end.and_then(|end| signed_range(&record, start, end)).map(round));
             entry[format!("range_{unit}")] = json!(ranges.map(|r| round(r.1)));
             entry[format!("etve_{unit}")] = json!(worst.map(|w| round(w.0)));
             entry
@@ -230,6 +257,18 @@ pub fn drift_report(
         "spacing_mm": spacing.map(|l| l * 1e3),
         "etve_duration_min": etve_duration / 60.0,
         "ambient_sensor": ambient.map(|(name, _)| name.clone()),
+        "conditions": {
+            "control": c.control.map(|m| m.name()),
+            "hold_mm": c.hold,
+            "first_mm": c.first.map(|m| m * 1e3),
+            "programme": c.programme,
+            "speed_rpm": c.speed_rpm,
+            "spectrum": c.spectrum,
+            "run_min": c.run_period.map(|s| s / 60.0),
+            "stop_min": c.stop.map(|s| s / 60.0),
+        },
+        "preamble_not_used": c.other.iter().map(|(k, _)| k.clone()).collect::<Vec<_>>(),
+        "cautions": cautions,
         "channels": channels,
     })
 }

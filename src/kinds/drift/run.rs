@@ -164,11 +164,10 @@ pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -
             test: Some("iso230_3_etve".into()),
             ambient_sensor: Some("air".into()),
             spacing: Some(test.nest.spacing),
-            other: vec![
-                ("control".into(), test.control.name().into()),
-                ("hold_mm".into(), hold_condition(twin, &test.hold)),
-                ("first_mm".into(), trimmed(test.nest.first / M_PER_MM, 6)),
-            ],
+            control: Some(test.control),
+            hold: Some(hold_condition(twin, &test.hold)),
+            first: Some(test.nest.first),
+            ..DriftConditions::default()
         },
     };
     EtveRun {

@@ -43,7 +43,9 @@
 
 use super::iso230_3::{drift_ranges, signed_range, stop_time, tilts};
 use super::run::{hold_condition, read_nest};
-use super::scenario::{Nest, RawAir, RawNest, air_thermometer, hold_position, nest, thermal_test};
+use super::scenario::{
+    ControlMode, Nest, RawAir, RawNest, air_thermometer, hold_position, nest, thermal_test,
+};
 use super::table::{DriftChannel, DriftConditions, DriftTable};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real, trimmed};
@@ -525,29 +527,24 @@ pub fn simulate(
         "spindle test",
     );
     let times: Vec<Real> = readings.records.iter().map(|r| r.visit.time).collect();
-    let programme = match &test.speeds {
-        SpeedProgramme::Constant { speed, .. } => {
-            ("speed_rpm".to_string(), trimmed(rpm(*speed), 6))
-        }
-        SpeedProgramme::Spectrum(_) => ("spectrum".to_string(), test.speeds.describe()),
+    let (speed_rpm, spectrum) = match &test.speeds {
+        SpeedProgramme::Constant { speed, .. } => (Some(rpm(*speed)), None),
+        SpeedProgramme::Spectrum(_) => (None, Some(test.speeds.describe())),
     };
     let table = DriftTable {
         conditions: DriftConditions {
             test: Some(SECTION.into()),
             ambient_sensor: Some(test.air.name.clone()),
             spacing: Some(test.nest.spacing),
-            other: vec![
-                ("control".into(), "hold".into()),
-                ("hold_mm".into(), hold_condition(twin, &test.hold)),
-                ("first_mm".into(), trimmed(test.nest.first / M_PER_MM, 6)),
-                ("programme".into(), test.speeds.name().into()),
-                programme,
-                (
-                    "run_min".into(),
-                    trimmed(test.speeds.run_period() / 60.0, 6),
-                ),
-                ("stop_min".into(), trimmed(test.stop / 60.0, 6)),
-            ],
+            control: Some(ControlMode::Hold),
+            hold: Some(hold_condition(twin, &test.hold)),
+            first: Some(test.nest.first),
+            programme: Some(test.speeds.name().into()),
+            speed_rpm,
+            spectrum,
+            run_period: Some(test.speeds.run_period()),
+            stop: Some(test.stop),
+            other: Vec::new(),
         },
         times: times.clone(),
         channels: readings.channels,

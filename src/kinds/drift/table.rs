@@ -20,7 +20,13 @@
 //! | `control` | `hold` or `off`, the machine's state |
 //! | `hold_mm` | where the axes stood, e.g. `x 380, y 205, z 200` |
 //! | `first_mm` | the height of the first pair above the tool point |
+//! | `programme` | the spindle test's speed programme: `constant` (with `speed_rpm`) or `spectrum` (with `spectrum`, its steps as text) |
+//! | `run_min` | the end of the running period t: the figures d(·)_t are taken up to it, and it must lie inside the record |
+//! | `stop_min` | how long the spindle stood after it; a record that ends more than a sample early is said to |
+//!
+//! `mtwin analyze drift` says each of them again; keys it does not know are named as not used.
 
+use super::scenario::ControlMode;
 use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_URAD, Real, fixed, trimmed};
 use std::path::Path;
@@ -37,7 +43,9 @@ pub struct DriftChannel {
 }
 
 /// The conditions of a drift test, as a table's preamble gives them (SI; each absent when the
-/// file does not say). Keys other than these are kept in the preamble and left alone.
+/// file does not say). Every key `mtwin` writes is read, checked where the data can check it,
+/// and said again by `mtwin analyze drift`; keys it does not know are kept in `other`, in
+/// order, and named by the report as not used.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DriftConditions {
     /// The test, e.g. `iso230_3_etve`.
@@ -46,57 +54,166 @@ pub struct DriftConditions {
     pub ambient_sensor: Option<String>,
     /// The distance between the two sensors of a pair (m).
     pub spacing: Option<Real>,
-    /// Everything else the preamble says, in order (e.g. `control`, `hold_mm`, `first_mm`).
+    /// The machine's state during the test (ISO 230-3 §5.4 k: hold or off).
+    pub control: Option<ControlMode>,
+    /// Where the axes stood, as written: `x 380, y 205, z 260` (each a letter and mm).
+    pub hold: Option<String>,
+    /// The height of the first sensor pair above the tool point (m).
+    pub first: Option<Real>,
+    /// The spindle's speed programme (spindle test): `constant` or `spectrum`.
+    pub programme: Option<String>,
+    /// The constant speed (rpm) of a `constant` programme.
+    pub speed_rpm: Option<Real>,
+    /// The steps of a `spectrum` programme, as written (`3000 rpm for 20 min, …`).
+    pub spectrum: Option<String>,
+    /// The end of the running period t (s from the start): ISO 230-3 Table 1's d(·)_t ends here.
+    pub run_period: Option<Real>,
+    /// How long the spindle stood after the running period (s).
+    pub stop: Option<Real>,
+    /// Keys this reader does not know, in order, with their values.
     pub other: Vec<(String, String)>,
 }
+
+/// The preamble keys of [`DriftConditions`], in the order they are written.
+const KEYS: [&str; 11] = [
+    "test",
+    "ambient_sensor",
+    "spacing_mm",
+    "control",
+    "hold_mm",
+    "first_mm",
+    "programme",
+    "speed_rpm",
+    "spectrum",
+    "run_min",
+    "stop_min",
+];
 
 impl DriftConditions {
     /// The typed conditions of a preamble; a value of the wrong form is an error naming the
     /// file, line and key.
     pub fn from_preamble(c: &Conditions, file: &str) -> Result<DriftConditions, TableError> {
-        let spacing = match c.number("spacing_mm", file)? {
-            Some(v) if v <= 0.0 => {
-                return Err(TableError::new(
-                    file,
-                    c.get("spacing_mm").map(|(_, line)| line),
-                    format!("spacing_mm = {v}: expected a positive distance"),
-                ));
+        let wrong = |key: &str, expected: &str| {
+            let (text, line) = c.get(key).unwrap_or_default();
+            TableError::new(
+                file,
+                Some(line),
+                format!("{key} = {text}: expected {expected}"),
+            )
+        };
+        let positive = |key: &str, scale: Real| -> Result<Option<Real>, TableError> {
+            match c.number(key, file)? {
+                Some(v) if v <= 0.0 => Err(wrong(key, "a positive number")),
+                other => Ok(other.map(|v| v * scale)),
             }
+        };
+        let spacing = positive("spacing_mm", M_PER_MM)?;
+        let first = match c.number("first_mm", file)? {
+            Some(v) if v < 0.0 => return Err(wrong("first_mm", "a height of 0 or more")),
             other => other.map(|mm| mm * M_PER_MM),
         };
-        let typed = ["test", "ambient_sensor", "spacing_mm"];
+        let control = match c.get("control") {
+            None => None,
+            Some(("hold", _)) => Some(ControlMode::Hold),
+            Some(("off", _)) => Some(ControlMode::Off),
+            Some(_) => return Err(wrong("control", "hold or off (ISO 230-3 §5.4 k)")),
+        };
+        let hold = match c.get("hold_mm") {
+            None => None,
+            Some((text, _)) if hold_is_valid(text) => Some(text.to_string()),
+            Some(_) => {
+                return Err(wrong(
+                    "hold_mm",
+                    "axis letters with positions in mm, e.g. x 380, y 205, z 260",
+                ));
+            }
+        };
+        let programme = match c.get("programme") {
+            None => None,
+            Some((name @ ("constant" | "spectrum"), _)) => Some(name.to_string()),
+            Some(_) => return Err(wrong("programme", "constant or spectrum")),
+        };
+        let speed_rpm = positive("speed_rpm", 1.0)?;
+        let spectrum = c.get("spectrum").map(|(v, _)| v.to_string());
+        match (programme.as_deref(), speed_rpm, &spectrum) {
+            (Some("constant"), None, _) => {
+                return Err(wrong(
+                    "programme",
+                    "a speed_rpm line with a constant programme",
+                ));
+            }
+            (Some("spectrum"), _, None) => {
+                return Err(wrong(
+                    "programme",
+                    "a spectrum line with a spectrum programme",
+                ));
+            }
+            _ => {}
+        }
+        let run_period = positive("run_min", 60.0)?;
+        let stop = match c.number("stop_min", file)? {
+            Some(v) if v < 0.0 => return Err(wrong("stop_min", "a duration of 0 or more")),
+            other => other.map(|min| min * 60.0),
+        };
         Ok(DriftConditions {
             test: c.get("test").map(|(v, _)| v.to_string()),
             ambient_sensor: c.get("ambient_sensor").map(|(v, _)| v.to_string()),
             spacing,
+            control,
+            hold,
+            first,
+            programme,
+            speed_rpm,
+            spectrum,
+            run_period,
+            stop,
             other: c
                 .keys()
-                .filter(|k| !typed.contains(k))
-                .map(|k| {
-                    (
-                        k.to_string(),
-                        c.get(k).map_or_else(String::new, |(v, _)| v.to_string()),
-                    )
-                })
+                .filter(|k| !KEYS.contains(k))
+                .map(|k| (k.to_string(), c.value(k).unwrap_or_default().to_string()))
                 .collect(),
         })
     }
 
     /// The preamble that says these conditions (file units).
     pub fn to_preamble(&self) -> Conditions {
-        let mut pairs: Vec<(String, String)> = Vec::new();
-        if let Some(test) = &self.test {
-            pairs.push(("test".into(), test.clone()));
-        }
-        if let Some(sensor) = &self.ambient_sensor {
-            pairs.push(("ambient_sensor".into(), sensor.clone()));
-        }
-        if let Some(spacing) = self.spacing {
-            pairs.push(("spacing_mm".into(), trimmed(spacing / M_PER_MM, 6)));
-        }
-        pairs.extend(self.other.iter().cloned());
+        let number = |v: Option<Real>, scale: Real| v.map(|v| trimmed(v / scale, 6));
+        let values: [Option<String>; 11] = [
+            self.test.clone(),
+            self.ambient_sensor.clone(),
+            number(self.spacing, M_PER_MM),
+            self.control.map(|c| c.name().to_string()),
+            self.hold.clone(),
+            number(self.first, M_PER_MM),
+            self.programme.clone(),
+            number(self.speed_rpm, 1.0),
+            self.spectrum.clone(),
+            number(self.run_period, 60.0),
+            number(self.stop, 60.0),
+        ];
+        let pairs = KEYS
+            .iter()
+            .zip(values)
+            .filter_map(|(key, value)| Some((key.to_string(), value?)))
+            .chain(self.other.iter().cloned());
         Conditions::from_pairs(pairs)
     }
+}
+
+/// Whether `text` reads as `x 380, y 205, z 260`: comma-separated axis letters, each with a
+/// finite position.
+fn hold_is_valid(text: &str) -> bool {
+    text.split(',').all(|part| {
+        let mut words = part.split_whitespace();
+        let letter = words
+            .next()
+            .is_some_and(|l| l.len() == 1 && "xyzabcuvw".contains(l.chars().next().unwrap_or(' ')));
+        let value = words
+            .next()
+            .and_then(|v| v.parse::<Real>().ok())
+            .is_some_and(Real::is_finite);
+        letter && value && words.next().is_none()
+    })
 }
 
 /// A drift table.
@@ -206,6 +323,19 @@ impl DriftTable {
             return Err(fail(
                 None,
                 "fewer than two rows: a drift record needs readings over time".into(),
+            ));
+        }
+        let span = table.times[table.times.len() - 1] - table.times[0];
+        if let Some(run) = table.conditions.run_period
+            && run > span + 1e-6
+        {
+            return Err(fail(
+                stated.get("run_min").map(|(_, line)| line),
+                format!(
+                    "run_min = {}: the running period ends after the record, which spans {} min",
+                    trimmed(run / 60.0, 6),
+                    trimmed(span / 60.0, 6)
+                ),
             ));
         }
         Ok(table)

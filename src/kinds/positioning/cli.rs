@@ -127,12 +127,16 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
                 serde_json::to_string_pretty(&series.report_json(&table, &why))?
             ),
             Some(series) if stated_drift => format!(
-                "ISO 230-3 §7 linear-motion drift record, axis {axis} (test = iso230_3_linear in the file).\n{}",
-                series.to_text_with(verbose)
+                "ISO 230-3 §7 linear-motion drift record, axis {axis} (test = iso230_3_linear in the file).\n{}{}{}",
+                table.conditions.report().1,
+                series.to_text_with(verbose),
+                crate::io::not_used_line(&table.conditions.not_used)
             ),
             Some(series) => format!(
-                "ISO 230-3 drift record, axis {axis}: no ISO 230-2 figures ({why}).\n{}",
-                series.to_text_with(verbose)
+                "ISO 230-3 drift record, axis {axis}: no ISO 230-2 figures ({why}).\n{}{}{}",
+                table.conditions.report().1,
+                series.to_text_with(verbose),
+                crate::io::not_used_line(&table.conditions.not_used)
             ),
             None => bail!("{}: {why}", file.display()),
         },

@@ -86,7 +86,13 @@ pub struct PositioningConditions {
     pub mounting: Option<Mounting>,
     /// When the laser was zeroed.
     pub zero: Option<Zeroing>,
+    /// Keys of the preamble this reader does not know, in file order (kept out of every
+    /// figure, named by the report).
+    pub not_used: Vec<String>,
 }
+
+/// The laser's compensations a preamble may state.
+pub const COMPENSATIONS: [&str; 4] = ["none", "air", "nde", "air+nde"];
 
 /// The preamble key of an axis position: `x_mm`, …, `c_deg` (none for the spindle).
 pub fn axis_key(axis: Axis) -> Option<String> {
@@ -157,7 +163,18 @@ impl PositioningConditions {
                 })?)
             }
         };
-        let compensation = c.get("compensation").map(|(text, _)| text.to_string());
+        let compensation = match c.get("compensation") {
+            None => None,
+            Some((text, _)) if COMPENSATIONS.contains(&text) => Some(text.to_string()),
+            Some((text, line)) => {
+                return Err(wrong(
+                    "compensation",
+                    text,
+                    line,
+                    "none, air, nde or air+nde (what the laser corrected)",
+                ));
+            }
+        };
         let machine = c.get("machine").map(|(text, _)| text.to_string());
         let mut axes = Vec::new();
         for axis in Axis::ALL {
@@ -195,7 +212,71 @@ impl PositioningConditions {
             beam_offset,
             mounting,
             zero,
+            not_used: c.unread().into_iter().map(|(key, _)| key).collect(),
         })
+    }
+
+    /// What the preamble said of the set-up, for the report (ISO 230-2 §7 asks it to state
+    /// the position of the measurement line, the offsets and the compensation): JSON with a
+    /// key per condition (null when not said) and one line for people (empty when none).
+    pub fn report(&self) -> (serde_json::Value, String) {
+        let line: Vec<String> = self
+            .axes
+            .iter()
+            .map(|&(axis, value)| {
+                let unit = if axis.is_linear() { " mm" } else { "°" };
+                format!(
+                    "{} {}{unit}",
+                    axis.letter().to_ascii_lowercase(),
+                    trimmed(value / axis_unit_to_si(axis), 6)
+                )
+            })
+            .collect();
+        let offset = self
+            .beam_offset
+            .map(|o| o.to_array().map(|v| trimmed(v / M_PER_MM, 6)).join(" "));
+        let mounting = self.mounting.map(|m| match m {
+            Mounting::InterferometerOnWorkpiece => "workpiece",
+            Mounting::InterferometerOnTool => "tool",
+        });
+        let zero = self.zero.map(|z| match z {
+            Zeroing::Once => "once",
+            Zeroing::EachRun => "each_run",
+        });
+        let mut said = Vec::new();
+        if let Some(machine) = &self.machine {
+            said.push(format!("machine {machine}"));
+        }
+        if !line.is_empty() {
+            said.push(format!("line at {}", line.join(", ")));
+        }
+        if let Some(offset) = &offset {
+            said.push(format!("reflector offset {offset} mm"));
+        }
+        if let Some(side) = mounting {
+            said.push(format!("interferometer on the {side}"));
+        }
+        if let Some(compensation) = &self.compensation {
+            said.push(format!("laser compensation {compensation}"));
+        }
+        if let Some(zero) = zero {
+            said.push(format!("zeroed {}", zero.replace('_', " ")));
+        }
+        let json = serde_json::json!({
+            "test": self.test.map(PositioningTest::name),
+            "machine": self.machine,
+            "line": line.join(", "),
+            "beam_offset_mm": offset,
+            "interferometer_on": mounting,
+            "compensation": self.compensation,
+            "zero": zero,
+        });
+        let text = if said.is_empty() {
+            String::new()
+        } else {
+            format!("Conditions: {}.\n", said.join(", "))
+        };
+        (json, text)
     }
 
     /// The preamble that says these conditions (file units).
@@ -458,6 +539,7 @@ mod tests {
             beam_offset: Some(Vector::new(0.0, 20.0, 60.0) * M_PER_MM),
             mounting: Some(Mounting::InterferometerOnTool),
             zero: Some(Zeroing::EachRun),
+            not_used: Vec::new(),
         };
         let mut bytes = Vec::new();
         table.write_csv(&mut bytes).unwrap();

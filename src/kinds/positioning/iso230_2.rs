@@ -303,7 +303,9 @@ impl Iso230_2 {
     /// A_down_um, R_um, R_up_um, R_down_um, B_um, B_mean_um` (null when the file lacks the
     /// direction they need), `targets` (per target: `target_mm, n_up, n_down, mean_up_um,
     /// mean_down_um, s_up_um, s_down_um, R_up_um, R_down_um, mean_um, B_um, R_um`), and `kind`,
-    /// `standard`, `axis`, `n_targets`, `n_runs`, `bidirectional`, `note`; for a thermal series
+    /// `standard`, `axis`, `n_targets`, `n_runs`, `bidirectional`, `note`, `conditions` (what the
+    /// preamble said: [`super::conditions::PositioningConditions::report`]), `preamble_not_used`,
+    /// `cautions` ([`super::stability::caution`]); for a thermal series
     /// (see [`super::thermal_series`]) also `runs` and `drift`.
     pub fn to_json(&self, table: &PositioningTable) -> serde_json::Value {
         use serde_json::json;
@@ -349,6 +351,9 @@ impl Iso230_2 {
             "B_um": option(self.both.map(|b| b.reversal)),
             "B_mean_um": option(self.both.map(|b| b.mean_reversal)),
             "targets": targets,
+            "conditions": table.conditions.report().0,
+            "preamble_not_used": table.conditions.not_used,
+            "cautions": super::stability::caution(table).into_iter().collect::<Vec<_>>(),
         });
         if let Some(series) = super::thermal_series::thermal_series(table) {
             let (runs, drift) = series.to_json();
@@ -392,6 +397,7 @@ impl Iso230_2 {
                 ""
             }
         );
+        out += &table.conditions.report().1;
         let cell = |v: Option<Real>| {
             v.map_or_else(|| format!("{:>9}", "-"), |v| format!("{:>9.3}", um(v)))
         };
@@ -444,12 +450,16 @@ impl Iso230_2 {
             "mean reversal value B̄ (µm)",
             self.both.map(|b| b.mean_reversal),
         );
+        if let Some(caution) = super::stability::caution(table) {
+            let _ = writeln!(out, "\nCAUTION: {caution}.");
+        }
         if let Some(series) = super::thermal_series::thermal_series(table) {
             out += &series.to_text_with(verbose);
         }
         if let Some(note) = self.note() {
             let _ = writeln!(out, "\nNote: {note}.");
         }
+        out += &crate::io::not_used_line(&table.conditions.not_used);
         out
     }
 }

@@ -30,6 +30,7 @@ pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]
 pub mod scene;
+pub mod stability;
 pub mod table;
 pub mod thermal_series;
 

@@ -60,6 +60,16 @@ pub struct PositioningTable {
     pub conditions: PositioningConditions,
 }
 
+/// The largest deviation a positioning reading may have (m): the scenarios' own limit on any
+/// error ([`crate::scenario::errors::LARGEST_ERROR`], 10 mm). No axis a laser calibrates is
+/// that far off; a reading beyond it is nearly always a unit slip (nm or mm in the µm
+/// column), and is refused rather than evaluated.
+pub const LARGEST_DEVIATION: Real = crate::scenario::errors::LARGEST_ERROR;
+
+/// The largest target position (m): 80 m, the linear range of a laser interferometer
+/// (Renishaw XL-80, Keysight 5530); a target beyond it is not a laser measurement.
+pub const LARGEST_TARGET: Real = 80.0;
+
 const KNOWN: [&str; 6] = [
     "target_mm",
     "deviation_um",
@@ -137,6 +147,24 @@ impl PositioningTable {
             let number = |index: usize, name: &str| finite_number(&record, index, name, file);
             let target = number(target_column, "target_mm")? * M_PER_MM;
             let deviation = number(deviation_column, "deviation_um")? * M_PER_UM;
+            if target.abs() > LARGEST_TARGET {
+                return Err(fail(
+                    line,
+                    format!(
+                        "column `target_mm`: {} mm is beyond the 80 m a laser interferometer measures over; units?",
+                        crate::math::readable(target / M_PER_MM)
+                    ),
+                ));
+            }
+            if deviation.abs() > LARGEST_DEVIATION {
+                return Err(fail(
+                    line,
+                    format!(
+                        "column `deviation_um`: {} µm is beyond the ±10 mm an axis can be off; nm or mm in a µm column?",
+                        crate::math::readable(deviation / M_PER_UM)
+                    ),
+                ));
+            }
             if let Some(index) = axis_column {
                 let text = &record[index];
                 let this = parse_axis(text).ok_or_else(|| {

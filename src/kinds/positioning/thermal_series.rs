@@ -303,6 +303,9 @@ impl ThermalSeries {
             "targets": [],
             "runs": runs,
             "drift": drift,
+            "conditions": table.conditions.report().0,
+            "preamble_not_used": table.conditions.not_used,
+            "cautions": [],
         });
         for key in [
             "E_um",

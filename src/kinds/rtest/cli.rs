@@ -62,10 +62,18 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     if let Some(path) = &args.svg {
         crate::io::write_atomically(path, super::plot::svg(&table).as_bytes())?;
     }
+    let (setup, said) = table.setup_report();
     Ok(if args.json {
-        format!("{}\n", serde_json::to_string_pretty(&evaluation)?)
+        let mut report = serde_json::to_value(&evaluation)?;
+        report["setup"] = setup;
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
-        to_text(&evaluation)
+        let text = to_text(&evaluation);
+        // The set-up after the title line.
+        match text.split_once('\n') {
+            Some((title, rest)) => format!("{title}\n{said}{rest}"),
+            None => text + &said,
+        }
     })
 }
 

@@ -73,6 +73,49 @@ const DEVIATION: [&str; 3] = ["dx_um", "dy_um", "dz_um"];
 const PROBES: [&str; 4] = ["probe1_um", "probe2_um", "probe3_um", "probe4_um"];
 
 impl RtestTable {
+    /// What the preamble says of the set-up, for the report (checked when the table was
+    /// read): JSON (`machine`, `sphere_mm`, `sphere_diameter_mm`, `tip`, `calibration`, `mode`,
+    /// `zero`, `frame`, each null when not said, and `preamble_not_used`, the keys no reader
+    /// took) and a line for people.
+    pub fn setup_report(&self) -> (serde_json::Value, String) {
+        let c = &self.conditions;
+        let keys = [
+            "machine",
+            "sphere_mm",
+            "sphere_diameter_mm",
+            "tip",
+            "calibration",
+            "mode",
+            "zero",
+            "frame",
+        ];
+        let mut json = serde_json::Map::new();
+        let mut said = Vec::new();
+        for key in keys {
+            let value = c.get(key).map(|(v, _)| v.to_string());
+            if let Some(v) = &value {
+                said.push(match key {
+                    "sphere_mm" => format!(
+                        "sphere at ({}) mm",
+                        v.split_whitespace().collect::<Vec<_>>().join(", ")
+                    ),
+                    "sphere_diameter_mm" => format!("Ø {v} mm"),
+                    _ => format!("{} {v}", key.replace('_', " ")),
+                });
+            }
+            json.insert(key.into(), value.into());
+        }
+        let not_used: Vec<String> = c.unread().into_iter().map(|(k, _)| k).collect();
+        let mut text = if said.is_empty() {
+            String::new()
+        } else {
+            format!("Set-up: {}.\n", said.join(", "))
+        };
+        text += &crate::io::not_used_line(&not_used);
+        json.insert("preamble_not_used".into(), not_used.into());
+        (json.into(), text)
+    }
+
     /// The tests in the order they first appear, each with its rows.
     pub fn tests(&self) -> Vec<(&str, Vec<&RtestRow>)> {
         let mut out: Vec<(&str, Vec<&RtestRow>)> = Vec::new();
@@ -129,6 +172,7 @@ impl RtestTable {
                 ));
             }
         }
+        conditions.triple("sphere_mm", file)?;
         if let Some(d) = conditions.number("sphere_diameter_mm", file)?
             && d <= 0.0
         {

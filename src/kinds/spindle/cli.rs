@@ -162,7 +162,9 @@ JSON keys (--json):
   separations[]: method (reversal|multi-probe), probes[], speed_rpm, form_range_um,
     form_um[] (outward, on ψ = 360°·m/M), motion_synchronous_um (LSC value of the separated
     motion along the first probe), blind[] (harmonics the layout cannot see)
-  notes[]";
+  notes[]
+  setup: machine, artefact, structural_loop, axes (where the other axes stood), as the
+    preamble says them (null when it does not); preamble_not_used[] (keys no reader took)";
 
 #[derive(Args)]
 struct SpindleArgs {
@@ -211,7 +213,10 @@ fn analyze(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Strin
         ));
     }
     Ok(if args.json {
-        format!("{}\n", serde_json::to_string_pretty(&to_json(&evaluation))?)
+        let mut report = to_json(&evaluation);
+        let (described, _) = super::stated::described(&table.conditions);
+        report["setup"] = described;
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
         to_text(&table, &evaluation)
     })
@@ -397,6 +402,8 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
          values in µm (tilt in µrad); preferred centre first (Tab 1)\n",
         evaluation.samples_per_revolution
     );
+    let (described, lines) = super::stated::described(&table.conditions);
+    out += &lines;
     for segment in &evaluation.segments {
         let setup = if segment.setup.is_empty() {
             String::new()
@@ -482,6 +489,13 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
     for note in &evaluation.notes {
         out += &format!("\nnote: {note}\n");
     }
+    out += &crate::io::not_used_line(
+        described["preamble_not_used"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|k| k.as_str()),
+    );
     out
 }
 

@@ -127,5 +127,107 @@ pub(super) fn check(
             ));
         }
     }
+    check_described(conditions, file, &setups)
+}
+
+/// The keys that describe the set-up rather than the rows (ISO 230-7 §5.2), as
+/// [`super::run`] writes them: each is read, checked for its form, and said again by the
+/// report ([`described`]).
+///
+/// * `machine`, `artefact`, `structural_loop`: text, not empty;
+/// * where the other axes stood: `<letter>_mm` for a linear axis, `<letter>_deg` for a rotary
+///   one (`s_deg` for the spindle), a finite number each;
+/// * `reversed_setup`, `turned_setup`: the definitions of those set-ups, given exactly when
+///   the rows hold such a set-up (a `reversed`, a `turned_<deg>`).
+fn check_described(conditions: &Conditions, file: &str, setups: &[&str]) -> Result<(), TableError> {
+    for key in ["machine", "artefact", "structural_loop"] {
+        if let Some((text, line)) = conditions.get(key)
+            && text.is_empty()
+        {
+            return Err(TableError::new(
+                file,
+                Some(line),
+                format!("{key} = : expected a description, or no line"),
+            ));
+        }
+    }
+    for (key, _) in position_keys() {
+        conditions.number(&key, file)?;
+    }
+    for (key, kind, has) in [
+        ("reversed_setup", "reversed", setups.contains(&"reversed")),
+        (
+            "turned_setup",
+            "turned_<deg>",
+            setups.iter().any(|s| s.starts_with("turned_")),
+        ),
+    ] {
+        if let Some((_, line)) = conditions.get(key)
+            && !has
+        {
+            return Err(TableError::new(
+                file,
+                Some(line),
+                format!(
+                    "{key} defines a {kind} set-up, but no row is in one (set-ups: {})",
+                    if setups == [""] {
+                        "none named".to_string()
+                    } else {
+                        setups.join(" ")
+                    }
+                ),
+            ));
+        }
+    }
     Ok(())
+}
+
+/// The preamble keys of where the other axes stood, with their units: `x_mm` … `w_mm`,
+/// `a_deg` … `c_deg`, `s_deg`.
+fn position_keys() -> impl Iterator<Item = (String, &'static str)> {
+    "xyzuvw"
+        .chars()
+        .map(|l| (format!("{l}_mm"), " mm"))
+        .chain("abcs".chars().map(|l| (format!("{l}_deg"), "°")))
+}
+
+/// What the preamble says of the set-up, for the report: JSON (`machine`, `artefact`,
+/// `structural_loop`, `axes` (where the other axes stood, as text), `preamble_not_used`) and
+/// lines for people. Keys no reader took are named as not used.
+pub fn described(conditions: &Conditions) -> (serde_json::Value, String) {
+    let text = |key: &str| conditions.get(key).map(|(v, _)| v.to_string());
+    let axes: Vec<String> = position_keys()
+        .filter_map(|(key, unit)| {
+            let (value, _) = conditions.get(&key)?;
+            Some(format!("{} {value}{unit}", &key[..1]))
+        })
+        .collect();
+    let (machine, artefact, looped) = (text("machine"), text("artefact"), text("structural_loop"));
+    let not_used: Vec<String> = conditions.unread().into_iter().map(|(k, _)| k).collect();
+    let mut said = Vec::new();
+    if let Some(m) = &machine {
+        said.push(format!("machine {m}"));
+    }
+    if let Some(a) = &artefact {
+        said.push(format!("artefact {a}"));
+    }
+    if !axes.is_empty() {
+        said.push(format!("other axes at {}", axes.join(", ")));
+    }
+    let mut lines = if said.is_empty() {
+        String::new()
+    } else {
+        format!("Set-up: {}.\n", said.join("; "))
+    };
+    if let Some(l) = &looped {
+        lines += &format!("Structural loop: {l}.\n");
+    }
+    let json = serde_json::json!({
+        "machine": machine,
+        "artefact": artefact,
+        "structural_loop": looped,
+        "axes": axes.join(", "),
+        "preamble_not_used": not_used,
+    });
+    (json, lines)
 }
