@@ -150,6 +150,8 @@ fn a_file_without_conditions_reads_with_flags_and_the_data_check_their_ratio() {
     };
     let right = with("100", "2000");
     assert!(right.status.success(), "{}", stderr(&right));
+    // The times checked the flags: no caution.
+    assert!(!String::from_utf8_lossy(&right.stdout).contains("CAUTION"));
     // 2000 mm/min on 100 mm is 0.3333 rad/s; the rounded times and angles keep it well inside
     // the 1 % the check allows. A feed 5 % off is refused with the feed the data imply.
     let off = with("100", "2100");
@@ -203,4 +205,52 @@ fn a_preamble_value_of_the_wrong_form_names_the_file_line_and_key() {
         message.contains("bad.csv:2: radius_mm = 1OO: expected a finite number"),
         "{message}"
     );
+}
+
+/// The same export without `time_s`: nothing in the file can check the flags, and the report
+/// says so (a wrong radius would scale every figure unseen).
+#[test]
+fn a_file_without_conditions_or_times_says_its_conditions_are_unchecked() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = lesson_table(dir.path());
+    let foreign = foreign(&table, dir.path());
+    let untimed: String = std::fs::read_to_string(&foreign)
+        .unwrap()
+        .lines()
+        .map(|l| match l.rsplit_once(',') {
+            Some((kept, _)) if !l.starts_with('#') => format!("{kept}\n"),
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    assert!(
+        untimed.contains("direction,angle_deg,deviation_um\n"),
+        "{}",
+        &untimed[..200]
+    );
+    let path = dir.path().join("untimed.csv");
+    std::fs::write(&path, untimed).unwrap();
+    let flags = [
+        "--plane",
+        "XY",
+        "--radius-mm",
+        "150",
+        "--feed-mm-per-min",
+        "2000",
+    ];
+    let mut args = vec!["analyze", "ballbar", path.to_str().unwrap()];
+    args.extend(flags);
+    let out = mtwin(&args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("CAUTION: the plane, radius and feed came from the flags: the file has neither a preamble nor time_s"),
+        "{text}"
+    );
+    args.push("--json");
+    let json: serde_json::Value = serde_json::from_slice(&mtwin(&args).stdout).unwrap();
+    assert_eq!(json["cautions"].as_array().unwrap().len(), 1);
+    // The twin's own table (preamble and times): no caution.
+    let own = mtwin(&["analyze", "ballbar", table.to_str().unwrap(), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&own.stdout).unwrap();
+    assert_eq!(json["cautions"], serde_json::json!([]));
 }

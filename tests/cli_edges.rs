@@ -591,3 +591,181 @@ fn count_flags_refuse_zero_and_negative_values_by_their_range() {
         assert!(message.contains(expected), "{message}");
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Readings no instrument can give (issue 34: plausibility where numbers enter). Each table is
+// written by hand; the refusal names the file, line, column and the instrument's range.
+
+/// `mtwin analyze KIND FILE` on `text`, which must be refused with `expected` in its message
+/// and nothing on stdout.
+fn refused_reading(kind: &str, text: &str, expected: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.csv");
+    std::fs::write(&path, text).unwrap();
+    let out = mtwin(&["analyze", kind, path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && out.stdout.is_empty(),
+        "{kind}: {err}"
+    );
+    assert!(
+        err.contains("t.csv:") && err.contains(expected),
+        "{kind}: {err}"
+    );
+}
+
+#[test]
+fn readings_beyond_each_instruments_range_are_refused_at_their_line() {
+    // A ball-bar reads ±1 mm: 1 000.5 µm cannot be one of its readings; −1e300 neither.
+    let ballbar = |d: &str| {
+        format!(
+            "# plane = XY\n# radius_mm = 150\n# feed_mm_per_min = 1000\n\
+             direction,angle_deg,deviation_um\nccw,0,1\nccw,90,{d}\nccw,180,1\nccw,270,1\n"
+        )
+    };
+    for d in ["1000.5", "-1e300"] {
+        refused_reading("ballbar", &ballbar(d), "t.csv:6: column `deviation_um`: ");
+    }
+    refused_reading(
+        "ballbar",
+        &ballbar("1000.5"),
+        "is beyond ±1000 (a ball-bar's transducer reads ±1 mm",
+    );
+    // Drift sensors: 2 cm of drift is a unit slip; so is a 1e3 °C air.
+    let drift = "time_min,z_um,temp_air_degc\n0,0,20\n30,20000,20.5\n60,3,21\n";
+    refused_reading(
+        "drift",
+        drift,
+        "t.csv:3: column `z_um`: 20000 is beyond ±10000",
+    );
+    let hot = "time_min,z_um,temp_air_degc\n0,0,20\n30,1,1000\n60,3,21\n";
+    refused_reading(
+        "drift",
+        hot,
+        "t.csv:3: column `temp_air_degc`: 1000 is beyond ±200",
+    );
+    // R-test: a deviation in nm written in the µm column.
+    let rtest =
+        "test,c_deg,dx_um,dy_um,dz_um\nt,0,0,0,0\nt,90,12000,2,0\nt,180,2,0,0\nt,270,1,-2,0\n";
+    refused_reading(
+        "rtest",
+        rtest,
+        "t.csv:3: column `dx_um`: 12000 is beyond ±10000",
+    );
+}
+
+/// An 8-sample spindle record, two revolutions at 600 rpm, with its angles from `angle` (the
+/// degrees of sample i) and its times scaled by `time_scale`.
+fn spindle_record(angle: impl Fn(usize) -> f64, time_scale: f64) -> String {
+    let mut text = String::from("revolution,angle_deg,time_s,speed_rpm,x_um\n");
+    for k in 0..16 {
+        let t = k as f64 * 0.1 / 8.0 * time_scale; // 600 rpm: 0.1 s per revolution
+        text += &format!("{},{},{t},600,{}\n", k / 8, angle(k % 8), 0.1 * k as f64);
+    }
+    text
+}
+
+#[test]
+fn spindle_angles_that_cannot_be_degrees_are_refused() {
+    // As recorded: 45° steps, 0.1 s per revolution, 600 rpm. Read.
+    let good = spindle_record(|i| 45.0 * i as f64, 1.0);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.csv");
+    std::fs::write(&path, &good).unwrap();
+    let out = mtwin(&["analyze", "spindle", path.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The same angles in radians (issue 34's record: 3.56 µm reported for 0.59 µm): they never
+    // pass 2π over revolutions of 8 samples.
+    let radians = spindle_record(|i| (45.0 * i as f64).to_radians(), 1.0);
+    refused_reading(
+        "spindle",
+        &radians,
+        "column `angle_deg`: the angles never pass 5.497787 over revolutions of 8 samples; they look like radians",
+    );
+    // Times in another unit (ms written as s): the angles advance at 0.6 rpm, not 600.
+    let slow = spindle_record(|i| 45.0 * i as f64, 1000.0);
+    refused_reading(
+        "spindle",
+        &slow,
+        "t.csv:2: column `speed_rpm`: 600 rpm, but the angles advance at 0.6 rpm against time_s",
+    );
+    // 4 % slower than commanded, as a loaded spindle can run: read.
+    std::fs::write(&path, spindle_record(|i| 45.0 * i as f64, 1.04)).unwrap();
+    let out = mtwin(&["analyze", "spindle", path.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A dynamic R-test (issue 42, audit of what a scenario can set): an interpolation period of
+/// 1e-7 ms made `run` step the servo loops for hours; a feed of 1 °/min over ten turns at 100 kHz
+/// would allocate 2e10 readings. Each value has its physical range, and the sweep its work.
+#[test]
+fn a_dynamic_rtest_is_bounded_by_its_values_and_its_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let dynamic = |extra: &str, angle: &str| {
+        RTEST_SWEEP
+            .replace(
+                "[[rtest.test]]",
+                &format!("mode = \"dynamic\"\n{extra}\n[[rtest.test]]"),
+            )
+            .replace("ANGLE", angle)
+    };
+    for (extra, expected) in [
+        (
+            "ipo_period_ms = 1e-7",
+            "expected 0.05 … 100 (CNC interpolation cycles",
+        ),
+        ("rotary_feed_deg_per_min = 1e9", "expected 1 … 72000"),
+        ("sample_rate_hz = 1e9", "expected 1 … 100000"),
+        ("kv_per_s = { C = 1e6 }", "expected a gain of 1 … 1000 /s"),
+    ] {
+        let file = scenario_file(dir.path(), "dynamic.toml", &dynamic(extra, "360.0"));
+        let message = refused_at(&["check", &file], &file, 7);
+        assert!(message.contains(expected), "{extra}: {message}");
+    }
+    // Values in range, but ten turns at 1 °/min read at 100 kHz: 2e10 readings, refused at the
+    // test (its [[rtest.test]] line) before any work.
+    let file = scenario_file(
+        dir.path(),
+        "dynamic.toml",
+        &dynamic(
+            "rotary_feed_deg_per_min = 1.0\nsample_rate_hz = 1e5",
+            "3600.0",
+        ),
+    );
+    let message = refused_at(&["check", &file], &file, 9);
+    assert!(
+        message.contains("readings") && message.contains("at most 5000000"),
+        "{message}"
+    );
+    // The bundled speed: accepted.
+    accepted(&scenario_file(
+        dir.path(),
+        "dynamic.toml",
+        &dynamic("", "360.0"),
+    ));
+}
+
+#[test]
+fn a_ball_bar_interpolation_period_far_below_any_controllers_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenario("vmc3_ballbar_xy.toml"))
+        .unwrap()
+        .replace("../models", "MODELS")
+        .replace("[servo]\n", "[servo]\nipo_period_ms = 1e-7\n");
+    let file = scenario_file(dir.path(), "ipo.toml", &text);
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("ipo_period_ms"))
+        .unwrap()
+        + 1;
+    let message = refused_at(&["check", &file], &file, line);
+    assert!(message.contains("expected 0.05 … 100 ms"), "{message}");
+}

@@ -10,6 +10,10 @@ one thing in one table, the way an export or an editor goes wrong:
 * a column's name changed, or a column removed from the header only;
 * a preamble line deleted or given twice.
 
+The JSON readers are fuzzed the same way: `mtwin identify` makes an estimate.json from the
+R-test table once, and a mutation changes a number of it or of the run's truth.json (or
+deletes or doubles a line), then `mtwin score` (text and `--json`) is held to the same rules.
+
 For every mutation, `mtwin analyze <kind>` (text and `--json`) must end within --timeout
 seconds and exit 0 or 1 (never 101, a panic), and a report that exits 0 must hold no `inf` or
 `NaN`. The bound is stated, not measured: the bundled tables are analysed in well under a
@@ -107,6 +111,29 @@ def mutate(text, rng):
     return "\n".join(lines), what
 
 
+def mutate_json(text, rng):
+    """One mutation of a JSON file's text and what it was."""
+    lines = text.split("\n")
+    choice = rng.choice(["number", "number", "number", "delete", "duplicate"])
+    if choice == "number":
+        spans = [(i, m.span()) for i, l in enumerate(lines) for m in NUMBER.finditer(l)]
+        if not spans:
+            return None
+        i, (start, end) = rng.choice(spans)
+        value = rng.choice(EXTREMES)
+        what = f"line {i + 1}: {lines[i][start:end]} -> {value!r}"
+        lines[i] = lines[i][:start] + value + lines[i][end:]
+    elif choice == "delete":
+        i = rng.randrange(len(lines))
+        what = f"line {i + 1} deleted"
+        del lines[i]
+    else:
+        i = rng.randrange(len(lines))
+        what = f"line {i + 1} twice"
+        lines.insert(i, lines[i])
+    return "\n".join(lines), what
+
+
 def run(cmd, timeout):
     started = time.monotonic()
     try:
@@ -138,10 +165,21 @@ def main():
                 print(f"{name}: run failed: {err[-300:]}")
                 return 1
             tables += [(t, kind_of(t.name)) for t in sorted(out.glob("*.csv")) if kind_of(t.name)]
+        # The estimate and truth of the R-test run, for `score`.
+        rtest = scratch / "trunnion5_rtest"
+        rc, _, _, err = run([args.mtwin, "identify", "--machine",
+                             str(root / "models" / "trunnion5.urdf"), "--params", "location",
+                             str(rtest / "rtest.csv"), "--out", str(scratch / "estimate")], 300)
+        if rc != 0:
+            print(f"identify failed: {err[-300:]}")
+            return 1
+        estimate, truth = scratch / "estimate" / "estimate.json", rtest / "truth.json"
+        tables += [(estimate, "score-estimate"), (truth, "score-truth")]
         done = 0
         while done < args.count:
             path, kind = rng.choice(tables)
-            mutation = mutate(path.read_text(), rng)
+            scoring = kind.startswith("score")
+            mutation = (mutate_json if scoring else mutate)(path.read_text(), rng)
             if mutation is None:
                 continue
             text, what = mutation
@@ -149,10 +187,16 @@ def main():
             target.write_text(text)
             done += 1
             for json in (False, True):
-                cmd = [args.mtwin, "analyze", kind, str(target)]
+                if kind == "score-estimate":
+                    cmd = [args.mtwin, "score", str(target), str(truth)]
+                elif kind == "score-truth":
+                    cmd = [args.mtwin, "score", str(estimate), str(target)]
+                else:
+                    cmd = [args.mtwin, "analyze", kind, str(target)]
                 cmd += ["--json"] if json else []
                 rc, seconds, out, err = run(cmd, args.timeout)
-                where = f"{path.parent.name}/{path.name} {what} (analyze {kind}{' --json' if json else ''})"
+                verb = "score" if scoring else f"analyze {kind}"
+                where = f"{path.parent.name}/{path.name} {what} ({verb}{' --json' if json else ''})"
                 if rc is None or rc not in (0, 1):
                     failures.append(f"{where}: rc={rc} after {seconds:.1f} s: {err[-300:]}")
                     break
@@ -162,7 +206,8 @@ def main():
             target.unlink()
     for failure in failures:
         print(failure)
-    print(f"fuzz_tables: {args.count} mutations of {len(tables)} tables, {len(failures)} failures")
+    print(f"fuzz_tables: {args.count} mutations of {len(tables)} files (tables, estimate, truth), "
+          f"{len(failures)} failures")
     return 1 if failures else 0
 
 

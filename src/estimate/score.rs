@@ -253,13 +253,23 @@ pub fn error_model_of(errors: &Value, machine: &Machine) -> Result<ErrorModel, S
 }
 
 fn model(entries: &[Entry], machine: &Machine) -> Result<ErrorModel, ScoreError> {
-    let parameters = entries
+    let parameters: Vec<ErrorParameter> = entries
         .iter()
         .map(|e| ErrorParameter {
             name: e.name,
             function: e.function.clone(),
         })
         .collect();
+    // The limit every scenario and `identify` enforce (10 mm, 10 mrad): beyond it a value is a
+    // unit slip or a corrupted file, and its squares overflow the volumetric figures.
+    for parameter in &parameters {
+        if let Some(why) = crate::scenario::errors::implausible(parameter, machine) {
+            return Err(ScoreError::shape(
+                format!("errors.{}", parameter.name),
+                format!("{why}; score compares machine errors, not values beyond that limit"),
+            ));
+        }
+    }
     ErrorModel::new(machine, parameters).map_err(|e| ScoreError::shape("errors", e.to_string()))
 }
 

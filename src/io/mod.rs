@@ -12,6 +12,6 @@ mod write;
 
 pub use conditions::{Conditions, not_used_line};
 pub use path::{PathError, relative_path};
-pub use table::{TableError, first_non_finite};
-pub(crate) use table::{csv_reader, finite_number, read_file, read_header, row};
+pub use table::{CLOCK_MIN, CLOCK_S, Range, THERMOMETER, TableError, first_non_finite};
+pub(crate) use table::{csv_reader, finite_number, number_within, read_file, read_header, row};
 pub use write::{WriteError, check_folder_of, write_atomically, write_files};

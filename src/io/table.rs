@@ -133,6 +133,60 @@ pub(crate) fn finite_number(
     }
 }
 
+/// An instrument's range: readings beyond ±`limit` (file units) cannot come from it, so a
+/// reader refuses them instead of evaluating them (a unit slip, a corrupted cell).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// The largest magnitude a reading can have (file units).
+    pub limit: f64,
+    /// Why, with its source: what reads that far and no further.
+    pub why: &'static str,
+}
+
+/// A temperature column's range (°C): every table's `temp_<sensor>_degc`. A machine tool's air
+/// and structure stay far inside ±200 °C (a Pt100's usual range is −50 … 200 °C).
+pub const THERMOMETER: Range = Range {
+    limit: 200.0,
+    why: "no machine tool's air or structure is that hot or cold",
+};
+
+/// A time column's range in seconds (`time_s`): a test record lasts hours or days, not years.
+pub const CLOCK_S: Range = Range {
+    limit: 1e8,
+    why: "about three years: no test record lasts that long",
+};
+
+/// A time column's range in minutes (`time_min`): [`CLOCK_S`] in minutes.
+pub const CLOCK_MIN: Range = Range {
+    limit: 1e8 / 60.0,
+    why: "about three years: no test record lasts that long",
+};
+
+/// [`finite_number`] within `range`; beyond it, an error naming the file, line, column, value
+/// and the range's reason.
+pub(crate) fn number_within(
+    record: &csv::StringRecord,
+    index: usize,
+    name: &str,
+    file: &str,
+    range: Range,
+) -> Result<f64, TableError> {
+    let value = finite_number(record, index, name, file)?;
+    if value.abs() > range.limit {
+        return Err(TableError::new(
+            file,
+            record.position().map(|p| p.line()),
+            format!(
+                "column `{name}`: {} is beyond ±{} ({}); units?",
+                crate::math::readable(value),
+                range.limit,
+                range.why
+            ),
+        ));
+    }
+    Ok(value)
+}
+
 /// Where a table about to be written holds a number that is not finite: its 1-based line, the
 /// column (or the preamble key) and the text, or `None` when every number is finite.
 ///

@@ -457,11 +457,16 @@ pub(crate) fn servo_over(
     let s = raw.get_ref();
     if let Some(period) = &s.ipo_period_ms {
         let ms = *period.get_ref();
-        if !(ms.is_finite() && ms > 0.0 && ms <= 100.0) {
+        // CNC interpolation cycles run from about 0.1 ms to a few ms; the simulation takes a
+        // step per period, so a period far below that is hours of work for nothing.
+        if !(ms.is_finite() && (0.05..=100.0).contains(&ms)) {
             return Err(context.error(
                 Some(period.span()),
                 ScenarioErrorKind::Value,
-                format!("servo.ipo_period_ms: expected 0 < period ≤ 100 ms, got {ms}"),
+                format!(
+                    "servo.ipo_period_ms: expected 0.05 … 100 ms (CNC interpolation cycles run from about 0.1 ms to a few ms), got {}",
+                    crate::math::readable(ms)
+                ),
             ));
         }
         servo.ipo_period = ms * 1e-3;

@@ -26,7 +26,10 @@
 //! A table without them reads as well: its conditions are then given on the command line
 //! (`--plane`, `--radius-mm`, `--feed-mm-per-min`).
 
-use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
+use crate::io::{
+    Conditions, Range, TableError, csv_reader, finite_number, number_within, read_file,
+    read_header, row,
+};
 use crate::machine::{Axis, AxisValues, Plane};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed, trimmed};
 use std::path::Path;
@@ -202,6 +205,13 @@ pub struct BallbarTable {
     pub machine: Option<String>,
 }
 
+/// The ball-bar transducer's range (µm): ±1 mm, the QC20-W's (Renishaw's specification); a
+/// deviation beyond it cannot be a ball-bar reading.
+pub const TRANSDUCER: Range = Range {
+    limit: 1000.0,
+    why: "a ball-bar's transducer reads ±1 mm (Renishaw QC20-W)",
+};
+
 const KNOWN: [&str; 4] = ["direction", "angle_deg", "deviation_um", "time_s"];
 
 impl BallbarTable {
@@ -270,9 +280,11 @@ impl BallbarTable {
                     format!("column `angle_deg`: {angle_deg} is outside [0, 360)"),
                 ));
             }
-            let deviation = number(deviation_column, "deviation_um")? * M_PER_UM;
+            let deviation =
+                number_within(&record, deviation_column, "deviation_um", file, TRANSDUCER)?
+                    * M_PER_UM;
             let time = time_column
-                .map(|index| number(index, "time_s"))
+                .map(|index| number_within(&record, index, "time_s", file, crate::io::CLOCK_S))
                 .transpose()?;
             readings.push(BallbarReading {
                 sense,

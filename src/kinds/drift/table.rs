@@ -27,7 +27,18 @@
 //! `mtwin analyze drift` says each of them again; keys it does not know are named as not used.
 
 use super::scenario::ControlMode;
-use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
+use crate::io::{
+    Conditions, Range, TableError, csv_reader, finite_number, number_within, read_file,
+    read_header, row,
+};
+
+/// A drift channel's range (µm or µrad): thermal drift is micrometres, and the displacement
+/// sensors of an ISO 230-3 nest read a few millimetres at most; 10 mm (10 mrad for a tilt) is
+/// the limit scenarios put on any error.
+pub const SENSOR: Range = Range {
+    limit: 10_000.0,
+    why: "thermal drift is µm, and the nest's sensors read a few mm at most",
+};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_URAD, Real, fixed, trimmed};
 use std::path::Path;
 
@@ -304,8 +315,10 @@ impl DriftTable {
         for record in reader.records() {
             let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
-            let number = |index: usize| finite_number(&record, index, &header[index], file);
-            let time = number(time_column)? * 60.0;
+            let within = |index: usize, range: Range| {
+                number_within(&record, index, &header[index], file, range)
+            };
+            let time = within(time_column, crate::io::CLOCK_MIN)? * 60.0;
             if table.times.last().is_some_and(|last| time <= *last) {
                 return Err(fail(line, "column `time_min`: times must increase".into()));
             }
@@ -313,10 +326,10 @@ impl DriftTable {
             for ((index, _, angular), channel) in channels.iter().zip(&mut table.channels) {
                 channel
                     .values
-                    .push(number(*index)? * if *angular { RAD_PER_URAD } else { M_PER_UM });
+                    .push(within(*index, SENSOR)? * if *angular { RAD_PER_URAD } else { M_PER_UM });
             }
             for ((index, _), (_, values)) in sensors.iter().zip(&mut table.temperatures) {
-                values.push(number(*index)?);
+                values.push(within(*index, crate::io::THERMOMETER)?);
             }
         }
         if table.times.len() < 2 {

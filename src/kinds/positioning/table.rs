@@ -231,12 +231,23 @@ impl PositioningTable {
                 }
             };
             let time = time_column
-                .map(|index| number(index, "time_min").map(|t| t * 60.0))
+                .map(|index| {
+                    crate::io::number_within(&record, index, "time_min", file, crate::io::CLOCK_MIN)
+                        .map(|t| t * 60.0)
+                })
                 .transpose()?;
             let temperatures = sensor_columns
                 .iter()
                 .zip(&sensors)
-                .map(|(&index, sensor)| number(index, &format!("temp_{sensor}_degc")))
+                .map(|(&index, sensor)| {
+                    crate::io::number_within(
+                        &record,
+                        index,
+                        &format!("temp_{sensor}_degc"),
+                        file,
+                        crate::io::THERMOMETER,
+                    )
+                })
                 .collect::<Result<Vec<_>, _>>()?;
             lines.push(line);
             readings.push(PositioningReading {

@@ -161,6 +161,29 @@ pub(crate) fn rtest(
             ))
         }
     };
+    // A value with a physical range: refused outside it, with the reason.
+    let bounded = |v: &Option<Spanned<Real>>,
+                   key: &str,
+                   default: Real,
+                   (low, high): (Real, Real),
+                   why: &str| {
+        let Some(v) = v else { return Ok(default) };
+        let x = *v.get_ref();
+        if x.is_finite() && (low..=high).contains(&x) {
+            Ok(x)
+        } else {
+            Err(fail(
+                v.span(),
+                key,
+                format!(
+                    "expected {} … {} ({why}), got {}",
+                    crate::math::readable(low),
+                    crate::math::readable(high),
+                    crate::math::readable(x)
+                ),
+            ))
+        }
+    };
     if machine.rotary_axes().count() == 0 {
         return Err(fail(
             raw.span(),
@@ -180,8 +203,14 @@ pub(crate) fn rtest(
         ));
     }
     let sphere = Vector::from_array(sphere_values) * M_PER_MM;
-    let sphere_radius =
-        number(&r.sphere_diameter_mm, "sphere_diameter_mm", 25.4, false)? / 2.0 * M_PER_MM;
+    let sphere_radius = bounded(
+        &r.sphere_diameter_mm,
+        "sphere_diameter_mm",
+        25.4,
+        (5.0, 100.0),
+        "R-test spheres are about 10 to 50 mm",
+    )? / 2.0
+        * M_PER_MM;
     let count = match &r.probes {
         None => 3,
         Some(p) if matches!(*p.get_ref(), 3 | 4) => *p.get_ref() as usize,
@@ -193,7 +222,13 @@ pub(crate) fn rtest(
             ));
         }
     };
-    let tip_radius = number(&r.tip_radius_mm, "tip_radius_mm", 0.0, true)? * M_PER_MM;
+    let tip_radius = bounded(
+        &r.tip_radius_mm,
+        "tip_radius_mm",
+        0.0,
+        (0.0, 10.0),
+        "a probe tip is a few mm at most",
+    )? * M_PER_MM;
     let tip = match r.tip.as_ref().map(|t| (t.get_ref().as_str(), t.span())) {
         None | Some(("flat", _)) => {
             if let Some(t) = &r.tip_radius_mm {
@@ -214,9 +249,27 @@ pub(crate) fn rtest(
             ));
         }
     };
-    let range = number(&r.range_mm, "range_mm", 2.0, false)? * M_PER_MM;
-    let noise = number(&r.noise_um, "noise_um", 0.2, true)? * M_PER_UM;
-    let resolution = number(&r.resolution_um, "resolution_um", 0.01, true)? * M_PER_UM;
+    let range = bounded(
+        &r.range_mm,
+        "range_mm",
+        2.0,
+        (0.1, 10.0),
+        "an R-test's probes travel a few mm",
+    )? * M_PER_MM;
+    let noise = bounded(
+        &r.noise_um,
+        "noise_um",
+        0.2,
+        (0.0, 10.0),
+        "a displacement probe's noise is well under a micrometre",
+    )? * M_PER_UM;
+    let resolution = bounded(
+        &r.resolution_um,
+        "resolution_um",
+        0.01,
+        (0.0, 10.0),
+        "a displacement probe resolves well under a micrometre",
+    )? * M_PER_UM;
     let per_probe_len = |len: usize, span: std::ops::Range<usize>, key: &str| {
         if len == count {
             Ok(())
@@ -323,7 +376,13 @@ pub(crate) fn rtest(
     };
     let mode = match r.mode.as_ref().map(|m| (m.get_ref().as_str(), m.span())) {
         None | Some(("static", _)) => Mode::Static {
-            dwell: number(&r.dwell_s, "dwell_s", 1.0, false)?,
+            dwell: bounded(
+                &r.dwell_s,
+                "dwell_s",
+                1.0,
+                (1e-3, 3600.0),
+                "a pose held longer than an hour measures drift, not the axis",
+            )?,
         },
         Some(("dynamic", _)) => {
             let mut kv = [100.0 / 3.0; 7];
@@ -338,26 +397,42 @@ pub(crate) fn rtest(
                                 format!("{letter}: not a feed axis of the machine"),
                             )
                         })?;
-                    if !(value.is_finite() && value > 0.0) {
+                    if !(value.is_finite() && (1.0..=1000.0).contains(&value)) {
                         return Err(fail(
                             map.span(),
                             "kv_per_s",
-                            format!("{letter} = {value}: expected a positive gain"),
+                            format!(
+                                "{letter} = {}: expected a gain of 1 … 1000 /s (position loops run at tens of 1/s)",
+                                crate::math::readable(value)
+                            ),
                         ));
                     }
                     kv[axis.index()] = value;
                 }
             }
             Mode::Dynamic(Dynamic {
-                rate: number(
+                rate: bounded(
                     &r.rotary_feed_deg_per_min,
                     "rotary_feed_deg_per_min",
                     1800.0,
-                    false,
+                    (1.0, 72_000.0),
+                    "72 000 °/min is 200 rpm, beyond any rotary table's feed",
                 )? * RAD_PER_DEG
                     / 60.0,
-                sample_rate: number(&r.sample_rate_hz, "sample_rate_hz", 100.0, false)?,
-                ipo_period: number(&r.ipo_period_ms, "ipo_period_ms", 1.0, false)? * 1e-3,
+                sample_rate: bounded(
+                    &r.sample_rate_hz,
+                    "sample_rate_hz",
+                    100.0,
+                    (1.0, 1e5),
+                    "an R-test's probes are read at up to some kHz",
+                )?,
+                ipo_period: bounded(
+                    &r.ipo_period_ms,
+                    "ipo_period_ms",
+                    1.0,
+                    (0.05, 100.0),
+                    "CNC interpolation cycles run from about 0.1 ms to a few ms",
+                )? * 1e-3,
                 kv,
             })
         }
@@ -474,6 +549,26 @@ pub(crate) fn rtest(
             Mode::Static { dwell } => (0.0, (test.points - 1) as Real * dwell),
             Mode::Dynamic(d) => (SETTLE, test.rotary_travel(machine) / d.rate),
         };
+        if let Mode::Dynamic(d) = &mode {
+            // The work of a dynamic sweep: one sample per reading, one servo step per
+            // interpolation period (about 10 s at these limits on a 2-core machine).
+            let duration = move_time + 2.0 * SETTLE;
+            let (samples, steps) = (duration * d.sample_rate, duration / d.ipo_period);
+            if samples > MAX_DYNAMIC_SAMPLES || steps > MAX_SERVO_STEPS {
+                return Err(fail(
+                    t.span(),
+                    "test",
+                    format!(
+                        "{key}: a dynamic sweep of {} s is {} readings and {} servo steps; at most {} and {}: a faster feed or a lower sample rate",
+                        crate::math::trimmed(duration, 1),
+                        crate::math::readable(samples.ceil()),
+                        crate::math::readable(steps.ceil()),
+                        MAX_DYNAMIC_SAMPLES,
+                        MAX_SERVO_STEPS
+                    ),
+                ));
+            }
+        }
         let checks = (test.rotary_travel(machine).to_degrees().ceil() as usize).clamp(2, 3600);
         let mut path = Vec::with_capacity(checks + 1);
         for k in 0..=checks {
@@ -506,6 +601,11 @@ pub(crate) fn rtest(
         zero,
     })
 }
+
+/// The most readings one dynamic R-test sweep may take (the ball-bar's limit).
+pub const MAX_DYNAMIC_SAMPLES: Real = 5e6;
+/// The most interpolation periods one dynamic sweep may simulate.
+pub const MAX_SERVO_STEPS: Real = 5e7;
 
 /// The nest's holder: a cylinder of this radius (m) around the tool axis, from [`NEST_GAP`]
 /// above the sphere's top to the spindle nose, 150 mm above the tip. The probes that reach

@@ -17,10 +17,21 @@
 //! `dz_um` are along; only [`FRAMES`] (the machine's X, Y, Z) is accepted, and a table that
 //! declares another frame is refused at the `frame` line rather than read as machine axes.
 
-use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
+use crate::io::{
+    Conditions, Range, TableError, csv_reader, finite_number, number_within, read_file,
+    read_header, row,
+};
+
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Vector, fixed};
 use std::path::Path;
+
+/// The R-test's range (µm): its probes travel a few millimetres, and the errors it measures are
+/// below the 10 mm scenarios allow any error; a deviation or reading beyond 10 mm is a unit slip.
+pub const NEST: Range = Range {
+    limit: 10_000.0,
+    why: "an R-test nest's probes travel a few mm",
+};
 
 /// One row: one pose of one test.
 #[derive(Clone, Debug, PartialEq)]
@@ -257,7 +268,9 @@ impl RtestTable {
                     )
                 })?),
             };
-            let time = time_column.map(|i| number(i, "time_s")).transpose()?;
+            let time = time_column
+                .map(|i| number_within(&record, i, "time_s", file, crate::io::CLOCK_S))
+                .transpose()?;
             let mut row_angles = [None; 3];
             for ((slot, index), name) in row_angles.iter_mut().zip(&angles).zip(ANGLES) {
                 *slot = index
@@ -271,15 +284,16 @@ impl RtestTable {
                 ),
                 _ => None,
             };
+            let within = |index: usize, name: &str| number_within(&record, index, name, file, NEST);
             let d = Vector::new(
-                number(deviation[0], "dx_um")?,
-                number(deviation[1], "dy_um")?,
-                number(deviation[2], "dz_um")?,
+                within(deviation[0], "dx_um")?,
+                within(deviation[1], "dy_um")?,
+                within(deviation[2], "dz_um")?,
             ) * M_PER_UM;
             let readings = probes
                 .iter()
                 .zip(PROBES)
-                .map(|(&i, name)| number(i, name).map(|v| v * M_PER_UM))
+                .map(|(&i, name)| within(i, name).map(|v| v * M_PER_UM))
                 .collect::<Result<Vec<_>, _>>()?;
             rows.push(RtestRow {
                 test,

@@ -75,7 +75,10 @@
 //! then angles (deg) and times to 6 decimals, speeds (rpm) to 3 and readings (µm) to 6 (1 pm).
 
 use super::record::{Sensing, SpindleProbe, SpindleRecord};
-use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, read_header, row};
+use crate::io::{
+    Conditions, Range, TableError, csv_reader, finite_number, number_within, read_file,
+    read_header, row,
+};
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed, trimmed};
 use std::f64::consts::TAU;
@@ -117,6 +120,70 @@ const RAD_PER_S_PER_RPM: Real = TAU / 60.0;
 pub fn read(path: &Path) -> Result<SpindleTable, TableError> {
     let (bytes, file) = read_file(path)?;
     parse(&bytes, &file)
+}
+
+/// A spindle probe's range (µm): error motions are micrometres, and the capacitive and
+/// eddy-current probes of spindle analysers read a few millimetres at most; a reading beyond
+/// 10 mm is a unit slip or a corrupted cell.
+pub const PROBE: Range = Range {
+    limit: 10_000.0,
+    why: "a spindle analyser's displacement probes read a few mm at most",
+};
+
+/// How far a run's speed, from its angles against its times, may differ from its stated
+/// `speed_rpm`: 5 %. A spindle turns within a percent or two of its commanded speed; a unit
+/// slip is a factor of 57 (radians in `angle_deg`) or 60 (seconds for minutes).
+pub const SPEED_AGREEMENT: Real = 0.05;
+
+/// Refuses angles that cannot be degrees: a record of full revolutions (8 samples or more each)
+/// whose `angle_deg` never passes 2π is in radians; and, where a run gives both `time_s` and
+/// `speed_rpm`, the angles must advance at the stated speed within [`SPEED_AGREEMENT`].
+fn check_angle_units(
+    rows: &[Row],
+    runs: &[(usize, usize)],
+    unwrapped: &[Real],
+    time: &Option<Vec<Real>>,
+    speed: &Option<Vec<Real>>,
+    samples_per_revolution: usize,
+    file: &str,
+) -> Result<(), TableError> {
+    let largest = rows.iter().map(|r| r.angle_deg).fold(0.0, Real::max);
+    if samples_per_revolution >= 8 && rows.len() >= samples_per_revolution && largest <= TAU + 1e-9
+    {
+        return Err(TableError::new(
+            file,
+            rows.first().and_then(|r| r.line),
+            format!(
+                "column `angle_deg`: the angles never pass {} over revolutions of {samples_per_revolution} samples; \
+                 they look like radians (a revolution spans 360°)",
+                trimmed(largest, 6)
+            ),
+        ));
+    }
+    let (Some(time), Some(speed)) = (time, speed) else {
+        return Ok(());
+    };
+    for &(start, end) in runs {
+        let stated = speed[start];
+        if end - start < 3 || stated == 0.0 {
+            continue;
+        }
+        let travelled = slope(&time[start..end], &unwrapped[start..end]);
+        if (travelled - stated).abs() > SPEED_AGREEMENT * stated.abs() {
+            let rpm = |w: Real| trimmed(w / RAD_PER_S_PER_RPM, 3);
+            return Err(TableError::new(
+                file,
+                rows[start].line,
+                format!(
+                    "column `speed_rpm`: {} rpm, but the angles advance at {} rpm against time_s in the run from this line; \
+                     angles in radians, or times in another unit?",
+                    rpm(stated),
+                    rpm(travelled)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// One data row as read, before the checks across rows.
@@ -256,14 +323,19 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
         }
         let readings = probe_columns
             .iter()
-            .map(|(index, name)| number(*index, &format!("{name}_um")).map(|v| v * M_PER_UM))
+            .map(|(index, name)| {
+                number_within(&record, *index, &format!("{name}_um"), file, PROBE)
+                    .map(|v| v * M_PER_UM)
+            })
             .collect::<Result<Vec<_>, _>>()?;
         rows.push(Row {
             line,
             setup: setup_column.map_or_else(String::new, |i| record[i].to_string()),
             revolution,
             angle_deg,
-            time: time_column.map(|i| number(i, TIME)).transpose()?,
+            time: time_column
+                .map(|i| number_within(&record, i, TIME, file, crate::io::CLOCK_S))
+                .transpose()?,
             speed_rpm: speed_column.map(|i| number(i, SPEED)).transpose()?,
             readings,
         });
@@ -391,6 +463,15 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
         }
         (None, None) => vec![0.0; rows.len()], // refused at the header
     };
+    check_angle_units(
+        &rows,
+        &runs,
+        &unwrapped,
+        &given_time,
+        &given_speed,
+        samples_per_revolution,
+        file,
+    )?;
     let summaries: Vec<super::stated::RunSummary<'_>> = runs
         .iter()
         .map(|&(start, end)| super::stated::RunSummary {
