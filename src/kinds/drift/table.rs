@@ -28,8 +28,7 @@
 
 use super::scenario::ControlMode;
 use crate::io::{
-    Conditions, Range, TableError, csv_reader, finite_number, number_within, read_file,
-    read_header, row,
+    Conditions, Range, TableError, csv_reader, number_within, read_file, read_header, row,
 };
 
 /// A drift channel's range (µm or µrad): thermal drift is micrometres, and the displacement
