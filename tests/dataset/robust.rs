@@ -241,3 +241,49 @@ fn stray_files_in_a_dataset_folder_are_refused_by_name() {
     let printed = ok(&args);
     assert!(printed.contains("2 shard(s) already complete"), "{printed}");
 }
+
+/// A prior whose draws can leave what the scenario accepts is refused by `check`, at its line,
+/// before any case runs (issue 34: a prior crossing a scenario limit used to pass `check` and
+/// fail part-way through the dataset). Each prior is tried at the ends of its reach: a
+/// uniform's ends, a bounded prior's bounds, 4.9 standard deviations for an unbounded one.
+#[test]
+fn a_prior_that_can_cross_a_scenario_limit_is_refused_at_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string(format!(
+        "{}/scenarios/vmc3_dataset_ballbar.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace(
+        "../models",
+        &format!("{}/models", env!("CARGO_MANIFEST_DIR")),
+    );
+    let prior = "\"ballbar.noise_um\" = { lognormal = [0.1, 0.3], bounds = [0.02, 0.5] }";
+    assert!(base.contains(prior));
+    let line = base.lines().position(|l| l == prior).unwrap() + 1;
+    for (replacement, expected) in [
+        // The transducer reads ±1 mm: a calibration error up to 2 mm is no ball-bar.
+        (
+            "\"ballbar.calibration_um\" = { uniform = [0.0, 2000.0] }",
+            "ballbar.calibration_um can reach 2000 (the upper end of its prior)",
+        ),
+        // Noise is never negative; 0.1 ± 0.05 µm unbounded reaches −0.145 at 4.9 sd.
+        (
+            "\"ballbar.noise_um\" = { normal = [0.1, 0.05] }",
+            "ballbar.noise_um can reach -0.145 (the lower end of its prior, 4.9 standard deviations out)",
+        ),
+    ] {
+        let file = dir.path().join("prior.toml");
+        std::fs::write(&file, base.replace(prior, replacement)).unwrap();
+        let path = file.to_str().unwrap();
+        let message = refused(&["check", path]);
+        assert!(
+            message.contains(&format!("{path}:{line}")) && message.contains(expected),
+            "{replacement}: {message}"
+        );
+    }
+    // The bundled priors stay inside: the scenario checks.
+    let file = dir.path().join("bundled.toml");
+    std::fs::write(&file, &base).unwrap();
+    ok(&["check", file.to_str().unwrap()]);
+}

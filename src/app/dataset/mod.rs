@@ -220,7 +220,7 @@ impl Dataset {
             .collect();
         let all = self.build(self.scenario.seed, &centres, None);
         let Err(first) = all else {
-            return Ok(());
+            return self.check_reach(context);
         };
         for (index, prior) in self.section.priors.iter().enumerate() {
             if let Err(message) =
@@ -242,6 +242,38 @@ impl Dataset {
             ScenarioErrorKind::Value,
             format!("dataset: the priors' centres together do not make a valid scenario: {first}"),
         ))
+    }
+
+    /// Refuses, at its line, a prior whose draws can leave what the scenario accepts: each prior
+    /// alone at each end of its reach ([`priors::Law::reach`]) must make a valid
+    /// scenario, so that no case fails part-way through a dataset.
+    fn check_reach(&self, context: &Context<'_>) -> Result<(), ScenarioError> {
+        for (index, prior) in self.section.priors.iter().enumerate() {
+            let Some((low, high)) = prior.law.reach() else {
+                continue;
+            };
+            for (end, value) in [("lower", low), ("upper", high)] {
+                // To 12 significant digits, so that messages quote −0.145, not −0.14500000000000002.
+                let value = format!("{value:.11e}").parse::<f64>().unwrap_or(value);
+                if let Err(message) = self.build(self.scenario.seed, &[value], Some(index)) {
+                    return Err(context.error(
+                        Some(prior.span.clone()),
+                        ScenarioErrorKind::Value,
+                        format!(
+                            "dataset: {} can reach {} (the {end} end of its prior{}), which does not make a valid scenario: {message}; narrow the prior or give it bounds",
+                            prior.path.as_str(),
+                            crate::math::readable(value),
+                            if prior.law.bounds.is_some() || matches!(prior.law.distribution, priors::Distribution::Uniform { .. }) {
+                                ""
+                            } else {
+                                ", 4.9 standard deviations out"
+                            }
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Case `id`: its seed, its values and its split.

@@ -144,6 +144,30 @@ impl RawPrior {
     }
 }
 
+/// How far an unbounded normal or log-normal prior reaches, in standard deviations (of `ln x`
+/// for a log-normal): the one-in-a-million quantiles (Φ(−4.9) = 4.8e-7 each side), so a
+/// dataset of up to a million cases stays inside what `check` tried.
+pub const REACH_SD: Real = 4.9;
+
+impl Law {
+    /// The ends a draw can reach: the bounds, a uniform's ends, or [`REACH_SD`] standard
+    /// deviations each side; `None` for a fixed value (its centre is all it draws).
+    pub fn reach(&self) -> Option<(Real, Real)> {
+        if let Some(bounds) = self.bounds {
+            return Some(bounds);
+        }
+        match self.distribution {
+            Distribution::Fixed(_) => None,
+            Distribution::Uniform { low, high } => Some((low, high)),
+            Distribution::Normal { mean, sd } => Some((mean - REACH_SD * sd, mean + REACH_SD * sd)),
+            Distribution::LogNormal { median, sigma } => Some((
+                median * (-REACH_SD * sigma).exp(),
+                median * (REACH_SD * sigma).exp(),
+            )),
+        }
+    }
+}
+
 impl Distribution {
     /// Its centre: the value, the midpoint, the mean or the median.
     pub fn centre(self) -> Real {
