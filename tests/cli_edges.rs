@@ -403,13 +403,28 @@ setup_offset_um = [0.0, 0.0, 0.0]
         assert!(message.contains(expected), "{path}: {message}");
         assert!(!String::from_utf8_lossy(&mtwin(&["check", &file]).stdout).contains("ok"));
     }
-    // Degree 10 is a polynomial a scenario accepts, and so is a prior on it.
+    // Degree 10 is a polynomial a scenario accepts, and so is a prior on it whose draws stay a
+    // machine error: 4.9 × 1e-30 µm/mm¹⁰ reaches 0.3 µm at 760 mm. With sd 1 µm/mm¹⁰ the same
+    // prior reaches 3e29 µm, and `check` says so at its line (it tries the prior's reach).
+    let file = scenario_file(
+        dir.path(),
+        "prior.toml",
+        &base
+            .replace("PATH", "errors.EXX.polynomial_um[10]")
+            .replace("normal = [0.0, 1.0]", "normal = [0.0, 1.0e-30]"),
+    );
+    accepted(&file);
     let file = scenario_file(
         dir.path(),
         "prior.toml",
         &base.replace("PATH", "errors.EXX.polynomial_um[10]"),
     );
-    accepted(&file);
+    let message = refused_at(&["check", &file], &file, 8);
+    assert!(
+        message
+            .contains("can reach -4.9 (the lower end of its prior, 4.9 standard deviations out)"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -768,4 +783,33 @@ fn a_ball_bar_interpolation_period_far_below_any_controllers_is_refused() {
         + 1;
     let message = refused_at(&["check", &file], &file, line);
     assert!(message.contains("expected 0.05 … 100 ms"), "{message}");
+}
+
+/// The thermal run steps by a twentieth of the air's oscillation when that is shorter than
+/// `max_interval_s`: a period of 1e-6 min used to pass `check` (which counted steps of
+/// `max_interval_s`) and make `run` step 5e9 times. The step limit now counts the real steps.
+#[test]
+fn a_fast_air_oscillation_cannot_slip_past_the_thermal_step_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenario("teach_warmup.toml"))
+        .unwrap()
+        .replace("../models", "MODELS")
+        .replace(
+            "ambient_degc = 20.0\n",
+            "ambient_degc = 20.0\noscillation = { amplitude_degc = 0.2, period_min = PERIOD }\n",
+        );
+    let line = text.lines().position(|l| l == "[thermal]").unwrap() + 1;
+    let file = scenario_file(dir.path(), "fast.toml", &text.replace("PERIOD", "1e-6"));
+    let message = refused_at(&["check", &file], &file, line);
+    assert!(
+        message.contains("thermal.oscillation.period_min")
+            && message.contains("more than five million steps"),
+        "{message}"
+    );
+    // An air conditioner's 20 min cycle: accepted.
+    accepted(&scenario_file(
+        dir.path(),
+        "slow.toml",
+        &text.replace("PERIOD", "20.0"),
+    ));
 }

@@ -122,22 +122,41 @@ impl ThermalSetup {
         )
     }
 
+    /// The interval the thermal run steps by (s): [`ThermalSetup::max_interval`], or a
+    /// twentieth of the air's fast oscillation when that is shorter (as
+    /// [`crate::twin::run_thermal`] steps).
+    pub fn step_interval(&self) -> Real {
+        self.thermal
+            .ambient
+            .oscillation
+            .map_or(self.max_interval, |(_, period)| {
+                self.max_interval.min(period / 20.0)
+            })
+    }
+
     /// Refuses a programme of `duration` s that would take more than five million intervals
-    /// of [`ThermalSetup::max_interval`] (the `[thermal]` section is at `span`).
+    /// of [`ThermalSetup::step_interval`] (the `[thermal]` section is at `span`): a long
+    /// `max_interval_s` does not let a fast oscillation of the air through.
     pub(crate) fn check_steps(
         &self,
         context: &Context<'_>,
         span: std::ops::Range<usize>,
         duration: Real,
     ) -> Result<(), ScenarioError> {
-        if duration / self.max_interval > 5e6 {
+        let step = self.step_interval();
+        if duration / step > 5e6 {
+            let why = if step < self.max_interval {
+                "thermal.oscillation.period_min: the air's oscillation is followed in steps of a twentieth of its period"
+            } else {
+                "thermal.max_interval_s"
+            };
             return Err(context.error(
                 Some(span),
                 ScenarioErrorKind::Value,
                 format!(
-                    "thermal.max_interval_s: {:.1} h in steps of {} s is more than five million steps",
+                    "{why}: {:.1} h in steps of {} s is more than five million steps",
                     duration / 3600.0,
-                    self.max_interval
+                    crate::math::readable(step)
                 ),
             ));
         }
