@@ -132,7 +132,7 @@ enum Command {
         /// Monte Carlo trials (GUM Supplement 1) propagating the instruments' noise and the
         /// set-up uncertainties through the twin; 0 for none, at most 1 000 000 (the 10^6
         /// trials GUM Supplement 1 §7.2 expects to give a 95 % interval to one or two
-        /// significant digits).
+        /// significant digits), run in batches of 10 000 with a progress bar.
         #[arg(long, value_name = "N", default_value_t = 0, allow_negative_numbers = true,
               value_parser = clap::value_parser!(i64).range(0..=MAX_MONTE_CARLO).map(|n| n as usize))]
         monte_carlo: usize,
@@ -438,6 +438,20 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                     "--monte-carlo {monte_carlo}: at least {MIN_TRIALS} trials are needed to place a 95 % interval's 2.5 % tails (GUM Supplement 1 §7.2 asks M ≫ 1/(1 − p) = 20)"
                 );
             }
+            // The Monte Carlo's progress (hidden when stderr is not a terminal).
+            let bar = indicatif::ProgressBar::new(monte_carlo as u64);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "Monte Carlo {bar:40} {pos}/{len} trials, {per_sec}, {eta} left",
+                )
+                .expect("a valid template"),
+            );
+            let progress = (monte_carlo > 0).then(|| {
+                let bar = bar.clone();
+                mtwin::estimate::fit::Progress(std::sync::Arc::new(move |done| {
+                    bar.inc(done as u64)
+                }))
+            });
             let request = mtwin::app::identify::Request {
                 machine,
                 params,
@@ -450,8 +464,11 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 seed,
                 scenario,
                 accept_implausible,
+                progress,
             };
-            let identified = mtwin::app::identify::identify(&request)?;
+            let identified = mtwin::app::identify::identify(&request);
+            bar.finish_and_clear();
+            let identified = identified?;
             if json {
                 say_raw(&format!("{:#}\n", identified.json));
             } else {

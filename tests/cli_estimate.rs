@@ -128,6 +128,92 @@ fn simulate_identify_score_compensate_simulate_again() {
     );
 }
 
+/// The manifest `mtwin run` writes beside its tables ties them to their scenario: `identify`
+/// records it in estimate.json, refuses a `--scenario` of another machine or another scenario
+/// (its compensated.toml would subtract the estimate from errors the tables never saw), says
+/// so where a table carries nothing, and `score` refuses a truth of another scenario.
+#[test]
+fn provenance_ties_an_estimate_to_its_scenario_and_refuses_another() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = root("scenarios/trunnion5_rtest.toml");
+    let run = run_into(&scenario, dir.path(), "run");
+    let machine = root("models/trunnion5.urdf");
+    let identify = |table: &Path, scenario: &Path, out: &Path| {
+        mtwin(&[
+            "identify".as_ref(),
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            table.as_os_str(),
+            "--scenario".as_ref(),
+            scenario.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ])
+    };
+    let id = dir.path().join("id");
+    let text = ok(&identify(&run.join("rtest.csv"), &scenario, &id));
+    assert!(!text.contains("Provenance:"), "{text}");
+    let read =
+        |path: &Path| -> Value { serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap() };
+    let (estimate, truth) = (
+        read(&id.join("estimate.json")),
+        read(&run.join("truth.json")),
+    );
+    assert!(truth["scenario_sha256"].is_string());
+    assert_eq!(estimate["scenario_sha256"], truth["scenario_sha256"]);
+    assert_eq!(
+        estimate["provenance"][0]["scenario"],
+        "trunnion5_rtest.toml"
+    );
+
+    // A scenario of another machine, and another scenario of the same machine file.
+    for (other, expected) in [
+        ("scenarios/headtable5_rtest.toml", "runs the machine"),
+        (
+            "scenarios/trunnion5_volumetric.toml",
+            "its manifest.json says it was made from the scenario trunnion5_rtest.toml",
+        ),
+    ] {
+        let out = dir.path().join("other");
+        let message = failed(&identify(&run.join("rtest.csv"), &root(other), &out));
+        assert!(message.contains(expected), "{other}: {message}");
+        assert!(!out.exists(), "{other}: nothing written");
+    }
+
+    // The same table copied away from its manifest: accepted, and the report says what it
+    // cannot check.
+    let bare = dir.path().join("bare");
+    std::fs::create_dir_all(&bare).unwrap();
+    std::fs::copy(run.join("rtest.csv"), bare.join("rtest.csv")).unwrap();
+    let text = ok(&identify(
+        &bare.join("rtest.csv"),
+        &scenario,
+        &dir.path().join("id2"),
+    ));
+    assert!(
+        text.contains("Provenance: no table names the scenario"),
+        "{text}"
+    );
+
+    // score: the truth of another scenario is refused.
+    let volumetric = run_into(
+        &root("scenarios/trunnion5_volumetric.toml"),
+        dir.path(),
+        "vol",
+    );
+    let message = failed(&mtwin(&[
+        "score".as_ref(),
+        id.join("estimate.json").as_os_str(),
+        volumetric.join("truth.json").as_os_str(),
+    ]));
+    assert!(
+        message.contains("is not the scenario the estimate's tables were made from"),
+        "{message}"
+    );
+}
+
 /// A table measured on another machine is refused, naming both, and nothing is written.
 #[test]
 fn a_table_from_another_machine_is_refused() {
@@ -507,13 +593,14 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
     );
     // The right sphere on the same bare export passes the door.
     ok(&identify_bare(&machine, &table, "100,0,250"));
-    // Angles exported in radians in the _deg columns: the commanded positions no longer keep
-    // the tool on the sphere at those angles.
+    // Angles exported in radians in the _deg columns: the commanded positions turn round
+    // their circle 57.3 times further than the angles say, so the reader refuses the table
+    // itself, for identify and for analyze alike (no machine needed).
     let radians = dir.path().join("radians.csv");
     let text = with_column(&text, "a_deg", f64::to_radians);
     let text = with_column(&text, "c_deg", f64::to_radians);
     std::fs::write(&radians, &text).unwrap();
-    let message = failed(&mtwin(&[
+    let identify = failed(&mtwin(&[
         "identify".as_ref(),
         "--machine".as_ref(),
         machine.as_os_str(),
@@ -521,10 +608,18 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
         "location".as_ref(),
         radians.as_os_str(),
     ]));
-    assert!(
-        message.contains("radians.csv") && message.contains("the angles' unit is wrong"),
-        "{message}"
-    );
+    let analyze = failed(&mtwin(&[
+        "analyze".as_ref(),
+        "rtest".as_ref(),
+        radians.as_os_str(),
+    ]));
+    for message in [identify, analyze] {
+        assert!(
+            message.contains("radians.csv") && message.contains("_deg` holds radians"),
+            "{message}"
+        );
+    }
+
     // And without the commanded positions, the door refuses the fit.
     let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     let preamble: Vec<&str> = text.lines().filter(|l| l.starts_with('#')).collect();

@@ -138,6 +138,20 @@ fn the_same_command_gives_the_same_bytes_and_layouts_give_the_same_rows() {
         "four shards in one process or in four"
     );
 
+    // The card and the manifest count each split as the cases table holds it.
+    let cases = rows(&a, "cases");
+    let test = cases.iter().filter(|(split, _)| split == "test").count();
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(a.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(
+        manifest["split_counts"],
+        serde_json::json!({ "train": 24 - test, "test": test })
+    );
+    let card = std::fs::read_to_string(a.join("README.md")).unwrap();
+    let counts = format!("{} cases in `train`, {test} in `test`.", 24 - test);
+    assert!(card.contains(&counts), "{counts} not in the card");
+    assert!(test > 0 && test < 24, "a fifth of 24 cases: {test} in test");
+
     for table in ["cases", "volumetric"] {
         let (one_shard, four_shards) = (rows(&a, table), rows(&c, table));
         assert_eq!(
@@ -442,6 +456,66 @@ fn bad_priors_are_refused_at_their_line_before_anything_is_written() {
         assert!(!output.status.success(), "--shard {shard}");
         assert!(!tmp.path().join("o").join("manifest.json").exists());
     }
+}
+
+#[test]
+fn a_split_that_leaves_a_split_empty_is_refused_before_anything_is_written() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ballbar = std::fs::read_to_string(BALLBAR).unwrap().replace(
+        "../models/vmc3.urdf",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/models/vmc3.urdf"),
+    );
+    let refused = |text: &str, count: &str, expected: &str, line: Option<usize>| {
+        let file = tmp.path().join("split.toml");
+        std::fs::write(&file, text).unwrap();
+        let out = tmp.path().join("out");
+        let output = Command::new(env!("CARGO_BIN_EXE_mtwin"))
+            .args([
+                "dataset",
+                path(&file),
+                "--count",
+                count,
+                "--out",
+                path(&out),
+            ])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "accepted: {expected}");
+        assert!(stderr.contains(expected), "{stderr}");
+        if let Some(line) = line {
+            assert!(stderr.contains(&format!("split.toml:{line}:")), "{stderr}");
+        }
+        assert!(!out.exists(), "nothing is written: {expected}");
+    };
+    // kv_per_s is bounded to 25 … 42 1/s: above 45 no case can be in `test`.
+    let text = ballbar.replace("test_above = 36.0", "test_above = 45.0");
+    refused(
+        &text,
+        "4",
+        "kv_per_s > 45 leaves `test` empty: its prior reaches 25 … 42",
+        Some(29),
+    );
+    // Below the lower bound every case is in `test`.
+    let text = ballbar.replace("test_above = 36.0", "test_above = 20.0");
+    refused(&text, "4", "leaves `train` empty", Some(29));
+    // Within the reach, but no kv of the section's 200 cases is above 41.9 (4.3 sd out, a
+    // chance of 1e-5 a case): the cases themselves are counted before any runs.
+    let text = ballbar.replace("test_above = 36.0", "test_above = 41.9");
+    refused(
+        &text,
+        "4",
+        "dataset.split_by: of the 200 cases, none falls in `test` with the threshold",
+        Some(29),
+    );
+    // Without a count in the section, the count asked for is.
+    let text = text.replace("count = 200\n", "");
+    refused(
+        &text,
+        "4",
+        "--count 4: of the 4 cases, none falls in `test` with the threshold",
+        None,
+    );
 }
 
 #[test]

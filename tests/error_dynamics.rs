@@ -151,7 +151,7 @@ fn bad_dynamic_terms_are_refused_with_their_key() {
         ),
         (
             "[errors.EXS]\nspeed = { rpm = [0, 1000], factor = [1, -2] }\n",
-            "errors.EXS.speed.rpm",
+            "errors.EXS.speed.factor: value 2: -2: expected 0 … 1000",
         ),
         (
             "[errors.EC0Y]\nconstant_urad = 1.0\nasynchronous = [{ amplitude_urad = 0.1, frequency_hz = 5 }]\n",

@@ -339,10 +339,61 @@ fn plan_chooses_the_tests_that_see_something_new() {
         1e-12
     ));
 
-    // A budget of one reading: B only, not identifiable.
+    // A budget of one reading: B only, not identifiable; the budget, not the tests, is why
+    // (A and B together see both parameters, in 3 readings with C).
     let short = plan::choose(None, &candidates, &names, 1, &options);
     assert_eq!(short.steps.len(), 1);
     assert!(!short.identifiable && short.identifiable_after.is_none());
+    assert_eq!(short.limit(), Some(plan::Limit::Budget));
+    assert!(short.structural.is_empty());
+    let report = short.report();
+    assert!(
+        report.contains("within the budget of 1 readings; every test together (3 readings) would identify them all"),
+        "{report}"
+    );
+    assert_eq!(short.to_json()["limited_by"], "budget");
+    assert_eq!(plan.limit(), None);
+    assert_eq!(plan.to_json()["limited_by"], serde_json::Value::Null);
+}
+
+/// Tests that see only p1 + p2 (a ball-bar's two scales, say) leave p1 − p2 blind whatever
+/// the budget: the plan says so and names the combination, rather than asking for readings.
+#[test]
+fn plan_names_a_blind_spot_no_budget_removes() {
+    let names = labels(&["p1", "p2", "p3"]);
+    let sum = DMatrix::from_row_slice(1, 3, &[1.0, 1.0, 0.0]);
+    let third = DMatrix::from_row_slice(1, 3, &[0.0, 0.0, 2.0]);
+    let candidates = vec![
+        ("sum".to_string(), sum.clone()),
+        ("sum again".to_string(), sum * 2.0),
+        ("third".to_string(), third),
+    ];
+    let plan = plan::choose(None, &candidates, &names, 1000, &Options::default());
+    assert!(!plan.identifiable);
+    assert_eq!(plan.limit(), Some(plan::Limit::Structure));
+    assert_eq!(plan.structural.len(), 1);
+    // The blind direction is (p1 − p2)/√2, up to sign.
+    let v = plan.structural[0].to_vector(3);
+    assert!(
+        close(v[0].abs(), 0.5f64.sqrt(), 1e-9) && close(v[0], -v[1], 1e-9),
+        "{v}"
+    );
+    assert!(close(v[2], 0.0, 1e-9));
+    let report = plan.report();
+    assert!(
+        report.contains("whatever the budget: no test sees"),
+        "{report}"
+    );
+    assert!(report.contains("p1") && report.contains("p2"), "{report}");
+    let json = plan.to_json();
+    assert_eq!(json["limited_by"], "structure");
+    assert_eq!(
+        json["structural_null_combinations"]
+            .as_array()
+            .unwrap()
+            .len(),
+        1
+    );
 }
 
 #[test]

@@ -11,6 +11,9 @@ use mtwin::scenario::{ScenarioError, ScenarioErrorKind};
 use std::path::Path;
 use tempfile::TempDir;
 
+#[path = "malformed_inputs/ranges.rs"]
+mod ranges;
+
 const VMC3: &str = include_str!("../models/vmc3.urdf");
 
 /// `text` with the single occurrence of `from` replaced by `to`.

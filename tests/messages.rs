@@ -75,7 +75,7 @@ fn warmup_idle_names_the_field_and_the_value() {
         (
             "feed_mm_per_min = 4800.0",
             "feed_mm_per_min = 0.0",
-            "warmup.idle.feed_mm_per_min: 0; expected a positive feed",
+            "warmup.idle.feed_mm_per_min: 0; expected 0.1 … 200000 mm/min",
         ),
     ] {
         assert!(scenario.contains(from), "{from}");

@@ -875,12 +875,12 @@ fn bad_sections_are_refused_with_the_key_and_line() {
         ),
         (
             format!("{HOLD}{constant}nest = {{ first_mm = 20.0, spacing_mm = 0.0 }}\n"),
-            "iso230_3_spindle.nest: finite values, spacing_mm positive",
+            "iso230_3_spindle.nest.spacing_mm: 0: expected 1 … 1000 (a test mandrel is at most a metre long)",
             11,
         ),
         (
             format!("{HOLD}{constant}{NEST}air = {{ noise_degc = -1.0 }}\n"),
-            "iso230_3_spindle.air: noise_degc and resolution_degc finite and not negative",
+            "iso230_3_spindle.air.noise_degc: -1: expected 0 … 5",
             12,
         ),
     ];

@@ -32,6 +32,11 @@
 //!    the estimate, and refits (Gauss–Newton with the Jacobian frozen at the solution, two
 //!    steps: the model is linear to 1e-5 at these error sizes). Trial `t` draws from its own
 //!    stream (`seed`, `monte carlo t`), so the result is the same whatever the thread count.
+//!    Trials run in batches of [`MONTE_CARLO_BATCH`], so memory does not grow with their
+//!    number: the mean and standard deviation gather every trial (batch statistics combined
+//!    in batch order), and the 95 % interval is the order statistics' interval of one batch,
+//!    or with several the average of the batches' intervals weighted by their trials (GUM
+//!    Supplement 1 §7.9.4 averages its sequences' endpoints the same way).
 
 use super::Readings;
 use super::identifiability::{self, Identifiability};
@@ -329,6 +334,19 @@ impl<'a> Problem<'a> {
     }
 }
 
+/// Trials per Monte Carlo batch: the memory held at once (trials × unknowns numbers).
+pub const MONTE_CARLO_BATCH: usize = 10_000;
+
+/// Told the trials of each Monte Carlo batch as it ends (for a progress bar).
+#[derive(Clone)]
+pub struct Progress(pub std::sync::Arc<dyn Fn(usize) + Send + Sync>);
+
+impl std::fmt::Debug for Progress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Progress")
+    }
+}
+
 /// Options of an estimate.
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -340,6 +358,8 @@ pub struct Options {
     pub trials: usize,
     /// Seed of the Monte Carlo streams.
     pub seed: u64,
+    /// Where the Monte Carlo reports its progress, if anywhere.
+    pub progress: Option<Progress>,
 }
 
 impl Default for Options {
@@ -349,6 +369,7 @@ impl Default for Options {
             solver: lm::Options::default(),
             trials: 0,
             seed: 1,
+            progress: None,
         }
     }
 }
@@ -558,6 +579,7 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
             options.trials,
             options.seed,
             noise,
+            options.progress.as_ref(),
         )
     });
     Ok(Fit {
@@ -602,6 +624,7 @@ fn monte_carlo(
     trials: usize,
     seed: u64,
     noise: Real,
+    progress: Option<&Progress>,
 ) -> MonteCarlo {
     let rows = problem.rows;
     let gain = inverse * jb.transpose(); // r × m
@@ -613,48 +636,72 @@ fn monte_carlo(
         &mut Workspace::new(problem.machine),
         &mut at_estimate,
     );
-    let samples: Vec<Vec<Real>> = (0..trials)
-        .into_par_iter()
-        .map_init(
-            || {
-                (
-                    Workspace::new(problem.machine),
-                    vec![0.0; rows],
-                    vec![0.0; rows],
-                )
-            },
-            |(workspace, data, residuals), t| {
-                let mut rng = seeded_rng(seed, &format!("monte carlo {t}"));
-                let setup = problem.draw_setup(&mut rng);
-                problem.predict(z, &setup, workspace, data);
-                problem.draw_noise(&mut rng, noise, data);
-                // Two Gauss–Newton steps from the estimate: the first from the predictions
-                // there (computed once for all trials), the second on the exact chain.
-                for ((r, p), d) in residuals.iter_mut().zip(&at_estimate).zip(data.iter()) {
-                    *r = p - d;
-                }
-                problem.weigh(residuals);
-                let mut w = &w_hat - &gain * DVector::from_column_slice(residuals);
-                problem.residuals((basis * &w).as_slice(), data, workspace, residuals);
-                w -= &gain * DVector::from_column_slice(residuals);
-                (basis * w).as_slice().to_vec()
-            },
-        )
-        .collect();
+    let trial = |(workspace, data, residuals): &mut (Workspace, Vec<Real>, Vec<Real>), t: usize| {
+        let mut rng = seeded_rng(seed, &format!("monte carlo {t}"));
+        let setup = problem.draw_setup(&mut rng);
+        problem.predict(z, &setup, workspace, data);
+        problem.draw_noise(&mut rng, noise, data);
+        // Two Gauss–Newton steps from the estimate: the first from the predictions there
+        // (computed once for all trials), the second on the exact chain.
+        for ((r, p), d) in residuals.iter_mut().zip(&at_estimate).zip(data.iter()) {
+            *r = p - d;
+        }
+        problem.weigh(residuals);
+        let mut w = &w_hat - &gain * DVector::from_column_slice(residuals);
+        problem.residuals((basis * &w).as_slice(), data, workspace, residuals);
+        w -= &gain * DVector::from_column_slice(residuals);
+        (basis * w).as_slice().to_vec()
+    };
     let n = z.len();
+    // Running statistics over the batches, combined in batch order (Chan et al.): the same
+    // numbers whatever the thread count.
+    let mut count = 0usize;
     let mut mean = vec![0.0; n];
-    let mut std = vec![0.0; n];
+    let mut m2 = vec![0.0; n];
     let mut interval = vec![(0.0, 0.0); n];
-    for j in 0..n {
-        let mut values: Vec<Real> = samples.iter().map(|s| s[j]).collect();
-        let m = values.iter().sum::<Real>() / trials as Real;
-        let var =
-            values.iter().map(|v| (v - m).powi(2)).sum::<Real>() / (trials.max(2) - 1) as Real;
-        values.sort_by(Real::total_cmp);
-        mean[j] = m;
-        std[j] = var.sqrt();
-        interval[j] = (quantile(&values, 0.025), quantile(&values, 0.975));
+    let mut start = 0;
+    while start < trials {
+        let end = (start + MONTE_CARLO_BATCH).min(trials);
+        let samples: Vec<Vec<Real>> = (start..end)
+            .into_par_iter()
+            .map_init(
+                || {
+                    (
+                        Workspace::new(problem.machine),
+                        vec![0.0; rows],
+                        vec![0.0; rows],
+                    )
+                },
+                trial,
+            )
+            .collect();
+        let size = end - start;
+        let weight = size as Real / trials as Real;
+        for j in 0..n {
+            let mut values: Vec<Real> = samples.iter().map(|s| s[j]).collect();
+            let batch_mean = values.iter().sum::<Real>() / size as Real;
+            let batch_m2 = values
+                .iter()
+                .map(|v| (v - batch_mean).powi(2))
+                .sum::<Real>();
+            let total = (count + size) as Real;
+            let delta = batch_mean - mean[j];
+            mean[j] += delta * size as Real / total;
+            m2[j] += batch_m2 + delta * delta * count as Real * size as Real / total;
+            values.sort_by(Real::total_cmp);
+            interval[j].0 += weight * quantile(&values, 0.025);
+            interval[j].1 += weight * quantile(&values, 0.975);
+        }
+        count += size;
+        if let Some(progress) = progress {
+            (progress.0)(size);
+        }
+        start = end;
     }
+    let std = m2
+        .iter()
+        .map(|m| (m / (trials.max(2) - 1) as Real).sqrt())
+        .collect();
     MonteCarlo {
         trials,
         mean,

@@ -23,7 +23,7 @@
 //! standard uncertainty of every parameter comes from [`identifiability::analyse`] of the
 //! stacked design (no prior), `None` while a parameter is unidentifiable.
 
-use super::identifiability::{self, Options, compress, significant, stack};
+use super::identifiability::{self, Combination, Options, compress, significant, stack};
 use crate::math::Real;
 use nalgebra::{DMatrix, SVD};
 use serde_json::{Value, json};
@@ -66,6 +66,22 @@ pub struct Plan {
     pub base_uncertainties: Vec<Option<Real>>,
     /// The budget of readings.
     pub budget_readings: usize,
+    /// The combinations no candidate test sees, not even every one of them together with the
+    /// base: blind spots of the tests themselves, which no budget removes (empty when every
+    /// test together identifies every parameter).
+    pub structural: Vec<Combination>,
+    /// The readings of the base and every candidate together would identify every parameter,
+    /// and how many they are, when the budget is what stops the plan.
+    pub every_test_readings: usize,
+}
+
+/// Why a plan leaves parameters unidentifiable, if it does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Limit {
+    /// No candidate test, nor all of them, sees some combination (see [`Plan::structural`]).
+    Structure,
+    /// Every test together would identify every parameter; the budget does not reach them.
+    Budget,
 }
 
 /// The prior precision (per µm-eq²) for `options`: `1/largest_uncertainty²`, or 1e-12 when that
@@ -160,6 +176,13 @@ pub fn choose(
             identifiable_after = Some(steps.len());
         }
     }
+    // Every candidate together, whatever the budget: what no budget can identify.
+    let every_test = candidates.iter().fold(
+        compress(base.cloned().unwrap_or_else(|| DMatrix::zeros(0, n))),
+        |all, (_, d)| compress(stack(&all, d)),
+    );
+    let structural = identifiability::analyse(&every_test, labels, options).null_combinations;
+    let every_test_readings = candidates.iter().map(|(_, d)| d.nrows()).sum();
     let identifiable = steps
         .last()
         .map_or(base_analysis.all_identifiable(), |s: &Step| {
@@ -174,6 +197,8 @@ pub fn choose(
         identifiable_after,
         base_uncertainties: base_analysis.standard_uncertainty,
         budget_readings,
+        structural,
+        every_test_readings,
     }
 }
 
@@ -212,6 +237,15 @@ impl Plan {
         self.steps.iter().map(|s| s.readings).sum()
     }
 
+    /// What stops the plan short of identifying every parameter, if anything.
+    pub fn limit(&self) -> Option<Limit> {
+        match (self.identifiable, self.structural.is_empty()) {
+            (true, _) => None,
+            (false, false) => Some(Limit::Structure),
+            (false, true) => Some(Limit::Budget),
+        }
+    }
+
     /// A text for people: the criterion, the chosen tests in order with `log det` and how many
     /// parameters are identifiable, and the predicted standard uncertainty of each parameter
     /// after each step (`—`: unidentifiable).
@@ -232,7 +266,20 @@ impl Plan {
             match self.identifiable_after {
                 Some(0) => "every parameter is identifiable from the base design".to_string(),
                 Some(k) => format!("every parameter identifiable after step {k}"),
-                None => "not every parameter is identifiable with these tests and budget".into(),
+                None => match self.limit() {
+                    Some(Limit::Structure) => format!(
+                        "not every parameter is identifiable with these tests, whatever the budget: no test sees {}",
+                        self.structural
+                            .iter()
+                            .map(|c| c.describe(&self.labels))
+                            .collect::<Vec<_>>()
+                            .join("; ")
+                    ),
+                    _ => format!(
+                        "not every parameter is identifiable within the budget of {} readings; every test together ({} readings) would identify them all",
+                        self.budget_readings, self.every_test_readings
+                    ),
+                },
             }
         );
         let mut rows = vec![vec![
@@ -286,9 +333,11 @@ impl Plan {
     /// The plan with stable keys: `criterion` (`"greedy_d_optimal"`),
     /// `prior_precision_per_um_eq2`, `budget_readings`, `readings`, `parameters` (names),
     /// `identifiable`, `identifiable_after_steps` (`null` when never), `base_log_det`,
-    /// `base_standard_uncertainty_um_eq` (per parameter, `null` when unidentifiable), and
-    /// `steps`: per chosen test {`test`, `readings`, `log_det`, `identifiable`,
-    /// `standard_uncertainty_um_eq`}.
+    /// `base_standard_uncertainty_um_eq` (per parameter, `null` when unidentifiable),
+    /// `limited_by` (`"structure"`, `"budget"` or `null`: [`Plan::limit`]),
+    /// `structural_null_combinations` (what no test sees, as the identifiability report gives
+    /// combinations), `every_test_readings`, and `steps`: per chosen test {`test`, `readings`,
+    /// `log_det`, `identifiable`, `standard_uncertainty_um_eq`}.
     pub fn to_json(&self) -> Value {
         let steps: Vec<Value> = self
             .steps
@@ -313,6 +362,17 @@ impl Plan {
             "identifiable_after_steps": self.identifiable_after,
             "base_log_det": self.base_log_det,
             "base_standard_uncertainty_um_eq": self.base_uncertainties,
+            "limited_by": match self.limit() {
+                None => Value::Null,
+                Some(Limit::Structure) => "structure".into(),
+                Some(Limit::Budget) => "budget".into(),
+            },
+            "structural_null_combinations": self
+                .structural
+                .iter()
+                .map(|c| c.to_json(&self.labels))
+                .collect::<Vec<_>>(),
+            "every_test_readings": self.every_test_readings,
             "steps": steps,
         })
     }

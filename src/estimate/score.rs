@@ -15,7 +15,9 @@
 //! `{"harmonic": [{"amplitude_um": u, "phase_deg": u}]}`, `{"table": {"values_um": [...]}}`),
 //! and an `unidentifiable` list of names (which have no entry in `errors`). An entry's `unit`,
 //! when given, must be the parameter's file unit. A term in the wrong unit (µm for a rotation,
-//! a period in mm on a rotary axis) is a [`ScoreError::Units`].
+//! a period in mm on a rotary axis) is a [`ScoreError::Units`]. When the estimate names the
+//! scenario its tables were made from (`scenario_sha256`) and the truth names its own, they
+//! must be the same.
 //!
 //! # Term by term
 //!
@@ -832,6 +834,22 @@ pub fn score(estimate: &Value, truth: &Value, machine: &Machine) -> Result<Score
             )
             .in_file("truth"));
         }
+    }
+    // The tables an estimate came from may name their scenario (the manifest `mtwin run`
+    // wrote beside them); a truth of another scenario would score it against errors it never
+    // saw.
+    if let (Some(from), Some(of)) = (
+        estimate.get("scenario_sha256").and_then(Value::as_str),
+        truth.get("scenario_sha256").and_then(Value::as_str),
+    ) && from != of
+    {
+        return Err(ScoreError::shape(
+            "scenario_sha256",
+            format!(
+                "{of} is not the scenario the estimate's tables were made from ({from}): give the truth.json of the run that wrote them"
+            ),
+        )
+        .in_file("truth"));
     }
     match estimate.get("schema") {
         None | Some(Value::Null) => {}

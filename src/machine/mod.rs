@@ -31,7 +31,7 @@ pub(crate) use kinematics::{JointRotation, MotionKind, then_motion};
 #[cfg(test)]
 pub(crate) use kinematics::{plain_workpiece_from_tool, random_position};
 pub use plane::Plane;
-pub use urdf::{MachineError, MachineErrorKind};
+pub use urdf::{LARGEST_MACHINE, LARGEST_TURN, MachineError, MachineErrorKind};
 
 use crate::math::{Pose, Real, Vector};
 use std::fmt;

@@ -83,8 +83,15 @@ impl AxisServo {
 
     /// Why these values cannot be simulated, if they cannot.
     pub fn problem(&self) -> Option<String> {
-        if !(self.kv.is_finite() && self.kv > 0.0) {
-            return Some(format!("kv must be a positive number, got {}", self.kv));
+        // Physical ranges (SI): a position loop's gain from 1 to 1000 1/s, and disturbances
+        // of at most a millimetre (beyond it a machine does not cut) below 10 kHz.
+        let within = |v: Real, lo: Real, hi: Real| v.is_finite() && v >= lo && v <= hi;
+        let shown = crate::math::readable;
+        if !within(self.kv, 1.0, 1000.0) {
+            return Some(format!(
+                "kv must be within 1 … 1000 1/s (position-loop gains), got {}",
+                shown(self.kv)
+            ));
         }
         if !(0.0..=1.0).contains(&self.feed_forward) {
             return Some(format!(
@@ -92,25 +99,32 @@ impl AxisServo {
                 self.feed_forward
             ));
         }
-        if !(self.spike_height.is_finite() && self.spike_height >= 0.0) {
+        if !within(self.spike_height, 0.0, 1e-3) {
             return Some(format!(
-                "the spike height must be ≥ 0, got {}",
-                self.spike_height
+                "the spike height must be within 0 … 1000 µm, got {} µm",
+                shown(self.spike_height * 1e6)
             ));
         }
-        if !(self.spike_decay.is_finite() && self.spike_decay > 0.0) {
+        if !within(self.spike_decay, 1e-5, 10.0) {
             return Some(format!(
-                "the spike decay must be positive, got {}",
-                self.spike_decay
+                "the spike decay must be within 0.01 ms … 10 s, got {} ms",
+                shown(self.spike_decay * 1e3)
             ));
         }
-        if !(self.vibration_amplitude.is_finite() && self.vibration_frequency.is_finite())
-            || self.vibration_frequency < 0.0
+        if !within(self.vibration_amplitude.abs(), 0.0, 1e-3)
+            || !within(self.vibration_frequency, 0.0, 10_000.0)
         {
-            return Some("vibration amplitude and frequency must be finite, frequency ≥ 0".into());
+            return Some(format!(
+                "the vibration must be at most 1000 µm and within 0 … 10000 Hz (machine structures do not move faster), got {} µm at {} Hz",
+                shown(self.vibration_amplitude * 1e6),
+                shown(self.vibration_frequency)
+            ));
         }
-        if !(self.play.is_finite() && self.play >= 0.0) {
-            return Some(format!("the play must be ≥ 0, got {}", self.play));
+        if !within(self.play, 0.0, 1e-3) {
+            return Some(format!(
+                "the play must be within 0 … 1000 µm, got {} µm",
+                shown(self.play * 1e6)
+            ));
         }
         None
     }

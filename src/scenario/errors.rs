@@ -1,6 +1,7 @@
 //! The `[errors.NAME]` sections: ISO 230-1 error parameters as written (file units), checked
 //! and turned into the error model.
 
+use super::bounds::{self, Bound};
 use super::inputs::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec, context_terms};
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::errors::TemperatureRecord;
@@ -485,8 +486,15 @@ fn spec_to_function(
         finite(period_key.clone(), &[period])?;
         finite(amplitude_key, &[amplitude])?;
         finite(key("phase_deg"), &[h.phase_deg])?;
-        if (period * position_scale).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return fail(Value, period_key, format!("must be positive, got {period}"));
+        if !(period >= SHORTEST_PERIOD && (period * position_scale) > 0.0) {
+            return fail(
+                Value,
+                period_key,
+                format!(
+                    "must be at least {SHORTEST_PERIOD} {position_unit} (no pitch, tooth or scale line is finer), got {}",
+                    crate::math::readable(period)
+                ),
+            );
         }
         terms.push(ErrorFunction::Harmonic {
             period: period * position_scale,
@@ -582,6 +590,24 @@ fn spec_to_dynamics(
             Err(fail(Value, key.to_string(), "not a finite number".into()))
         }
     };
+    let within = |key: &str, v: Real, bound: Bound| {
+        bound
+            .check(v)
+            .map(|_| ())
+            .map_err(|message| fail(Value, key.to_string(), message))
+    };
+    let amplitude_bound = Bound::symmetric(bounds::AMPLITUDE_UM.hi, bounds::AMPLITUDE_UM.why);
+    let frequency_bound = |per_revolution: bool| {
+        if per_revolution {
+            Bound {
+                lo: 0.0,
+                hi: HIGHEST_PER_REVOLUTION,
+                why: "no error motion of a spindle has more waves a turn",
+            }
+        } else {
+            bounds::FREQUENCY_HZ
+        }
+    };
     let mut dynamics = Dynamics::default();
     for (i, a) in spec.asynchronous.iter().enumerate() {
         let key = |field: &str| format!("asynchronous[{i}].{field}");
@@ -596,11 +622,11 @@ fn spec_to_dynamics(
         let amplitude_key = key(&format!("amplitude_{unit}"));
         let amplitude =
             amplitude.ok_or_else(|| fail(Value, amplitude_key.clone(), "required".into()))?;
-        finite(&amplitude_key, amplitude)?;
+        within(&amplitude_key, amplitude, amplitude_bound)?;
         finite(&key("phase_deg"), a.phase_deg)?;
         let frequency = match (a.frequency_hz, a.per_revolution) {
             (Some(f), None) => {
-                finite(&key("frequency_hz"), f)?;
+                within(&key("frequency_hz"), f, frequency_bound(false))?;
                 if f <= 0.0 {
                     return Err(fail(
                         Value,
@@ -611,7 +637,7 @@ fn spec_to_dynamics(
                 Frequency::Hz(f)
             }
             (None, Some(r)) => {
-                finite(&key("per_revolution"), r)?;
+                within(&key("per_revolution"), r, frequency_bound(true))?;
                 if !rotary {
                     return Err(fail(
                         Value,
@@ -654,14 +680,7 @@ fn spec_to_dynamics(
         }
         let rms_key = format!("random.rms_{unit}");
         let rms = rms.ok_or_else(|| fail(Value, rms_key.clone(), "required".into()))?;
-        finite(&rms_key, rms)?;
-        if rms < 0.0 {
-            return Err(fail(
-                Value,
-                rms_key,
-                format!("must not be negative, got {rms}"),
-            ));
-        }
+        within(&rms_key, rms, bounds::AMPLITUDE_UM)?;
         let (band, per_revolution, band_key) = match (r.band_hz, r.band_per_revolution) {
             (Some(b), None) => (b, false, "random.band_hz"),
             (None, Some(b)) if rotary => (b, true, "random.band_per_revolution"),
@@ -690,6 +709,7 @@ fn spec_to_dynamics(
                 ),
             ));
         }
+        within(band_key, band[1], frequency_bound(per_revolution))?;
         dynamics.random = Some(RandomMotion::realise(
             rms * RAD_PER_URAD,
             (band[0], band[1]),
@@ -718,16 +738,29 @@ fn spec_to_dynamics(
                 ));
             }
         };
-        if let Some(i) = speeds
-            .iter()
-            .chain(&v.factor)
-            .position(|x| !x.is_finite() || *x < 0.0)
-        {
-            return Err(fail(
-                Value,
-                key.into(),
-                format!("value {} is not a finite non-negative number", i + 1),
-            ));
+        let fastest = if rotary {
+            Bound {
+                lo: 0.0,
+                hi: 200_000.0,
+                why: "the fastest spindles turn at about 150 000 min⁻¹",
+            }
+        } else {
+            Bound {
+                lo: 0.0,
+                ..bounds::FEED_MM_PER_MIN
+            }
+        };
+        let factors = Bound {
+            lo: 0.0,
+            hi: 1000.0,
+            why: "a speed multiplies an error motion by at most a thousand",
+        };
+        for (values, key, bound) in [(speeds, key, fastest), (&v.factor, "speed.factor", factors)] {
+            for (i, x) in values.iter().enumerate() {
+                bound.check(*x).map_err(|message| {
+                    fail(Value, key.into(), format!("value {}: {message}", i + 1))
+                })?;
+            }
         }
         let table = Table::new(
             speeds.iter().map(|s| s * scale).collect(),
@@ -739,6 +772,13 @@ fn spec_to_dynamics(
     }
     Ok(dynamics)
 }
+
+/// The shortest period of a harmonic term (mm or deg): no pitch, tooth or scale line is finer.
+const SHORTEST_PERIOD: Real = 0.001;
+
+/// The highest frequency of an error motion in cycles per revolution: beyond it the
+/// spindle's own probes (and its structure) cannot follow.
+const HIGHEST_PER_REVOLUTION: Real = 1000.0;
 
 /// Why an error parameter is not a plausible machine error, if it is not: its largest value
 /// over its axis's travel (or a turn, sampled at 1001 points) beyond [`LARGEST_ERROR`], or not

@@ -26,6 +26,7 @@
 //! of the test.
 
 use super::ScenarioErrorKind;
+use super::bounds::{self, Bound};
 use super::errors::ErrorSpec;
 use crate::errors::TemperatureRecord;
 use crate::errors::{ContextTerm, Driver, ParameterName};
@@ -172,9 +173,17 @@ pub(crate) fn context_terms(
                             .into(),
                     ));
                 }
-                if !v.is_finite() {
-                    return Err((Value, key, "the coefficient is not a finite number".into()));
-                }
+                let bound = match suffix {
+                    "_per_degc" => Bound::symmetric(
+                        1000.0,
+                        "steel expands 11.7 µm per metre and degree; a thousand is no machine",
+                    ),
+                    "_per_h" => {
+                        Bound::symmetric(1000.0, "a millimetre an hour is a crash, not a drift")
+                    }
+                    _ => Bound::symmetric(bounds::AMPLITUDE_UM.hi, bounds::AMPLITUDE_UM.why),
+                };
+                bound.check(*v).map_err(|message| (Value, key, message))?;
                 Ok((*v * RAD_PER_URAD, *per_m))
             }
             _ => Err((
@@ -184,22 +193,25 @@ pub(crate) fn context_terms(
             )),
         }
     };
-    let finite = |key: String, value: Real, positive: bool| -> Result<Real, SpecError> {
-        if value.is_finite() && (!positive || value > 0.0) && value >= 0.0 {
-            Ok(value)
+    // Lags and time constants up to a week (τ > 0); start times within a record's clock.
+    let minutes = |key: String, value: Real, positive: bool| -> Result<Real, SpecError> {
+        let bound = if key.ends_with("from_min") {
+            Bound {
+                lo: 0.0,
+                hi: crate::io::CLOCK_MIN.limit,
+                why: crate::io::CLOCK_MIN.why,
+            }
         } else {
-            Err((
+            bounds::LAG_MIN
+        };
+        match bound.check(value) {
+            Ok(_) if positive && value <= 0.0 => Err((
                 Value,
                 key,
-                format!(
-                    "expected a {} number of minutes, found {value}",
-                    if positive {
-                        "positive"
-                    } else {
-                        "finite, non-negative"
-                    }
-                ),
-            ))
+                format!("expected a positive number of minutes, found {value}"),
+            )),
+            Ok(value) => Ok(value),
+            Err(message) => Err((Value, key, format!("{message} min"))),
         }
     };
     let mut terms = Vec::new();
@@ -215,15 +227,15 @@ pub(crate) fn context_terms(
             ],
             "_per_degc",
         )?;
-        let lag = finite(key("lag_min"), t.lag_min.unwrap_or(0.0), false)? * 60.0;
-        let sensor_lag = finite(
+        let lag = minutes(key("lag_min"), t.lag_min.unwrap_or(0.0), false)? * 60.0;
+        let sensor_lag = minutes(
             key("sensor_lag_min"),
             t.sensor_lag_min.unwrap_or(0.0),
             false,
         )? * 60.0;
-        if !t.reference_degc.is_finite() {
-            return Err((Value, key("reference_degc"), "not a finite number".into()));
-        }
+        bounds::TEMPERATURE_DEGC
+            .check(t.reference_degc)
+            .map_err(|message| (Value, key("reference_degc"), message))?;
         let Some(record) = record else {
             return Err((
                 Value,
@@ -266,8 +278,8 @@ pub(crate) fn context_terms(
             ],
             "",
         )?;
-        let tau = finite(key("tau_min"), h.tau_min, true)? * 60.0;
-        let from = finite(key("from_min"), h.from_min, false)? * 60.0;
+        let tau = minutes(key("tau_min"), h.tau_min, true)? * 60.0;
+        let from = minutes(key("from_min"), h.from_min, false)? * 60.0;
         terms.push(ContextTerm {
             driver: Driver::Heating { tau, from },
             coefficient: c,
@@ -286,7 +298,7 @@ pub(crate) fn context_terms(
             ],
             "_per_h",
         )?;
-        let from = finite(key("from_min"), d.from_min, false)? * 60.0;
+        let from = minutes(key("from_min"), d.from_min, false)? * 60.0;
         terms.push(ContextTerm {
             driver: Driver::Drift { from },
             coefficient: c / 3600.0,

@@ -32,7 +32,7 @@
 //!
 //! This module holds what every section shares: located errors ([`ScenarioError`]), the key
 //! finder that points an error at its line ([`Context`]), the located checks of a section read
-//! with spans ([`Checker`]), where the axes a test holds stand ([`parked`]), the `[errors.*]`
+//! with spans ([`Checker`]), the physical range of each kind of value ([`bounds`]), where the axes a test holds stand ([`parked`]), the `[errors.*]`
 //! sections ([`errors`]), measured inputs and the temperature, heating and drift terms they
 //! drive ([`inputs`]), the machine's thermal model (`[thermal]`, [`thermal`]) and the
 //! teaching text (`[lesson]`, [`lesson`]). Each test kind reads its own sections in its folder
@@ -40,6 +40,7 @@
 
 use std::fmt;
 
+pub mod bounds;
 pub mod checker;
 pub mod errors;
 pub mod inputs;
@@ -48,6 +49,7 @@ pub mod parked;
 pub mod record;
 pub mod thermal;
 
+pub use bounds::Bound;
 pub use checker::Checker;
 pub use errors::{ErrorSpec, HarmonicSpec, InterpolationSpec, TableSpec, function_of, spec_of};
 pub use inputs::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec};
@@ -174,8 +176,10 @@ impl Context<'_> {
     }
 
     /// The 1-based line of `key` (a path inside a table such as `table.positions_mm` or
-    /// `harmonic[1].period_mm`; its last field is searched for) in the table that starts at byte
-    /// `table_start`: the table's own lines, up to the next `[header]`.
+    /// `harmonic[1].period_mm`; its last field is searched for, from the line of its first
+    /// field on, so that `asynchronous[0].amplitude_um` is not a harmonic's amplitude) in the
+    /// table that starts at byte `table_start`: the table's own lines, up to the next
+    /// `[header]`.
     pub fn key_line(&self, table_start: usize, key: &str) -> Option<usize> {
         let field = key.rsplit('.').next()?.split('[').next()?;
         let occurrence: usize = key
@@ -185,6 +189,19 @@ impl Context<'_> {
         let first_line = self.text[..table_start.min(self.text.len())]
             .matches('\n')
             .count();
+        let parent = key.split(['.', '[']).next().filter(|p| *p != field);
+        let from = match parent {
+            Some(parent) => self
+                .field_line(first_line, parent, 0)
+                .map_or(first_line, |line| line - 1),
+            None => first_line,
+        };
+        self.field_line(from, field, occurrence)
+    }
+
+    /// The 1-based line of the `occurrence`-th `field = …` from the 0-based line `first_line`
+    /// on, within its table (or the last one seen, when there are fewer).
+    fn field_line(&self, first_line: usize, field: &str, occurrence: usize) -> Option<usize> {
         let mut seen = 0;
         let mut last_seen = None;
         for (index, line) in self.text.lines().enumerate().skip(first_line) {

@@ -6,7 +6,9 @@
 //! number (a gap is an error naming its line and column, not a silent interpolation).
 
 use crate::errors::TemperatureRecord;
-use crate::io::{TableError, csv_reader, finite_number, read_file, read_header, row};
+use crate::io::{
+    CLOCK_MIN, THERMOMETER, TableError, csv_reader, number_within, read_file, read_header, row,
+};
 use crate::math::Real;
 use std::path::Path;
 
@@ -49,7 +51,7 @@ pub fn parse_temperature_record(bytes: &[u8], file: &str) -> Result<TemperatureR
     for record in reader.records() {
         let record = row(record, bytes, file)?;
         let line = record.position().map(|p| p.line());
-        let time = finite_number(&record, time_column, "time_min", file)? * 60.0;
+        let time = number_within(&record, time_column, "time_min", file, CLOCK_MIN)? * 60.0;
         if let Some(&last) = times.last()
             && time <= last
         {
@@ -64,7 +66,7 @@ pub fn parse_temperature_record(bytes: &[u8], file: &str) -> Result<TemperatureR
         }
         times.push(time);
         for ((index, name), series) in columns.iter().zip(&mut values) {
-            series.push(finite_number(&record, *index, name, file)?);
+            series.push(number_within(&record, *index, name, file, THERMOMETER)?);
         }
     }
     if times.is_empty() {

@@ -15,6 +15,7 @@
 //! sensors = [{ node = "x_nut", noise_degc = 0.05, resolution_degc = 0.1, lag_s = 20.0, offset_degc = 0.0 }]
 //! ```
 
+use super::bounds::{self, Bound};
 use super::{Context, ScenarioError, ScenarioErrorKind};
 use crate::machine::{Axis, Machine};
 use crate::math::{M_PER_MM, Real, seeded_rng};
@@ -201,40 +202,86 @@ pub(crate) fn thermal_setup(
         context.section_error(raw.span(), ScenarioErrorKind::Value, "thermal.", message)
     };
     let numbers = [
-        t.ambient_degc,
-        t.daily_amplitude_degc,
-        t.daily_peak_h,
-        t.max_interval_s,
+        ("ambient_degc", t.ambient_degc, bounds::TEMPERATURE_DEGC),
+        (
+            "daily_amplitude_degc",
+            t.daily_amplitude_degc,
+            Bound::symmetric(35.0, "a day's swing in a workshop"),
+        ),
+        (
+            "daily_peak_h",
+            t.daily_peak_h,
+            Bound {
+                lo: 0.0,
+                hi: 24.0,
+                why: "an hour of the day",
+            },
+        ),
+        (
+            "max_interval_s",
+            t.max_interval_s,
+            Bound {
+                lo: 0.001,
+                hi: 3600.0,
+                why: "1 ms to an hour: a thermal model steps no finer and no coarser",
+            },
+        ),
     ];
-    if !numbers.iter().all(|v| v.is_finite()) || !(-10.0..=60.0).contains(&t.ambient_degc) {
-        return Err(fail(
-            "ambient_degc must be between -10 and 60 °C and every number finite".into(),
-        ));
-    }
-    if t.max_interval_s <= 0.0 {
-        return Err(fail(format!(
-            "max_interval_s must be positive, got {}",
-            t.max_interval_s
-        )));
+    for (key, value, bound) in numbers {
+        bound
+            .check(value)
+            .map_err(|message| fail(format!("{key}: {message}")))?;
     }
     let oscillation = match &t.oscillation {
-        Some(o)
-            if o.amplitude_degc.is_finite() && o.period_min.is_finite() && o.period_min > 0.0 =>
-        {
+        Some(o) => {
+            Bound::symmetric(35.0, "an air conditioner's swing")
+                .check(o.amplitude_degc)
+                .map_err(|message| fail(format!("oscillation.amplitude_degc: {message}")))?;
+            Bound {
+                lo: 1e-6,
+                ..bounds::LAG_MIN
+            }
+            .check(o.period_min)
+            .map_err(|message| fail(format!("oscillation.period_min: {message}")))?;
             Some((o.amplitude_degc, o.period_min * 60.0))
-        }
-        Some(_) => {
-            return Err(fail(
-                "oscillation: amplitude_degc finite and period_min positive".into(),
-            ));
         }
         None => None,
     };
-    if t.steps
-        .iter()
-        .any(|s| !(s.at_min.is_finite() && s.by_degc.is_finite()))
-    {
-        return Err(fail("steps: at_min and by_degc must be finite".into()));
+    for step in &t.steps {
+        let when = Bound {
+            lo: 0.0,
+            hi: crate::io::CLOCK_MIN.limit,
+            why: crate::io::CLOCK_MIN.why,
+        };
+        when.check(step.at_min)
+            .map_err(|message| fail(format!("steps.at_min: {message}")))?;
+        Bound::symmetric(70.0, "the width of a workshop's range")
+            .check(step.by_degc)
+            .map_err(|message| fail(format!("steps.by_degc: {message}")))?;
+    }
+    // The air stays in a workshop's range: its mean, the steps taken so far, the day's and
+    // the oscillation's swings all at their worst.
+    let mut order: Vec<&RawStep> = t.steps.iter().collect();
+    order.sort_by(|a, b| a.at_min.total_cmp(&b.at_min));
+    let swing = t.daily_amplitude_degc.abs() + oscillation.map_or(0.0, |(a, _)| a.abs());
+    let mut level = t.ambient_degc;
+    let (mut lowest, mut highest) = (level, level);
+    for step in order {
+        level += step.by_degc;
+        lowest = lowest.min(level);
+        highest = highest.max(level);
+    }
+    let (lowest, highest) = (lowest - swing, highest + swing);
+    let workshop = bounds::TEMPERATURE_DEGC;
+    if lowest < workshop.lo || highest > workshop.hi {
+        return Err(fail(format!(
+            "ambient_degc, steps, daily_amplitude_degc and oscillation: the air would reach {} … {} °C; expected {} … {} ({})",
+            crate::math::trimmed(lowest, 3),
+            crate::math::trimmed(highest, 3),
+            workshop.lo,
+            workshop.hi,
+            workshop.why
+        )));
     }
     let ambient = Ambient {
         mean: t.ambient_degc,
@@ -260,9 +307,13 @@ pub(crate) fn thermal_setup(
     ] {
         for (key, value) in values {
             let axis = axis_of(key, table)?;
-            if !value.is_finite() {
-                return Err(fail(format!("{table}.{key}: not a finite number")));
-            }
+            let bound = match table {
+                "fixed_end_mm" => bounds::OFFSET_MM,
+                _ => bounds::EXPANSION_PPM_PER_DEGC,
+            };
+            bound
+                .check(*value)
+                .map_err(|message| fail(format!("{table}.{key}: {message}")))?;
             let index = match screws.iter().position(|(a, _)| *a == axis) {
                 Some(i) => i,
                 None => {
@@ -294,16 +345,28 @@ pub(crate) fn thermal_setup(
                 names.join(", ")
             ))
         })?;
-        let values = [s.offset_degc, s.noise_degc, s.resolution_degc, s.lag_s];
-        if !values.iter().all(|v| v.is_finite())
-            || s.noise_degc < 0.0
-            || s.resolution_degc < 0.0
-            || s.lag_s < 0.0
-        {
-            return Err(fail(format!(
-                "sensors ({}): finite values, noise, resolution and lag not negative",
-                s.node
-            )));
+        let lag = Bound {
+            hi: bounds::LAG_MIN.hi * 60.0,
+            ..bounds::LAG_MIN
+        };
+        let values = [
+            (
+                "offset_degc",
+                s.offset_degc,
+                Bound::symmetric(50.0, "a sensor that far off is broken"),
+            ),
+            ("noise_degc", s.noise_degc, bounds::THERMOMETER_DEGC),
+            (
+                "resolution_degc",
+                s.resolution_degc,
+                bounds::THERMOMETER_DEGC,
+            ),
+            ("lag_s", s.lag_s, lag),
+        ];
+        for (key, value, bound) in values {
+            bound
+                .check(value)
+                .map_err(|message| fail(format!("sensors ({}).{key}: {message}", s.node)))?;
         }
         let name = s.name.clone().unwrap_or_else(|| s.node.clone());
         if sensors

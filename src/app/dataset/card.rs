@@ -99,6 +99,7 @@ pub fn file_metadata(
 /// `manifest.json`.
 pub fn manifest(
     dataset: &Dataset,
+    count: u64,
     schemas: &[TableSchema],
     identity: &Value,
     shards: Vec<Value>,
@@ -140,6 +141,7 @@ pub fn manifest(
             )
         })
         .collect();
+    let (train, test) = dataset.split_counts(count);
     json!({
         "schema_version": SCHEMA_VERSION,
         "mtwin_version": env!("CARGO_PKG_VERSION"),
@@ -151,6 +153,7 @@ pub fn manifest(
         "shard_rule": "shard i of n holds cases [i·count/n, (i+1)·count/n)",
         "tests": dataset.tests,
         "split": split_rule(dataset),
+        "split_counts": { "train": train, "test": test },
         "partitioning": ["machine", "split", "shard"],
         "parameters": parameters,
         "tables": tables,
@@ -212,7 +215,13 @@ pub fn readme(
             describe(&prior.law)
         );
     }
-    let _ = writeln!(s, "\nSplit: {}.\n", split_rule(dataset));
+    let (train, test) = dataset.split_counts(options.count);
+    let _ = writeln!(
+        s,
+        "\nSplit: {}: {} in `train`, {test} in `test`.\n",
+        split_rule(dataset),
+        counted(train, "case", "cases")
+    );
     let _ = writeln!(s, "## Tables\n");
     let _ = writeln!(
         s,

@@ -220,7 +220,8 @@ impl Dataset {
             .collect();
         let all = self.build(self.scenario.seed, &centres, None);
         let Err(first) = all else {
-            return self.check_reach(context);
+            self.check_reach(context)?;
+            return self.check_split(context);
         };
         for (index, prior) in self.section.priors.iter().enumerate() {
             if let Err(message) =
@@ -274,6 +275,83 @@ impl Dataset {
             }
         }
         Ok(())
+    }
+
+    /// Refuses, at the split's line, a split that leaves `train` or `test` empty: a threshold
+    /// beyond the reach of its prior ([`priors::Law::reach`]) or on a fixed value, or, when the
+    /// section gives the count, the cases themselves.
+    fn check_split(&self, context: &Context<'_>) -> Result<(), ScenarioError> {
+        let key = match self.section.split {
+            SplitRule::Fraction(_) => "test_fraction",
+            SplitRule::Threshold { .. } => "split_by",
+        };
+        let fail = |message: String| {
+            context.error(
+                Some(self.section.split_span.clone()),
+                ScenarioErrorKind::Value,
+                format!("dataset.{key}: {message}"),
+            )
+        };
+        if let SplitRule::Threshold {
+            prior,
+            value,
+            above,
+        } = self.section.split
+        {
+            let p = &self.section.priors[prior];
+            let (low, high) = p.law.reach().unwrap_or_else(|| {
+                let v = p.law.distribution.centre();
+                (v, v)
+            });
+            let (test, train) = if above {
+                (high > value, low <= value)
+            } else {
+                (low < value, high >= value)
+            };
+            if !(test && train) {
+                return Err(fail(format!(
+                    "{} {} {} leaves `{}` empty: its prior reaches {} … {}",
+                    p.path.column(),
+                    if above { ">" } else { "<" },
+                    crate::math::readable(value),
+                    if test { "train" } else { "test" },
+                    crate::math::readable(low),
+                    crate::math::readable(high)
+                )));
+            }
+        }
+        if let Some(message) = self.section.count.and_then(|n| self.empty_split(n)) {
+            return Err(fail(message));
+        }
+        Ok(())
+    }
+
+    /// How many of the cases `0..count` fall in `train` and in `test`.
+    pub fn split_counts(&self, count: u64) -> (u64, u64) {
+        let test = (0..count).filter(|id| self.case(*id).test).count() as u64;
+        (count - test, test)
+    }
+
+    /// Why the cases `0..count` leave `train` or `test` empty, if they do (a test fraction of
+    /// 0 asks for no test split and is not refused).
+    pub fn empty_split(&self, count: u64) -> Option<String> {
+        if self.section.split == SplitRule::Fraction(0.0) {
+            return None;
+        }
+        let (train, test) = self.split_counts(count);
+        let empty = match (train, test) {
+            (0, _) => "train",
+            (_, 0) => "test",
+            _ => return None,
+        };
+        let rule = match self.section.split {
+            SplitRule::Fraction(f) => format!("test_fraction = {f}"),
+            SplitRule::Threshold { .. } => "the threshold".into(),
+        };
+        Some(format!(
+            "of the {}, none falls in `{empty}` with {rule}: more cases or another split",
+            card::counted(count, "case", "cases")
+        ))
     }
 
     /// Case `id`: its seed, its values and its split.

@@ -159,6 +159,12 @@ pub fn generate(
             options.shards - 1
         )));
     }
+    if let Some(message) = dataset.empty_split(options.count) {
+        return Err(DatasetError::Options(format!(
+            "--count {}: {message}",
+            options.count
+        )));
+    }
     let out = &options.out;
     let schemas = schemas(dataset)?;
     let records = out.join("_shards");
@@ -657,7 +663,7 @@ fn finish(
         }));
     }
     files.sort_by(|a, b| a["path"].as_str().cmp(&b["path"].as_str()));
-    let manifest = card::manifest(dataset, schemas, identity, shards, files);
+    let manifest = card::manifest(dataset, options.count, schemas, identity, shards, files);
     write_json(&out.join("manifest.json"), &manifest)?;
     write_atomically(
         &out.join("README.md"),

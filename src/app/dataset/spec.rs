@@ -147,6 +147,8 @@ pub struct Section {
     pub priors: Vec<Prior>,
     /// The split.
     pub split: SplitRule,
+    /// Where the split is set (`split_by` or `test_fraction`, else the section), for messages.
+    pub(super) split_span: std::ops::Range<usize>,
 }
 
 /// Checks `raw` (the `[dataset]` section of the scenario of `context`, whose seed is
@@ -236,6 +238,11 @@ pub(super) fn section(
         }
     }
 
+    let split_span = match (&raw.split_by, &raw.test_fraction) {
+        (Some(by), _) => by.span(),
+        (None, Some(fraction)) => fraction.span(),
+        (None, None) => span.clone(),
+    };
     let split = match (&raw.split_by, &raw.test_fraction) {
         (Some(_), Some(fraction)) => {
             return Err(fail(
@@ -298,6 +305,7 @@ pub(super) fn section(
         tests: raw.tests.as_ref().map(|t| t.get_ref().clone()),
         priors,
         split,
+        split_span,
     })
 }
 

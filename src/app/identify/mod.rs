@@ -15,6 +15,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub mod checks;
+pub mod provenance;
+
+use provenance::Provenance;
 
 /// The table kinds `identify` reads, by the name a table's first line gives
 /// (`# mtwin rtest table`) or a `KIND:` prefix on the path.
@@ -81,6 +84,8 @@ pub struct Request {
     /// Write the estimate and the compensation even when the fit fails its checks (as
     /// warnings); by default such a fit is refused.
     pub accept_implausible: bool,
+    /// Where the Monte Carlo reports the trials it has done, if anywhere.
+    pub progress: Option<fit::Progress>,
 }
 
 /// What `identify` produced.
@@ -129,9 +134,14 @@ fn machine_named(path: &Path) -> Option<String> {
         .map(|name| name.trim().to_string())
 }
 
-/// Reads every table into readings for `machine`.
-pub fn load_readings(request: &Request, machine: &Machine) -> Result<Vec<Readings>, IdentifyError> {
+/// Reads every table into readings for `machine`, with what its folder says of where it came
+/// from.
+pub fn load_readings(
+    request: &Request,
+    machine: &Machine,
+) -> Result<(Vec<Readings>, Vec<Provenance>), IdentifyError> {
     let mut sets = Vec::new();
+    let mut provenances = Vec::new();
     // The data rows of each table read so far, by their hash: a table given twice (or a
     // renamed copy) would count its readings twice and shrink every uncertainty by √2.
     let mut seen: BTreeMap<String, String> = BTreeMap::new();
@@ -145,6 +155,7 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Vec<Reading
             .map(<[u8]>::trim_ascii)
             .filter(|l| !l.is_empty() && !l.starts_with(b"#"))
             .collect();
+        provenances.push(Provenance::of(&path, &file, &bytes));
         let hash = crate::math::sha256_hex(&rows.join(&b'\n'));
         if let Some(earlier) = seen.insert(hash, file.clone()) {
             return Err(IdentifyError::Input(format!(
@@ -202,7 +213,7 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Vec<Reading
             other => unreachable!("{other} is not in TABLE_KINDS"),
         }
     }
-    Ok(sets)
+    Ok((sets, provenances))
 }
 
 /// The sphere position an R-test table states.
@@ -219,12 +230,17 @@ fn rtest_sphere(argument: &str) -> Result<crate::math::Vector, IdentifyError> {
 pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     let machine = Machine::from_urdf_file(&request.machine)?;
     let set = ParameterSet::parse(&request.params, &machine)?;
-    let sets = load_readings(request, &machine)?;
+    let (sets, provenances) = load_readings(request, &machine)?;
+    let scenario = match &request.scenario {
+        Some(path) => Some(matching_scenario(path, &request.machine, &provenances)?),
+        None => None,
+    };
     let sources: Vec<String> = sets.iter().map(|s| s.source.clone()).collect();
     let problem = Problem::new(&machine, &set, &sets)?;
     let options = fit::Options {
         trials: request.trials,
         seed: request.seed,
+        progress: request.progress.clone(),
         ..Default::default()
     };
     let fit = fit::estimate(&problem, &options)?;
@@ -232,9 +248,16 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         .unwrap_or_else(|_| request.machine.clone())
         .display()
         .to_string();
-    let json = report::to_json(&set, &problem, &fit, &machine, &machine_file, &sources);
+    let mut json = report::to_json(&set, &problem, &fit, &machine, &machine_file, &sources);
     let mut text = report::text(&set, &problem, &fit, &sources);
-    let mut json = json;
+    json["provenance"] = provenances.iter().map(Provenance::to_json).collect();
+    json["scenario_sha256"] = provenance::common_scenario(&provenances)
+        .ok()
+        .flatten()
+        .into();
+    if scenario.is_some() && provenances.iter().all(|p| p.scenario.is_none()) {
+        text += "\nProvenance: no table names the scenario it was made from (no manifest.json of `mtwin run` beside it, or the table edited since); compensated.toml assumes they come from --scenario.\n";
+    }
     if !fit.identifiability.null_combinations.is_empty()
         && let Some(table) = sets.iter().position(|s| s.kind == "rtest")
     {
@@ -295,20 +318,57 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     for (axis, table) in tables {
         files.push((format!("linuxcnc_{axis}.comp"), table.into_bytes()));
     }
-    if let Some(scenario) = &request.scenario {
+    if let Some((path, base)) = &scenario {
         files.push((
             "compensated.toml".to_string(),
-            compensated_scenario(scenario, &identified)?.into_bytes(),
+            compensated_scenario(path, base, &identified)?.into_bytes(),
         ));
     }
     Ok(Identified { text, json, files })
 }
 
+/// The scenario `path` loaded, when it can be what the tables came from: it runs the machine
+/// file `machine` (the same bytes), and every table whose folder names its scenario names
+/// this one. Otherwise `compensated.toml` would subtract the estimate from another machine's
+/// or another scenario's errors.
+fn matching_scenario(
+    path: &Path,
+    machine: &Path,
+    tables: &[Provenance],
+) -> Result<(PathBuf, crate::app::Scenario), IdentifyError> {
+    let scenario = crate::app::Scenario::load(path)?;
+    let shown = path.display();
+    let machine_bytes = std::fs::read(machine)
+        .map_err(|e| IdentifyError::Input(format!("{}: cannot read: {e}", machine.display())))?;
+    if crate::math::sha256_hex(&machine_bytes) != scenario.machine_sha256 {
+        return Err(IdentifyError::Input(format!(
+            "--scenario {shown} runs the machine {} (\"{}\"), not the file --machine {} gives (other bytes): compensated.toml would subtract this estimate from another machine's errors",
+            scenario.machine_file.display(),
+            scenario.twin.machine.name(),
+            machine.display()
+        )));
+    }
+    if let Some(table) = tables
+        .iter()
+        .find(|t| t.scenario.as_ref().is_some_and(|s| s.1 != scenario.sha256))
+    {
+        let (file, _) = table.scenario.as_ref().expect("found with a scenario");
+        return Err(IdentifyError::Input(format!(
+            "{}: its manifest.json says it was made from the scenario {file} (other bytes than --scenario {shown}): compensated.toml would subtract this estimate from another scenario's errors; give the scenario the tables were made from",
+            table.file
+        )));
+    }
+    Ok((path.to_path_buf(), scenario))
+}
+
 /// A scenario extending `scenario` whose errors are its own minus the estimate: the machine
 /// after compensation with the identified model (first order: the controller subtracts the
 /// predicted deviation).
-fn compensated_scenario(scenario: &Path, identified: &ErrorModel) -> Result<String, IdentifyError> {
-    let base = crate::app::Scenario::load(scenario)?;
+fn compensated_scenario(
+    scenario: &Path,
+    base: &crate::app::Scenario,
+    identified: &ErrorModel,
+) -> Result<String, IdentifyError> {
     let mut out = format!(
         "# The machine of {} compensated with the identified errors (written by mtwin identify):\n\
          # each estimated parameter's truth minus its estimate.\n\

@@ -23,6 +23,7 @@
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, M_PER_UM, Real};
 use crate::program::{Approach, MeasurePoint, Program, Step};
+use crate::scenario::bounds::{self, Bound};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind, ThermalSetup};
 use crate::thermal::SensorSpec;
 use serde::Deserialize;
@@ -310,17 +311,25 @@ pub(crate) fn nest(
     n: &RawNest,
     fail: &dyn Fn(String) -> ScenarioError,
 ) -> Result<Nest, ScenarioError> {
-    let nest_ok = [n.first_mm, n.spacing_mm, n.noise_um, n.resolution_um]
-        .iter()
-        .all(|v| v.is_finite())
-        && n.spacing_mm > 0.0
-        && n.noise_um >= 0.0
-        && n.resolution_um >= 0.0;
-    if !nest_ok {
-        return Err(fail(
-            "nest: finite values, spacing_mm positive, noise_um and resolution_um not negative"
-                .into(),
-        ));
+    let reach = Bound {
+        lo: 0.0,
+        hi: 1000.0,
+        why: "a test mandrel is at most a metre long",
+    };
+    let sensor = Bound {
+        hi: 10.0,
+        ..bounds::NOISE_NM
+    };
+    let checks = [
+        ("first_mm", n.first_mm, reach),
+        ("spacing_mm", n.spacing_mm, Bound { lo: 1.0, ..reach }),
+        ("noise_um", n.noise_um, sensor),
+        ("resolution_um", n.resolution_um, sensor),
+    ];
+    for (key, value, bound) in checks {
+        bound
+            .check(value)
+            .map_err(|message| fail(format!("nest.{key}: {message}")))?;
     }
     Ok(Nest {
         first: n.first_mm * M_PER_MM,
@@ -338,14 +347,13 @@ pub(crate) fn air_thermometer(
     whose: &str,
     fail: &dyn Fn(String) -> ScenarioError,
 ) -> Result<SensorSpec, ScenarioError> {
-    let air_ok = raw.noise_degc.is_finite()
-        && raw.resolution_degc.is_finite()
-        && raw.noise_degc >= 0.0
-        && raw.resolution_degc >= 0.0;
-    if !air_ok {
-        return Err(fail(
-            "air: noise_degc and resolution_degc finite and not negative".into(),
-        ));
+    for (key, value) in [
+        ("noise_degc", raw.noise_degc),
+        ("resolution_degc", raw.resolution_degc),
+    ] {
+        bounds::THERMOMETER_DEGC
+            .check(value)
+            .map_err(|message| fail(format!("air.{key}: {message}")))?;
     }
     if setup.sensors.iter().any(|(_, s)| s.name == "air") {
         return Err(fail(format!(

@@ -57,6 +57,7 @@ use super::instrument::TouchProbe;
 use crate::contact::{Approach, BallPlate, Cylinder, CylinderSide, Mesh, Sphere};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Rotation, Vector};
+use crate::scenario::bounds::{self, Bound};
 use crate::scenario::{Checker, Context, ScenarioError, ScenarioErrorKind};
 use serde::Deserialize;
 use std::ops::Range;
@@ -189,6 +190,24 @@ fn value(
     })
 }
 
+/// A value within `bound`, `default` when absent.
+fn bounded(
+    check: &Checker<'_>,
+    v: &Option<Spanned<Real>>,
+    key: &str,
+    default: Real,
+    bound: Bound,
+) -> Result<Real, ScenarioError> {
+    check.value(v, key, default, |x| bound.check(x))
+}
+
+/// How far a probe's trigger can lag, scatter or lobe (µm).
+const TRIGGER_UM: Bound = Bound {
+    lo: 0.0,
+    hi: 1000.0,
+    why: "a probe that triggers a millimetre late is not a probe",
+};
+
 /// A finite value, 0 by default.
 fn finite(
     check: &Checker<'_>,
@@ -258,16 +277,24 @@ pub fn probe_test(
     let p = raw.get_ref();
     let check = Checker::new(context, raw.span(), "probe");
     let diameter = *p.stylus_diameter_mm.get_ref();
-    if !(diameter.is_finite() && diameter > 0.0) {
+    if !(diameter.is_finite() && diameter > 0.0 && diameter <= 100.0) {
         return Err(check.fail(
             Some(p.stylus_diameter_mm.span()),
             "stylus_diameter_mm",
-            format!("expected a positive diameter, got {diameter}"),
+            format!(
+                "expected a positive diameter up to 100 mm, got {}",
+                crate::math::readable(diameter)
+            ),
         ));
     }
     let stylus_radius = diameter / 2.0 * M_PER_MM;
-    let radius_error =
-        finite(&check, &p.stylus_radius_error_um, "stylus_radius_error_um")? * M_PER_UM;
+    let radius_error = bounded(
+        &check,
+        &p.stylus_radius_error_um,
+        "stylus_radius_error_um",
+        0.0,
+        Bound::symmetric(1000.0, "a stylus a millimetre off its calibration"),
+    )? * M_PER_UM;
     if stylus_radius + radius_error <= 0.0 {
         return Err(check.fail(
             p.stylus_radius_error_um.as_ref().map(|v| v.span()),
@@ -278,35 +305,48 @@ pub fn probe_test(
     let probe = TouchProbe {
         stylus_radius,
         radius_error,
-        pretravel: value(&check, &p.pretravel_um, "pretravel_um", 0.0, 0.0, false)? * M_PER_UM,
-        lobing: value(&check, &p.lobing_um, "lobing_um", 0.0, 0.0, false)? * M_PER_UM,
-        lobing_phase: finite(&check, &p.lobing_phase_deg, "lobing_phase_deg")? * RAD_PER_DEG,
-        pretravel_axial: value(
+        pretravel: bounded(&check, &p.pretravel_um, "pretravel_um", 0.0, TRIGGER_UM)? * M_PER_UM,
+        lobing: bounded(&check, &p.lobing_um, "lobing_um", 0.0, TRIGGER_UM)? * M_PER_UM,
+        lobing_phase: bounded(
+            &check,
+            &p.lobing_phase_deg,
+            "lobing_phase_deg",
+            0.0,
+            Bound::symmetric(360.0, "a phase within one turn"),
+        )? * RAD_PER_DEG,
+        pretravel_axial: bounded(
             &check,
             &p.pretravel_axial_um,
             "pretravel_axial_um",
             0.0,
-            0.0,
-            false,
+            TRIGGER_UM,
         )? * M_PER_UM,
-        repeatability: value(
+        repeatability: bounded(
             &check,
             &p.repeatability_um,
             "repeatability_um",
             0.0,
-            0.0,
-            false,
+            TRIGGER_UM,
         )? * M_PER_UM,
-        feed: value(
+        feed: bounded(
             &check,
             &p.feed_mm_per_min,
             "feed_mm_per_min",
             240.0,
-            0.0,
-            true,
+            bounds::FEED_MM_PER_MIN,
         )? * M_PER_MM
             / 60.0,
-        latency: value(&check, &p.latency_ms, "latency_ms", 0.0, 0.0, false)? * 1e-3,
+        latency: bounded(
+            &check,
+            &p.latency_ms,
+            "latency_ms",
+            0.0,
+            Bound {
+                lo: 0.0,
+                hi: 1000.0,
+                why: "a trigger latched a second late",
+            },
+        )? * 1e-3,
     };
     if probe.lobing > probe.pretravel {
         return Err(check.fail(
@@ -315,8 +355,13 @@ pub fn probe_test(
             "is larger than pretravel_um: the pre-travel would be negative in some directions",
         ));
     }
-    let clearance = value(&check, &p.clearance_mm, "clearance_mm", 2.0, 0.0, true)? * M_PER_MM;
-    let overtravel = value(&check, &p.overtravel_mm, "overtravel_mm", 2.0, 0.0, true)? * M_PER_MM;
+    let approach = Bound {
+        lo: 0.001,
+        hi: 100.0,
+        why: "1 µm to 100 mm of approach: a probing move, not a traverse",
+    };
+    let clearance = bounded(&check, &p.clearance_mm, "clearance_mm", 2.0, approach)? * M_PER_MM;
+    let overtravel = bounded(&check, &p.overtravel_mm, "overtravel_mm", 2.0, approach)? * M_PER_MM;
     let plan = Plan {
         check: &check,
         machine,

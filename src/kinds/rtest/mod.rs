@@ -15,6 +15,7 @@
 //! | `scene` | the teaching scene (feature `viz`) |
 
 pub mod analysis;
+mod angles;
 pub mod cli;
 pub mod instrument;
 pub mod plot;

@@ -16,6 +16,9 @@
 //! `zero`, `frame`. Analyses need none of them. `frame` states the axes `dx_um`, `dy_um`,
 //! `dz_um` are along; only [`FRAMES`] (the machine's X, Y, Z) is accepted, and a table that
 //! declares another frame is refused at the `frame` line rather than read as machine axes.
+//!
+//! Angles in radians in a `_deg` column are refused where the commanded linear positions show
+//! the turn (see `angles`).
 
 use crate::io::{
     Conditions, Range, TableError, csv_reader, finite_number, number_within, read_file,
@@ -248,6 +251,7 @@ impl RtestTable {
         }
         let (point_column, time_column) = (column("point"), column("time_s"));
         let mut rows = Vec::new();
+        let mut lines = Vec::new();
         for record in reader.records() {
             let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
@@ -295,6 +299,7 @@ impl RtestTable {
                 .zip(PROBES)
                 .map(|(&i, name)| within(i, name).map(|v| v * M_PER_UM))
                 .collect::<Result<Vec<_>, _>>()?;
+            lines.push(line);
             rows.push(RtestRow {
                 test,
                 point,
@@ -308,6 +313,7 @@ impl RtestTable {
         if rows.is_empty() {
             return Err(fail(None, "no data rows".into()));
         }
+        super::angles::check(&rows, &lines, file)?;
         Ok(RtestTable { rows, conditions })
     }
 

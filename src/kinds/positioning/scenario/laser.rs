@@ -22,6 +22,7 @@ use crate::kinds::positioning::laser::{
 };
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, RAD_PER_URAD, Real, Vector};
+use crate::scenario::bounds::{self, Bound};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind};
 use serde::Deserialize;
 use toml::Spanned;
@@ -162,46 +163,40 @@ fn laser_spec(
             format!("laser.{key}: {message}"),
         )
     };
-    let finite =
-        |values: &[Real], span: std::ops::Range<usize>, key: &str| -> Result<(), ScenarioError> {
-            match values.iter().all(|v| v.is_finite()) {
-                true => Ok(()),
-                false => Err(fail(span, key, "expected finite numbers".into())),
-            }
-        };
+    let within = |values: &[Real],
+                  bound: Bound,
+                  span: std::ops::Range<usize>,
+                  key: &str|
+     -> Result<(), ScenarioError> {
+        bound
+            .check_each(values)
+            .map_err(|message| fail(span, key, message))
+    };
     let beam_offset = match &l.beam_offset_mm {
         Some(v) => {
-            finite(v.get_ref(), v.span(), "beam_offset_mm")?;
+            within(v.get_ref(), bounds::OFFSET_MM, v.span(), "beam_offset_mm")?;
             Vector::from_array(*v.get_ref()) * M_PER_MM
         }
         None => Vector::ZERO,
     };
     let misalignment = match &l.misalignment_urad {
         Some(v) => {
-            finite(v.get_ref(), v.span(), "misalignment_urad")?;
+            within(
+                v.get_ref(),
+                bounds::MISALIGNMENT_URAD,
+                v.span(),
+                "misalignment_urad",
+            )?;
             v.get_ref().map(|m| m * RAD_PER_URAD)
         }
         None => [0.0, 0.0],
     };
-    let non_negative =
-        |v: Real, span: std::ops::Range<usize>, key: &str| -> Result<Real, ScenarioError> {
-            if v.is_finite() && v >= 0.0 {
-                Ok(v)
-            } else {
-                Err(fail(
-                    span,
-                    key,
-                    format!("expected a non-negative number, got {v}"),
-                ))
-            }
-        };
-    let resolution = non_negative(
-        *l.resolution_nm.get_ref(),
-        l.resolution_nm.span(),
-        "resolution_nm",
-    )? * 1e-9;
+    let one = |v: &Spanned<Real>, bound: Bound, key: &str| -> Result<Real, ScenarioError> {
+        within(&[*v.get_ref()], bound, v.span(), key).map(|()| *v.get_ref())
+    };
+    let resolution = one(&l.resolution_nm, bounds::RESOLUTION_NM, "resolution_nm")? * 1e-9;
     let noise = match &l.noise_nm {
-        Some(v) => non_negative(*v.get_ref(), v.span(), "noise_nm")? * 1e-9,
+        Some(v) => one(v, bounds::NOISE_NM, "noise_nm")? * 1e-9,
         None => 0.0,
     };
     let air_raw = l.air.as_ref().map(|a| *a.get_ref()).unwrap_or_default();
@@ -236,8 +231,9 @@ fn laser_spec(
         offsets.humidity_pct,
     ]
     .map(|v| v.unwrap_or(0.0));
-    finite(
+    within(
         &offset_values,
+        Bound::symmetric(1000.0, "a sensor that far off is broken"),
         l.sensor_offsets.as_ref().map_or(0..0, |a| a.span()),
         "sensor_offsets",
     )?;
@@ -281,9 +277,24 @@ fn laser_spec(
                 node,
                 offset_degc,
             } = m.get_ref().clone();
-            finite(&[expansion_ppm_per_degc, offset_degc], m.span(), "material")?;
+            let material = |values: &[Real], bound: Bound, key: &str| {
+                within(values, bound, m.span(), &format!("material.{key}"))
+            };
+            material(
+                &[expansion_ppm_per_degc],
+                bounds::EXPANSION_PPM_PER_DEGC,
+                "expansion_ppm_per_degc",
+            )?;
+            material(
+                &[offset_degc],
+                Bound::symmetric(50.0, "a sensor that far off is broken"),
+                "offset_degc",
+            )?;
+            if let Some(t) = temperature_degc {
+                material(&[t], bounds::TEMPERATURE_DEGC, "temperature_degc")?;
+            }
             let sensor = match (temperature_degc, node) {
-                (Some(t), None) if t.is_finite() => None,
+                (Some(_), None) => None,
                 (None, Some(node)) => Some((node, offset_degc)),
                 _ => {
                     return Err(fail(
@@ -305,7 +316,14 @@ fn laser_spec(
         None => (None, None),
     };
     let dead_path = match &l.dead_path_mm {
-        Some(v) => non_negative(*v.get_ref(), v.span(), "dead_path_mm")? * M_PER_MM,
+        Some(v) => {
+            let bound = Bound {
+                lo: 0.0,
+                hi: 80_000.0,
+                why: "80 m: the longest laser paths",
+            };
+            one(v, bound, "dead_path_mm")? * M_PER_MM
+        }
         None => 0.0,
     };
     let zero = match l.zero.as_ref().map(|z| z.get_ref().as_str()) {

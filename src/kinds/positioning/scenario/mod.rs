@@ -23,6 +23,7 @@ use crate::kinds::positioning::program::{LinearCycle, irregular_targets};
 use crate::machine::{Axis, Machine};
 use crate::math::{M_PER_MM, Real, seeded_rng};
 use crate::program::Program;
+use crate::scenario::bounds::{self, Bound};
 use crate::scenario::parked::{self, Why};
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind, ThermalSetup};
 use serde::Deserialize;
@@ -182,8 +183,18 @@ pub(crate) fn laser_test(
             }
         };
     let overrun = positive(&t.overrun_mm, "iso230_2.overrun_mm", true)? * M_PER_MM;
-    let feed = positive(&t.feed_mm_per_min, "iso230_2.feed_mm_per_min", false)? * M_PER_MM / 60.0;
-    let dwell = positive(&t.dwell_s, "iso230_2.dwell_s", true)?;
+    let bounded = |value: &Spanned<Real>, key: &str, bound: Bound| -> Result<Real, ScenarioError> {
+        bound
+            .check(*value.get_ref())
+            .map_err(|message| fail(value.span(), key, message))
+    };
+    let feed = bounded(
+        &t.feed_mm_per_min,
+        "iso230_2.feed_mm_per_min",
+        bounds::FEED_MM_PER_MIN,
+    )? * M_PER_MM
+        / 60.0;
+    let dwell = bounded(&t.dwell_s, "iso230_2.dwell_s", bounds::DWELL_S)?;
     let runs = *t.runs.get_ref();
     if !(2..=1000).contains(&runs) {
         return Err(fail(

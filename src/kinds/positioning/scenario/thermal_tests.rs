@@ -20,6 +20,7 @@ use crate::kinds::positioning::program::LinearCycle;
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, Real};
 use crate::program::{Program, Step};
+use crate::scenario::bounds;
 use crate::scenario::{Context, ScenarioError, ScenarioErrorKind};
 use serde::Deserialize;
 use toml::Spanned;
@@ -129,15 +130,18 @@ pub(crate) fn warmup_test(
             ),
         ));
     }
-    let timing = [w.feed_mm_per_min, w.dwell_s];
-    if !timing.iter().all(|v| v.is_finite())
-        || w.feed_mm_per_min <= 0.0
-        || !(0.0..=3600.0).contains(&w.dwell_s)
-    {
-        return Err(fail(
-            raw.span(),
-            "feed_mm_per_min must be positive and dwell_s 0 to 3600 s".into(),
-        ));
+    let timing = [
+        (
+            "feed_mm_per_min",
+            w.feed_mm_per_min,
+            bounds::FEED_MM_PER_MIN,
+        ),
+        ("dwell_s", w.dwell_s, bounds::DWELL_S),
+    ];
+    for (key, value, bound) in timing {
+        bound
+            .check(value)
+            .map_err(|message| fail(raw.span(), format!("{key}: {message}")))?;
     }
     if !(2..=1000).contains(&w.runs) {
         return Err(fail(raw.span(), format!("runs: 2 to 1000, got {}", w.runs)));
@@ -165,8 +169,8 @@ pub(crate) fn warmup_test(
         (
             "feed_mm_per_min",
             idle.feed_mm_per_min,
-            idle.feed_mm_per_min > 0.0,
-            "a positive feed",
+            bounds::FEED_MM_PER_MIN.check(idle.feed_mm_per_min).is_ok(),
+            "0.1 … 200000 mm/min",
         ),
         (
             "minutes",
@@ -318,7 +322,7 @@ pub(crate) fn linear_motion_test(
         m.visit_every_min,
     ];
     let valid = numbers.iter().all(|v| v.is_finite())
-        && m.feed_mm_per_min > 0.0
+        && bounds::FEED_MM_PER_MIN.check(m.feed_mm_per_min).is_ok()
         && (0.0..=3600.0).contains(&m.dwell_s)
         && m.cycling_min > 0.0
         && m.cycling_min <= 14_400.0
@@ -326,7 +330,16 @@ pub(crate) fn linear_motion_test(
         && m.visit_every_min > 0.0
         && m.read_every >= 1;
     if !valid {
-        return Err(fail(raw.span(), "feed, cycling (at most 14400 min) and visit interval positive; dwell 0 to 3600 s; cool-down 0 to 14400 min; read_every ≥ 1".into()));
+        return Err(fail(raw.span(), "feed 0.1 to 200000 mm/min; cycling (at most 14400 min) and visit interval positive; dwell 0 to 3600 s; cool-down 0 to 14400 min; read_every ≥ 1".into()));
+    }
+    if m.cooldown_min / m.visit_every_min > 1e6 {
+        return Err(fail(
+            raw.span(),
+            format!(
+                "visit_every_min: {} visits in the cool-down; at most a million",
+                crate::math::readable((m.cooldown_min / m.visit_every_min).floor())
+            ),
+        ));
     }
     let rest = rest_positions(
         machine,

@@ -207,6 +207,26 @@ pub(crate) fn spindle_test(
     let parked = axis::parked(&check, machine, axis, s)?;
     let artefact = artefact::artefact(&check, axis, s.artefact.as_ref())?;
     let probes = probes::probes(&check, s, &artefact)?;
+    // A probe whose filter cuts below once per revolution of the fastest speed cannot see
+    // the error motion it is there for (ISO 230-7 §4.3 and Annex H: the bandwidth must cover
+    // the undulations per revolution of interest at the speed).
+    let fastest_hz = speeds.iter().fold(0.0, |f: Real, w| f.max(w.abs())) / std::f64::consts::TAU;
+    if let Some(p) = probes
+        .iter()
+        .find(|p| p.bandwidth.is_some_and(|b| b < fastest_hz))
+    {
+        let given = s.bandwidth_hz.as_ref().map(|v| v.span());
+        return Err(check.fail(
+            given,
+            "bandwidth_hz",
+            format!(
+                "probe \"{}\" filters at {} Hz, below once per revolution at the fastest speed ({} Hz): it cannot see the error motion",
+                p.name,
+                crate::math::readable(p.bandwidth.unwrap_or(0.0)),
+                crate::math::trimmed(fastest_hz, 3)
+            ),
+        ));
+    }
     // Ten time constants of the slowest filter: its transient is then below 5e-5 of a step.
     let slowest = probes
         .iter()
@@ -304,11 +324,12 @@ fn bandwidth(
     check.value(value, key, default, |f| {
         if f == Real::INFINITY {
             Ok(None)
-        } else if f.is_finite() && f > 0.0 {
+        } else if f.is_finite() && (1.0..=1e6).contains(&f) {
             Ok(Some(f))
         } else {
             Err(format!(
-                "expected a positive frequency, or inf for no filter, got {f}"
+                "expected 1 … 1000000 Hz (probe amplifiers), or inf for no filter, got {}",
+                crate::math::readable(f)
             ))
         }
     })
