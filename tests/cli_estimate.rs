@@ -139,18 +139,16 @@ fn provenance_ties_an_estimate_to_its_scenario_and_refuses_another() {
     let run = run_into(&scenario, dir.path(), "run");
     let machine = root("models/trunnion5.urdf");
     let identify = |table: &Path, scenario: &Path, out: &Path| {
-        mtwin(&[
-            "identify".as_ref(),
-            "--machine".as_ref(),
-            machine.as_os_str(),
-            "--params".as_ref(),
-            "location".as_ref(),
+        identify_location(
+            &machine,
             table.as_os_str(),
-            "--scenario".as_ref(),
-            scenario.as_os_str(),
-            "--out".as_ref(),
-            out.as_os_str(),
-        ])
+            &[
+                "--scenario".as_ref(),
+                scenario.as_os_str(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ],
+        )
     };
     let id = dir.path().join("id");
     let text = ok(&identify(&run.join("rtest.csv"), &scenario, &id));
@@ -541,19 +539,28 @@ fn an_estimate_beyond_ten_millimetres_is_named_and_refused() {
     assert!(id.join("linuxcnc_X.comp").exists() || id.join("estimate.json").exists());
 }
 
-/// `mtwin identify` of the location errors from the R-test `table` (`rtest:FILE`) with the
-/// sphere given as `sphere` (mm).
-fn identify_bare(machine: &Path, table: &str, sphere: &str) -> Output {
-    mtwin(&[
+/// `mtwin identify --machine MACHINE --params location TABLE` with `more` arguments.
+fn identify_location(machine: &Path, table: &OsStr, more: &[&OsStr]) -> Output {
+    let mut args: Vec<&OsStr> = vec![
         "identify".as_ref(),
         "--machine".as_ref(),
         machine.as_os_str(),
         "--params".as_ref(),
         "location".as_ref(),
+        table,
+    ];
+    args.extend_from_slice(more);
+    mtwin(&args)
+}
+
+/// `mtwin identify` of the location errors from the R-test `table` (`rtest:FILE`) with the
+/// sphere given as `sphere` (mm).
+fn identify_bare(machine: &Path, table: &str, sphere: &str) -> Output {
+    identify_location(
+        machine,
         table.as_ref(),
-        "--rtest-sphere-mm".as_ref(),
-        sphere.as_ref(),
-    ])
+        &["--rtest-sphere-mm".as_ref(), sphere.as_ref()],
+    )
 }
 
 #[test]
@@ -620,6 +627,45 @@ fn an_r_test_with_a_mistyped_sphere_or_angles_in_radians_is_refused() {
         );
     }
 
+    // The sphere typed 0.3 mm off in the preamble: under tool-centre-point control the
+    // commanded positions put the tip on the sphere the controller was given, so 0.3 mm is no
+    // machine error (it was fitted as EX0C = 312 µm with χ²/dof 0.93 when 1 mm was allowed).
+    let clean = std::fs::read_to_string(run.join("rtest.csv")).unwrap();
+    let typo = dir.path().join("typo.csv");
+    let line = "# sphere_mm = 100 0 250";
+    assert!(clean.contains(line), "the preamble's sphere line");
+    std::fs::write(&typo, clean.replacen(line, "# sphere_mm = 100.3 0 250", 1)).unwrap();
+    refused_by_the_reader(
+        &[
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            typo.as_os_str(),
+        ],
+        &dir.path().join("id"),
+        &["typo.csv", "0.3 mm from the sphere at 100.3 0 250 mm"],
+    );
+    // Deviations exported in mm in the _um columns: every reading 1000 times too small, the
+    // residuals a thousandth of the noise (χ²/dof ≈ 1e-6), every estimate 1000 times too
+    // small. The door refuses the fit as units.
+    let mm = dir.path().join("mm.csv");
+    let in_mm = ["dx_um", "dy_um", "dz_um"]
+        .iter()
+        .fold(clean.clone(), |t, c| with_column(&t, c, |v| v / 1000.0));
+    std::fs::write(&mm, in_mm).unwrap();
+    refused_by_the_door(
+        &[
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            mm.as_os_str(),
+        ],
+        &dir.path().join("id"),
+        &["χ²/dof", "is below 0.01", "mm in a `_um` column"],
+        "units or set-up",
+    );
     // And without the commanded positions, the door refuses the fit.
     let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     let preamble: Vec<&str> = text.lines().filter(|l| l.starts_with('#')).collect();

@@ -391,36 +391,79 @@ mod identifiability_facts {
 }
 
 /// Over 200 seeds × 8 parameters, the linearised 95 % intervals (± 1.96 u) of the R-test
-/// estimate cover the truth in 93–97 % of cases: the uncertainties are neither optimistic nor
-/// padded. (The nest's noise is each displacement component's, as the readings state.)
+/// estimate cover the truth in 93–97 % of cases with the set-up error drawn as the readings
+/// state it: each seed puts the sphere off the position the controller follows and the table
+/// states by N(0, 0.5 µm) per axis (`sphere_setup_um`, the default preset uncertainty). The u
+/// is then the noise's and the set-up's; without the set-up term (the same data, the sphere
+/// taken as exact) the intervals are too narrow and cover under 93 %, so the test can tell.
 #[test]
 fn the_95_percent_intervals_cover_the_truth_95_percent_of_the_time() {
-    let (mut covered, mut total) = (0, 0);
+    use mtwin::kinds::rtest::readings::DEFAULT_SETUP_UNCERTAINTY;
+    use mtwin::math::{seeded_rng, standard_normal};
+    let (mut covered, mut covered_without, mut total) = (0, 0, 0);
     let tests = [
         ("CK1 A0", "A = 0.0, C = 0.0", "C = 360.0", 7),
         ("CK1 A-45", "A = -45.0, C = 0.0", "C = 360.0", 7),
     ];
     for seed in 1..=200 {
-        let (scenario, readings) = simulated(
-            &trunnion_rtest(seed, 0.2, "[100.0, 0.0, 250.0]", &tests),
-            Setup::default(),
+        let mut rng = seeded_rng(seed, "coverage test sphere set-up");
+        let off: Vec<Real> = (0..3)
+            .map(|_| DEFAULT_SETUP_UNCERTAINTY * 1e6 * standard_normal(&mut rng))
+            .collect();
+        let text = trunnion_rtest(seed, 0.2, "[100.0, 0.0, 250.0]", &tests).replacen(
+            "[rtest]\n",
+            &format!(
+                "[rtest]\nsphere_setup_um = [{}, {}, {}]\n",
+                off[0], off[1], off[2]
+            ),
+            1,
         );
-        let (set, fit, scales, labels) = estimate(
-            &scenario.twin.machine,
-            "location",
-            std::slice::from_ref(&readings),
-            0,
-        );
-        for j in 0..set.len() {
-            let error = fit.z[j] * scales[j] - truth_of(&scenario, &labels[j]);
-            let u = fit.uncertainty(j).unwrap() * scales[j];
-            covered += usize::from(error.abs() <= 1.96 * u);
-            total += 1;
+        let scenario = load(&text);
+        let table = simulate(&scenario).unwrap().rtest.unwrap();
+        let machine = &scenario.twin.machine;
+        let exact = Setup {
+            sphere_uncertainty: 0.0,
+            ..Setup::default()
+        };
+        for (setup, count) in [
+            (Setup::default(), &mut covered),
+            (exact, &mut covered_without),
+        ] {
+            let set = readings(&table, "simulated", machine, setup).unwrap();
+            let (params, fit, scales, labels) =
+                estimate(machine, "location", std::slice::from_ref(&set), 0);
+            for j in 0..params.len() {
+                let error = fit.z[j] * scales[j] - truth_of(&scenario, &labels[j]);
+                let u = fit.uncertainty(j).unwrap() * scales[j];
+                *count += usize::from(error.abs() <= 1.96 * u);
+            }
         }
+        total += 8;
     }
     let rate = covered as Real / total as Real;
-    eprintln!("coverage: {covered} of {total} = {:.1} %", 100.0 * rate);
+    let without = covered_without as Real / total as Real;
+    eprintln!(
+        "coverage: {covered} of {total} = {:.1} % (without the set-up term {:.1} %)",
+        100.0 * rate,
+        100.0 * without
+    );
     assert!((0.93..=0.97).contains(&rate), "coverage {covered}/{total}");
+    assert!(
+        without < 0.93,
+        "without the set-up term: {covered_without}/{total}"
+    );
+}
+
+/// Two C circles on trunnion5 (seed 4) read with the set-up taken as exact: the scenario's
+/// text, the scenario and the readings, whose only uncertainty is the nest's noise.
+fn noise_only_rtest() -> (String, Scenario, Readings) {
+    let text = trunnion_rtest(4, 0.2, "[100.0, 0.0, 250.0]", &TWO_CIRCLES);
+    let exact = Setup {
+        sphere_uncertainty: 0.0,
+        ..Setup::default()
+    };
+    let (scenario, readings) = simulated(&text, exact);
+    (text, scenario, readings)
 }
 
 /// With the set-up taken as exact, the Monte Carlo (noise only) and the linearised
@@ -429,12 +472,7 @@ fn the_95_percent_intervals_cover_the_truth_95_percent_of_the_time() {
 /// uncertainty, the Monte Carlo's spread can only grow.
 #[test]
 fn the_monte_carlo_agrees_with_the_linearised_covariance() {
-    let text = trunnion_rtest(4, 0.2, "[100.0, 0.0, 250.0]", &TWO_CIRCLES);
-    let exact = Setup {
-        sphere_uncertainty: 0.0,
-        ..Setup::default()
-    };
-    let (scenario, readings) = simulated(&text, exact);
+    let (text, scenario, readings) = noise_only_rtest();
     let machine = &scenario.twin.machine;
     let (set, fit, _, labels) =
         estimate(machine, "location", std::slice::from_ref(&readings), 2000);
@@ -453,11 +491,20 @@ fn the_monte_carlo_agrees_with_the_linearised_covariance() {
             labels[j]
         );
     }
+    // With the sphere's preset uncertainty the Monte Carlo draws it too, and the linearised u
+    // carries it (the set-up term): the two agree again, within the same 6 %.
     let (_, readings) = simulated(&text, Setup::default());
     let (_, with_setup, _, _) =
         estimate(machine, "location", std::slice::from_ref(&readings), 2000);
     let wider = with_setup.monte_carlo.as_ref().unwrap();
     for j in 0..set.len() {
+        let u = with_setup.uncertainty(j).unwrap();
+        assert!(
+            (wider.std[j] / u - 1.0).abs() < 0.06,
+            "{}: MC {} vs linear {u} with the set-up",
+            labels[j],
+            wider.std[j]
+        );
         assert!(wider.std[j] >= 0.94 * mc.std[j], "{}", labels[j]);
     }
 }
@@ -469,12 +516,7 @@ fn the_monte_carlo_agrees_with_the_linearised_covariance() {
 #[test]
 fn a_monte_carlo_of_several_batches_streams_and_keeps_its_figures() {
     use std::sync::atomic::{AtomicUsize, Ordering};
-    let text = trunnion_rtest(4, 0.2, "[100.0, 0.0, 250.0]", &TWO_CIRCLES);
-    let exact = Setup {
-        sphere_uncertainty: 0.0,
-        ..Setup::default()
-    };
-    let (scenario, readings) = simulated(&text, exact);
+    let (_, scenario, readings) = noise_only_rtest();
     let machine = &scenario.twin.machine;
     let set = ParameterSet::parse("location", machine).unwrap();
     let problem = Problem::new(machine, &set, std::slice::from_ref(&readings)).unwrap();

@@ -282,6 +282,36 @@ fn an_axis_offset_of_c_is_a_circle_of_its_size_centred_a_radius_off() {
     assert!(test.range_um[2] < 1e-3);
 }
 
+/// A sphere preset δ off along X (`sphere_setup_um`, the controller following the stated
+/// position) is the same, pose for pose, as the C axis offset EX0C = −δ with the sphere where
+/// stated: the table turns the sphere about an axis δ nearer to it. On the A swing and the
+/// combined path δ lies along A's axis (X), which A does not turn, so every row agrees, to
+/// 1 nm (exact kinematics).
+#[test]
+fn a_sphere_placed_off_its_preset_reads_as_the_opposite_c_axis_offset() {
+    let placed = run(&trunnion_scenario(
+        "EX0C",
+        0.0,
+        "sphere_setup_um = [20.0, 0.0, 0.0]",
+    ));
+    let offset_axis = run(&trunnion_scenario("EX0C", -20.0, ""));
+    assert_eq!(placed.rows.len(), offset_axis.rows.len());
+    let mut largest: Real = 0.0;
+    for (a, b) in placed.rows.iter().zip(&offset_axis.rows) {
+        assert!(
+            (a.deviation - b.deviation).length() < 1e-3 * UM,
+            "{} point {:?}: {:?} vs {:?}",
+            a.test,
+            a.point,
+            a.deviation / UM,
+            b.deviation / UM
+        );
+        largest = largest.max(a.deviation.length());
+    }
+    // Not a vacuous agreement: the C circle reads a circle of 20 µm radius.
+    assert!(largest > 39.0 * UM, "{}", largest / UM);
+}
+
 #[test]
 fn a_probe_direction_error_becomes_cross_talk_unless_the_nest_is_calibrated() {
     // Probe 1's true axis a₁ + δa (δa from a 3 mrad elevation error). The nominal software

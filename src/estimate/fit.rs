@@ -26,7 +26,10 @@
 //! 3. **Uncertainty**: `C_z = B (J_Bᵀ J_B)⁻¹ Bᵀ` with `J_B = J B`, the start's design again
 //!    (at the solution it differs by about 1e-5 relative). When the residuals are significantly larger than the stated
 //!    uncertainties (χ² above its 99 % quantile), `C_z` is scaled by the Birge ratio χ²/dof
-//!    and the report says so.
+//!    and the report says so. The known set-up quantities then add `B G S Sᵀ Gᵀ Bᵀ`, with
+//!    `G = (J_Bᵀ J_B)⁻¹ J_Bᵀ` and `S` the readings' sensitivity to each quantity times its
+//!    uncertainty at the solution ([`Problem::setup_design`]): the u every output gives is the
+//!    noise's and the set-up's, as the Monte Carlo draws them.
 //! 4. **Monte Carlo** (`trials > 0`): each trial draws the known set-up quantities from their
 //!    stated uncertainties and the readings' noise, simulates the readings through the twin at
 //!    the estimate, and refits (Gauss–Newton with the Jacobian frozen at the solution, two
@@ -300,6 +303,41 @@ impl<'a> Problem<'a> {
         DMatrix::from_fn(rows, basis.ncols(), |i, k| columns[k][i])
     }
 
+    /// The weighted sensitivity of the readings to each known set-up quantity times its
+    /// standard uncertainty, at `z` (rows × quantities, in the order of the sets and their
+    /// `setup`): central differences of the exact chain with a step of the quantity's own
+    /// uncertainty, so a quantity that enters at second order only (a ball-bar's centre off
+    /// its plane) has none, as the linearised model has it.
+    pub fn setup_design(&self, z: &[Real]) -> DMatrix<Real> {
+        let quantities: Vec<(usize, usize, Real)> = (self.sets.iter().enumerate())
+            .flat_map(|(k, set)| {
+                (set.setup.iter().enumerate())
+                    .map(move |(q, quantity)| (k, q, quantity.uncertainty))
+            })
+            .filter(|(_, _, u)| *u > 0.0)
+            .collect();
+        let rows = self.rows;
+        let mut workspace = Workspace::new(self.machine);
+        let mut columns = Vec::with_capacity(quantities.len());
+        for &(k, q, u) in &quantities {
+            let mut offsets: Vec<Vec<Real>> = vec![Vec::new(); self.sets.len()];
+            offsets[k] = vec![0.0; self.sets[k].setup.len()];
+            let (mut plus, mut minus) = (vec![0.0; rows], vec![0.0; rows]);
+            offsets[k][q] = u;
+            self.predict(z, &offsets, &mut workspace, &mut plus);
+            offsets[k][q] = -u;
+            self.predict(z, &offsets, &mut workspace, &mut minus);
+            let mut column: Vec<Real> = plus
+                .iter()
+                .zip(&minus)
+                .map(|(p, m)| 0.5 * (p - m))
+                .collect();
+            self.weigh(&mut column);
+            columns.push(column);
+        }
+        DMatrix::from_fn(rows, columns.len(), |i, c| columns[c][i])
+    }
+
     /// Divides stacked per-reading values by their σ, in place.
     fn weigh(&self, values: &mut [Real]) {
         for (k, set) in self.sets.iter().enumerate() {
@@ -551,6 +589,15 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
         (dof > 0 && chi2 > chi2_quantile_99(dof as Real)).then(|| chi2 / dof as Real);
     if let Some(factor) = birge_scaled {
         covariance *= factor;
+    }
+    // The known set-up quantities (a sphere's preset, a reflector's offset) move every reading
+    // of their set together: C += B G S Sᵀ Gᵀ Bᵀ, with G the solver's gain and S their
+    // weighted sensitivities times their uncertainties at the solution (not scaled by the
+    // Birge ratio: they are not the residuals' scatter).
+    let setup = problem.setup_design(&z);
+    if setup.ncols() > 0 {
+        let moved = &basis * (&inverse * jb.transpose() * setup);
+        covariance += &moved * moved.transpose();
     }
     let residual_rms = problem
         .sets

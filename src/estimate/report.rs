@@ -6,7 +6,8 @@
 //! |---|---|
 //! | `mtwin`, `schema` | `"estimate"`, 1 |
 //! | `machine`, `machine_file` | the machine's name and the URDF given |
-//! | `errors` | per identified parameter, as in `truth.json`: `axis`, `kind`, `unit`, `terms` (file units), plus `standard_uncertainty` and `interval_95` mirroring `terms` key by key (`interval_95` from the Monte Carlo when it ran, else ± 1.96 u) |
+//! | `errors` | per identified parameter, as in `truth.json`: `axis`, `kind`, `unit`, `terms` (file units), plus `standard_uncertainty` (linearised: the readings' noise and the known set-up quantities) and `interval_95` mirroring `terms` key by key (`interval_95` from the Monte Carlo, which draws the same noise and set-up, when it ran, else ± 1.96 u) |
+//! | `uncertainty` | how `standard_uncertainty` and `interval_95` were formed: `standard_uncertainty` (`"linearised: noise and set-up"`), `interval_95` (`"monte_carlo"` or `"linearised"`), `monte_carlo_trials` |
 //! | `unidentifiable` | the parameters the tables cannot identify: no number is given for them (a polynomial with any unidentified coefficient is listed whole; `coefficients` has the others) |
 //! | `null_combinations` | what cannot be told apart (each a text in ISO names) |
 //! | `seen_combinations` | what the tables do see among the unidentifiable parameters: `combination`, `value_um`, `standard_uncertainty_um` (solver units: µm, a rotation as its motion at 100 mm, a polynomial coefficient at the end of travel) |
@@ -219,6 +220,11 @@ pub fn to_json(
         },
         "identifiability": fit.identifiability.to_json(),
         "coefficients": coefficients,
+        "uncertainty": {
+            "standard_uncertainty": "linearised: noise and set-up",
+            "interval_95": if fit.monte_carlo.is_some() { "monte_carlo" } else { "linearised" },
+            "monte_carlo_trials": fit.monte_carlo.as_ref().map(|m| m.trials),
+        },
     })
 }
 
@@ -308,11 +314,15 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
     for (source, rms) in sources.iter().zip(&fit.residual_rms) {
         out += &format!("  residual RMS {:.3} µm  {source}\n", rms * 1e6);
     }
-    if let Some(mc) = &fit.monte_carlo {
-        out += &format!(
-            "Monte Carlo: {} trials (instrument noise and set-up), 95 % intervals above from it\n",
-            mc.trials
-        );
-    }
+    out += &format!(
+        "u: linearised, from the readings' noise and the set-up quantities' uncertainties; {}\n",
+        match &fit.monte_carlo {
+            Some(mc) => format!(
+                "95 % intervals: Monte Carlo, {} trials drawing the same noise and set-up (GUM Supplement 1)",
+                mc.trials
+            ),
+            None => "95 % intervals: ± 1.96 u".to_string(),
+        }
+    );
     out
 }

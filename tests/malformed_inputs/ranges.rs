@@ -280,6 +280,23 @@ fn temperature_terms_and_records_beyond_a_workshop_are_refused() {
 }
 
 #[test]
+fn a_sphere_preset_off_by_millimetres_is_refused_at_its_line() {
+    let text = bundled_with(
+        "trunnion5_rtest.toml",
+        "sphere_diameter_mm = 25.4",
+        "sphere_diameter_mm = 25.4\nsphere_setup_um = [5000.0, 0.0, 0.0]",
+    );
+    refused_at(
+        &text,
+        "sphere_setup_um = [5000.0, 0.0, 0.0]",
+        &[
+            "rtest.sphere_setup_um: 5000: expected -1000 … 1000",
+            "no preset",
+        ],
+    );
+}
+
+#[test]
 fn a_model_larger_than_any_machine_is_refused_as_a_unit_slip() {
     // The X joint's offset written in millimetres (150 for 0.15 m) is fine; 350 000 is not.
     let text = replace_once(

@@ -8,6 +8,11 @@
 //!   scaled figures would describe a model that is not the machine. Units (nm in a µm column,
 //!   radians in a degree column), a mistyped set-up position and a term the model lacks
 //!   (lost motion, drift) all land here;
+//! - χ²/dof is below [`MIN_CHI2_PER_DOF`] with 20 degrees of freedom or more: the residuals
+//!   are under a tenth of the stated uncertainty, which noise of that size does with a
+//!   probability below 1e-19. The readings are in a unit 1000 times too large for their
+//!   column's name (mm in a `_um` column: every estimate 1000 times too small), or the stated
+//!   uncertainty is far too large (a noise-free simulation: state `--sigma-um`);
 //! - an identified parameter reaches beyond what a scenario accepts (10 mm or 10 mrad over its
 //!   axis's travel, [`crate::scenario::errors::LARGEST_ERROR`]): no machine error is that
 //!   large, a unit or a set-up value is wrong;
@@ -26,6 +31,13 @@ use crate::math::Real;
 /// The largest χ²/dof a fit may have and still write compensation: residuals ten times the
 /// readings' stated standard uncertainty (see the module doc).
 pub const MAX_CHI2_PER_DOF: Real = 100.0;
+
+/// The smallest χ²/dof a fit with at least 20 degrees of freedom may
+/// have (see the module doc): residuals a tenth of the readings' stated uncertainty.
+pub const MIN_CHI2_PER_DOF: Real = 0.01;
+
+/// The degrees of freedom from which a too small χ² is judged.
+const MIN_DOF_FOR_SMALL_CHI2: usize = 20;
 
 /// A residual RMS above this (m) is no machine error a small-motion model misses: the data are
 /// in another unit or the set-up is wrong.
@@ -72,6 +84,14 @@ pub fn check(
             significant(chi2_per_dof),
             chi2_per_dof.sqrt()
         ));
+    } else if fit.dof >= MIN_DOF_FOR_SMALL_CHI2 && chi2_per_dof < MIN_CHI2_PER_DOF {
+        problems.push(format!(
+            "χ²/dof = {} is below {MIN_CHI2_PER_DOF} with {} degrees of freedom: the residuals are {} of the readings' stated uncertainty, far smaller than any noise of that size leaves (readings 1000 times too small for their column's unit, e.g. mm in a `_um` column, or the stated uncertainty far too large: --sigma-um)",
+            significant(chi2_per_dof),
+            fit.dof,
+            significant(chi2_per_dof.sqrt())
+        ));
+        units = true;
     }
     for (k, set) in sets.iter().enumerate() {
         let rms = fit.residual_rms.get(k).copied().unwrap_or(0.0);

@@ -64,7 +64,13 @@ pub fn simulate(twin: &Twin, test: &RTest, seed: u64) -> Result<RtestTable, Rtes
             first = None;
         }
         for (index, pose) in poses.iter().enumerate() {
-            let v = sphere_in_nest(twin, &mut workspace, &pose.state, test.sphere);
+            // The controller follows the stated sphere; the sphere is where the preset left it.
+            let v = sphere_in_nest(
+                twin,
+                &mut workspace,
+                &pose.state,
+                test.sphere + test.sphere_setup,
+            );
             test.nest.read(v, &mut rng, &mut readings);
             if let Some((probe, reading)) = readings
                 .iter()
@@ -154,7 +160,12 @@ fn calibrate(
             &angles,
             test.sphere - workpiece_from_nest * v,
         )?;
-        let seen = sphere_in_nest(twin, workspace, &MachineState::at(command), test.sphere);
+        let seen = sphere_in_nest(
+            twin,
+            workspace,
+            &MachineState::at(command),
+            test.sphere + test.sphere_setup,
+        );
         let mut d = vec![0.0; test.nest.probes.len()];
         test.nest.read(seen, rng, &mut d);
         if let Some((probe, reading)) = d
@@ -227,6 +238,7 @@ pub fn truth(test: &RTest) -> Value {
     let nest = &test.nest;
     json!({
         "sphere_mm": (test.sphere / M_PER_MM).to_array(),
+        "sphere_setup_um": (test.sphere_setup / crate::math::M_PER_UM).to_array(),
         "sphere_diameter_mm": 2.0 * nest.sphere_radius / M_PER_MM,
         "tip": match nest.tip {
             super::instrument::Tip::Flat => json!({"kind": "flat"}),

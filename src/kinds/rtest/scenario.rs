@@ -4,6 +4,9 @@
 //! [rtest]
 //! sphere_mm = [100.0, 0.0, 150.0]   # sphere centre in the workpiece frame (on the C table)
 //! sphere_diameter_mm = 25.4
+//! sphere_setup_um = [0.0, 0.0, 0.0] # where the sphere really is relative to sphere_mm: the
+//!                                   # controller follows sphere_mm (the operator's preset), the
+//!                                   # sphere sits this far off it (a set-up error; ±1000 µm)
 //! probes = 3                        # 3, or 4 with one along the tool axis
 //! tip = "flat"                      # "flat" (linear) or "point" (cross-talk u²/2R)
 //! tip_radius_mm = 0.0               # point tips: the tip ball's radius (0: non-contact)
@@ -47,6 +50,7 @@ use toml::Spanned;
 pub(crate) struct RawRtest {
     sphere_mm: Spanned<[Real; 3]>,
     sphere_diameter_mm: Option<Spanned<Real>>,
+    sphere_setup_um: Option<Spanned<[Real; 3]>>,
     probes: Option<Spanned<i64>>,
     tip: Option<Spanned<String>>,
     tip_radius_mm: Option<Spanned<Real>>,
@@ -91,8 +95,10 @@ pub enum Mode {
 /// An R-test: the sphere, the nest and the tests.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RTest {
-    /// Sphere centre in the workpiece frame (m).
+    /// Sphere centre in the workpiece frame (m), as the controller and the table state it.
     pub sphere: Vector,
+    /// Where the sphere really is relative to [`RTest::sphere`] (m): the preset's error.
+    pub sphere_setup: Vector,
     /// The instrument.
     pub nest: Nest,
     /// The tests, in the order given.
@@ -203,6 +209,19 @@ pub(crate) fn rtest(
         ));
     }
     let sphere = Vector::from_array(sphere_values) * M_PER_MM;
+    let sphere_setup = match &r.sphere_setup_um {
+        None => Vector::ZERO,
+        Some(v) => {
+            let bound = crate::scenario::Bound::symmetric(
+                1000.0,
+                "a sphere preset with a dial indicator is within micrometres; a millimetre is no preset",
+            );
+            bound
+                .check_each(v.get_ref())
+                .map_err(|message| fail(v.span(), "sphere_setup_um", message))?;
+            Vector::from_array(*v.get_ref()) * crate::math::M_PER_UM
+        }
+    };
     let sphere_radius = bounded(
         &r.sphere_diameter_mm,
         "sphere_diameter_mm",
@@ -595,6 +614,7 @@ pub(crate) fn rtest(
     }
     Ok(RTest {
         sphere,
+        sphere_setup,
         nest,
         tests,
         mode,
