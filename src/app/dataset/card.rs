@@ -215,7 +215,9 @@ pub fn readme(
             describe(&prior.law)
         );
     }
-    let (train, test) = dataset.split_counts(options.count);
+    // Counted once, for the manifest.
+    let count = |split: &str| manifest["split_counts"][split].as_u64().unwrap_or(0);
+    let (train, test) = (count("train"), count("test"));
     let _ = writeln!(
         s,
         "\nSplit: {}: {} in `train`, {test} in `test`.\n",
