@@ -558,6 +558,12 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 })
             };
             let (estimate_json, truth_json) = (read(&estimate)?, read(&truth)?);
+            if estimate_json.get("mtwin").and_then(|v| v.as_str()) == Some("truth") {
+                bail!(
+                    "{}: a truth (mtwin = \"truth\") given as the estimate: give the estimate.json `mtwin identify --out` wrote first, then the truth",
+                    estimate.display()
+                );
+            }
             let machine_file = match machine {
                 Some(path) => path,
                 None => match estimate_json["machine_file"].as_str() {
@@ -570,10 +576,31 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             };
             let machine = Machine::from_urdf_file(&machine_file)?;
             let score = mtwin::estimate::score::score(&estimate_json, &truth_json, &machine)?;
+            // Whether the truth is of the scenario the estimate's tables came from could be
+            // checked only when both name it.
+            let named = |file: &serde_json::Value| {
+                file.get("scenario_sha256")
+                    .and_then(|v| v.as_str())
+                    .is_some()
+            };
+            let cautions: Vec<String> = (!named(&estimate_json) || !named(&truth_json))
+                .then(|| format!(
+                    "{} does not name the scenario {}, so nothing checked that this truth is of the run its tables came from (tables edited, or read without the manifest.json `mtwin run` wrote beside them)",
+                    if named(&estimate_json) { truth.display() } else { estimate.display() },
+                    if named(&estimate_json) { "it is of" } else { "its tables came from" }
+                ))
+                .into_iter()
+                .collect();
             if json {
-                say_raw(&format!("{:#}\n", score.to_json()));
+                let mut value = score.to_json();
+                value["cautions"] = serde_json::json!(cautions);
+                say_raw(&format!("{value:#}\n"));
             } else {
-                say_raw(&score.report());
+                let mut text = score.report();
+                for caution in &cautions {
+                    text += &format!("CAUTION: {caution}.\n");
+                }
+                say_raw(&text);
             }
             Ok(())
         }

@@ -243,7 +243,7 @@ fn a_file_without_conditions_or_times_says_its_conditions_are_unchecked() {
     assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("CAUTION: the plane, radius and feed came from the flags: the file has neither a preamble nor time_s"),
+        text.contains("CAUTION: the plane, radius and feed came from the flags, the file having no preamble: the file has no time_s, so nothing in it could check them"),
         "{text}"
     );
     args.push("--json");

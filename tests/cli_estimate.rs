@@ -7,6 +7,9 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+#[path = "cli_estimate/wrong_data.rs"]
+mod wrong_data;
+
 fn mtwin<S: AsRef<OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_mtwin"))
         .args(args)

@@ -315,9 +315,12 @@ fn run_then_analyze_reports_the_documented_keys_and_the_values_of_the_table() {
             "speeds",
             "separations",
             "notes",
+            "cautions",
             "setup"
         ])
     );
+    // The twin's own record (micrometres of error motion, in µm): no unit caution.
+    assert_eq!(json["cautions"], serde_json::json!([]));
     assert_eq!(json["samples_per_revolution"], 1024);
     // Every key the twin wrote was read; the set-up is said again.
     assert_eq!(json["setup"]["preamble_not_used"], serde_json::json!([]));

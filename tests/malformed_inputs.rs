@@ -14,6 +14,9 @@ use tempfile::TempDir;
 #[path = "malformed_inputs/ranges.rs"]
 mod ranges;
 
+#[path = "malformed_inputs/plausible.rs"]
+mod plausible;
+
 const VMC3: &str = include_str!("../models/vmc3.urdf");
 
 /// `text` with the single occurrence of `from` replaced by `to`.

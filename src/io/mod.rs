@@ -7,6 +7,7 @@
 
 mod conditions;
 mod path;
+pub mod plausible;
 mod table;
 mod write;
 

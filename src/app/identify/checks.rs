@@ -78,11 +78,28 @@ pub fn check(
         );
         units = true;
     } else if fit.dof > 0 && chi2_per_dof > MAX_CHI2_PER_DOF {
+        // The table the model describes worst, by its residuals over its readings' σ.
+        let worst = sets
+            .iter()
+            .enumerate()
+            .map(|(k, set)| {
+                let rms = fit.residual_rms.get(k).copied().unwrap_or(0.0);
+                let sigma = set.sigma.iter().sum::<Real>() / set.sigma.len().max(1) as Real;
+                (k, rms, sigma)
+            })
+            .filter(|(_, rms, sigma)| rms.is_finite() && *sigma > 0.0)
+            .max_by(|a, b| (a.1 / a.2).total_cmp(&(b.1 / b.2)));
         problems.push(format!(
             "χ²/dof = {} is above {MAX_CHI2_PER_DOF}: the residuals are {:.0} times the readings' \
-             stated uncertainty, so the model does not describe these data",
+             stated uncertainty, so the model does not describe these data{}",
             significant(chi2_per_dof),
-            chi2_per_dof.sqrt()
+            chi2_per_dof.sqrt(),
+            worst.map_or_else(String::new, |(k, rms, sigma)| format!(
+                " (worst: {}, residual RMS {} µm against its readings' {} µm)",
+                sources.get(k).map_or(sets[k].kind, String::as_str),
+                significant(rms * 1e6),
+                significant(sigma * 1e6)
+            ))
         ));
     } else if fit.dof >= MIN_DOF_FOR_SMALL_CHI2 && chi2_per_dof < MIN_CHI2_PER_DOF {
         problems.push(format!(
@@ -138,8 +155,9 @@ pub fn check(
             .to_string()
     } else {
         "likely cause: a term the model lacks (lost motion, thermal drift during the test, a \
-         component error not in --params), a set-up the model does not free (--free-setup), or \
-         readings' uncertainty stated too small (--sigma-um)"
+         component error not in --params), a set-up the model does not free (--free-setup), \
+         columns swapped or of the opposite sign (dx/dy, a/c, target − reached), a plane or an \
+         axis mislabelled, or readings' uncertainty stated too small (--sigma-um)"
             .to_string()
     };
     Findings { problems, cause }

@@ -134,14 +134,23 @@ fn machine_named(path: &Path) -> Option<String> {
         .map(|name| name.trim().to_string())
 }
 
-/// Reads every table into readings for `machine`, with what its folder says of where it came
-/// from.
-pub fn load_readings(
-    request: &Request,
-    machine: &Machine,
-) -> Result<(Vec<Readings>, Vec<Provenance>), IdentifyError> {
+/// The tables read for a fit.
+pub struct Loaded {
+    /// Each table's readings.
+    pub sets: Vec<Readings>,
+    /// What each table's folder says of where it came from.
+    pub provenances: Vec<Provenance>,
+    /// What the tables' own data say against counting them as given (a block copied inside
+    /// a table, a ball-bar of one sense, a laser table covering a sliver of its axis), each a
+    /// sentence naming the file: `identify` compensates from none of them.
+    pub problems: Vec<String>,
+}
+
+/// Reads every table into readings for `machine` ([`Loaded`]).
+pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, IdentifyError> {
     let mut sets = Vec::new();
     let mut provenances = Vec::new();
+    let mut problems = Vec::new();
     // The data rows of each table read so far, by their hash: a table given twice (or a
     // renamed copy) would count its readings twice and shrink every uncertainty by √2.
     let mut seen: BTreeMap<String, String> = BTreeMap::new();
@@ -185,11 +194,14 @@ pub fn load_readings(
                     setup.sphere_uncertainty = u;
                 }
                 setup.sphere = request.rtest_sphere;
+                problems
+                    .extend(rtest::plausible::copied_test(&table).map(|c| format!("{file}: {c}")));
                 sets.push(rtest::readings::readings(&table, &file, machine, setup)?);
             }
             "spheres" => {
                 let table = probe::SpheresTable::read(&path)?;
                 let s = sigma.unwrap_or(probe::readings::DEFAULT_SIGMA);
+                problems.extend(table.copied_sphere().map(|c| format!("{file}: {c}")));
                 sets.push(probe::readings::readings(&table, &file, machine, s)?);
             }
             "positioning" => {
@@ -198,6 +210,10 @@ pub fn load_readings(
                 if let Some(s) = sigma {
                     setup.sigma = s;
                 }
+                problems.extend(
+                    positioning::plausible::copied_run(&table).map(|c| format!("{file}: {c}")),
+                );
+                problems.extend(short_coverage(&table, machine).map(|c| format!("{file}: {c}")));
                 sets.push(positioning::readings::readings(
                     &table, &file, machine, &setup,
                 )?);
@@ -208,12 +224,53 @@ pub fn load_readings(
                 if let Some(s) = sigma {
                     setup.sigma = s;
                 }
+                problems.extend(
+                    ballbar::plausible::copied_sweep(&table).map(|c| format!("{file}: {c}")),
+                );
+                if let (Some(radius), Some(feed)) = (table.conditions.radius, table.conditions.feed)
+                    && let Some(plane) = table.conditions.plane
+                {
+                    let test = ballbar::iso230_4::CircularTest {
+                        plane,
+                        radius,
+                        feed,
+                    };
+                    problems.extend(
+                        ballbar::plausible::one_sense(&table, &test)
+                            .map(|c| format!("{file}: {c}")),
+                    );
+                }
                 sets.push(ballbar::readings::readings(&table, &file, machine, &setup)?);
             }
             other => unreachable!("{other} is not in TABLE_KINDS"),
         }
     }
-    Ok((sets, provenances))
+    Ok(Loaded {
+        sets,
+        provenances,
+        problems,
+    })
+}
+
+/// The smallest share of its axis's travel a laser table must cover for compensation: a
+/// tenth. ISO 230-2 measures over the whole travel (up to 2 m); a compensation fitted over
+/// less is extrapolated over the rest, and a table that covers a few percent is usually in
+/// another unit (inches in `target_mm`: 760 mm of travel read as 30).
+pub const SMALLEST_COVERAGE: crate::math::Real = 0.1;
+
+/// The problem when `table`'s targets cover less than [`SMALLEST_COVERAGE`] of its axis's
+/// travel on `machine`.
+fn short_coverage(table: &positioning::PositioningTable, machine: &Machine) -> Option<String> {
+    let axis = table.axis?;
+    let (lower, upper) = machine.axis(axis)?.limits?;
+    let covered = crate::io::plausible::spread(table.readings.iter().map(|r| r.target));
+    (covered < SMALLEST_COVERAGE * (upper - lower)).then(|| {
+        format!(
+            "column `target_mm`: the targets cover {} mm of {axis}'s {} mm of travel, less than a tenth: a compensation from them would be extrapolated over the rest (inches or metres in the mm column?)",
+            crate::math::trimmed(covered * 1e3, 3),
+            crate::math::trimmed((upper - lower) * 1e3, 3)
+        )
+    })
 }
 
 /// The sphere position an R-test table states.
@@ -230,7 +287,21 @@ fn rtest_sphere(argument: &str) -> Result<crate::math::Vector, IdentifyError> {
 pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     let machine = Machine::from_urdf_file(&request.machine)?;
     let set = ParameterSet::parse(&request.params, &machine)?;
-    let (sets, provenances) = load_readings(request, &machine)?;
+    let Loaded {
+        sets,
+        provenances,
+        problems: data_problems,
+    } = load_readings(request, &machine)?;
+    // What the tables' own data contradict is refused before any fit (the fit would only
+    // dress it in estimates), unless the user accepts it.
+    let data_cause = "likely cause: the tables' own data contradict counting them as given: \
+                      remove the copy, measure what is missing, or correct the column's unit";
+    if !data_problems.is_empty() && !request.accept_implausible {
+        return Err(IdentifyError::Implausible(checks::Findings {
+            problems: data_problems,
+            cause: data_cause.into(),
+        }));
+    }
     let scenario = match &request.scenario {
         Some(path) => Some(matching_scenario(path, &request.machine, &provenances)?),
         None => None,
@@ -285,7 +356,13 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
             .collect();
     }
     let identified = report::identified_model(&set, &problem, &fit, &machine);
-    let findings = checks::check(&fit, &sets, &sources, &identified, &machine);
+    let mut findings = checks::check(&fit, &sets, &sources, &identified, &machine);
+    if !data_problems.is_empty() {
+        if findings.passed() {
+            findings.cause = data_cause.into();
+        }
+        findings.problems.extend(data_problems);
+    }
     if !findings.passed() {
         if !request.accept_implausible {
             return Err(IdentifyError::Implausible(findings));

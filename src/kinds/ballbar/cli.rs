@@ -211,7 +211,7 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     let test = args.test(&table)?;
     let evaluation =
         iso230_4::evaluate(&table, &test).with_context(|| format!("{}", args.file.display()))?;
-    let cautions: Vec<String> = unchecked_conditions(&table).into_iter().collect();
+    let cautions = super::plausible::cautions(&table, &test);
     Ok(if args.json {
         let mut report = evaluation.to_json();
         report["cautions"] = serde_json::json!(cautions);
@@ -222,20 +222,6 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
             text += &format!("CAUTION: {caution}\n");
         }
         text
-    })
-}
-
-/// The caution for a table whose conditions nothing could check: without a preamble, the
-/// plane, radius and feed come from the flags alone, and without `time_s` the angles cannot
-/// confirm feed ÷ radius. A wrong radius scales the figures (the deviation is measured against
-/// it), a wrong plane names the wrong axes, and neither shows in the data.
-fn unchecked_conditions(table: &BallbarTable) -> Option<String> {
-    let c = &table.conditions;
-    let stated = c.plane.is_some() || c.radius.is_some() || c.feed.is_some();
-    (!stated && table.angular_speed().is_none()).then(|| {
-        "the plane, radius and feed came from the flags: the file has neither a preamble nor \
-         time_s, so nothing in it could check them"
-            .to_string()
     })
 }
 

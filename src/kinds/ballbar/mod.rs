@@ -20,6 +20,7 @@ pub mod discovery;
 mod fragment;
 pub mod instrument;
 pub mod iso230_4;
+pub mod plausible;
 pub mod program;
 pub mod readings;
 pub mod run;

@@ -214,6 +214,10 @@ pub const TRANSDUCER: Range = Range {
 
 const KNOWN: [&str; 4] = ["direction", "angle_deg", "deviation_um", "time_s"];
 
+/// The fewest timed readings of a sense from which its angles' turn in time is judged against
+/// its label (a trace has thousands; a handful of hand-typed rows is not judged).
+const MIN_TIMED_FOR_SENSE: usize = 10;
+
 impl BallbarTable {
     /// Reads a ball-bar table file.
     pub fn read(path: impl AsRef<Path>) -> Result<BallbarTable, TableError> {
@@ -258,6 +262,9 @@ impl BallbarTable {
         let time_column = column("time_s");
         let mut readings = Vec::new();
         let mut first_line = None;
+        // The times of each sense so far, with their lines: two readings of one sense at one
+        // instant are a sweep pasted or appended again (rows may come in any order).
+        let mut instants: [std::collections::HashMap<u64, Option<u64>>; 2] = Default::default();
         for record in reader.records() {
             let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
@@ -286,6 +293,19 @@ impl BallbarTable {
             let time = time_column
                 .map(|index| number_within(&record, index, "time_s", file, crate::io::CLOCK_S))
                 .transpose()?;
+            if let Some(t) = time
+                && let Some(at) =
+                    instants[usize::from(sense == Sense::Cw)].insert(t.to_bits(), line)
+            {
+                return Err(fail(
+                    line,
+                    format!(
+                        "column `time_s`: a second {} reading at {t} s{}: one sense is read once at each instant, so the sweep was pasted or appended twice; give each sweep once",
+                        sense.name(),
+                        at.map_or_else(String::new, |l| format!(" (the first at line {l})"))
+                    ),
+                ));
+            }
             readings.push(BallbarReading {
                 sense,
                 angle: angle_deg * RAD_PER_DEG,
@@ -327,10 +347,65 @@ impl BallbarTable {
                 ));
             }
         }
-        Ok(BallbarTable {
+        let table = BallbarTable {
             readings,
             conditions,
             machine,
+        };
+        if let Some(message) =
+            table.timing_contradiction(stated.get("sample_rate_hz").map(|(_, l)| l))
+        {
+            return Err(fail(None, message));
+        }
+        Ok(table)
+    }
+
+    /// What the clock says against the labels: a sense whose angles turn the other way in
+    /// time (ccw is θ rising, from +p toward +q), or a clock stepping other than the preamble's
+    /// sampling rate (line `rate_line`) says (more than 10 % off at the median: a time or feed
+    /// column rescaled).
+    fn timing_contradiction(&self, rate_line: Option<u64>) -> Option<String> {
+        let mut steps = Vec::new();
+        for sense in [Sense::Ccw, Sense::Cw] {
+            let mut timed: Vec<(Real, Real)> = self
+                .readings
+                .iter()
+                .filter(|r| r.sense == sense)
+                .filter_map(|r| r.time.map(|t| (t, r.angle)))
+                .collect();
+            timed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let turn: Real = timed
+                .windows(2)
+                .map(|w| {
+                    let d = (w[1].1 - w[0].1).rem_euclid(std::f64::consts::TAU);
+                    if d > std::f64::consts::PI {
+                        d - std::f64::consts::TAU
+                    } else {
+                        d
+                    }
+                })
+                .sum();
+            steps.extend(timed.windows(2).map(|w| w[1].0 - w[0].0));
+            if timed.len() >= MIN_TIMED_FOR_SENSE
+                && turn * sense.sign() < -std::f64::consts::FRAC_PI_2
+            {
+                return Some(format!(
+                    "column `direction`: the readings labelled {} turn {:.0}° the other way in time (angle_deg against time_s; ccw is the angle rising): the senses are swapped",
+                    sense.name(),
+                    turn.abs().to_degrees()
+                ));
+            }
+        }
+        let rate = self.conditions.sample_rate?;
+        let step = crate::io::plausible::median(steps)?;
+        ((step * rate - 1.0).abs() > 0.1).then(|| {
+            format!(
+                "column `time_s`: the readings are {} ms apart (median), but the preamble's sample_rate_hz = {}{} says {} ms: time_s (or the feed with it) rescaled?",
+                trimmed(step * 1e3, 4),
+                trimmed(rate, 6),
+                rate_line.map_or_else(String::new, |l| format!(" (line {l})")),
+                trimmed(1e3 / rate, 4)
+            )
         })
     }
 

@@ -217,6 +217,7 @@ pub fn drift_report(
             ));
         }
     }
+    cautions.extend(super::plausible::cautions(table, etve_duration));
     let channels: Vec<serde_json::Value> = table
         .channels
         .iter()

@@ -14,6 +14,7 @@
 
 pub mod cli;
 pub mod iso230_3;
+pub mod plausible;
 pub mod run;
 pub mod scenario;
 pub mod spindle_test;

@@ -305,7 +305,7 @@ impl Iso230_2 {
     /// mean_down_um, s_up_um, s_down_um, R_up_um, R_down_um, mean_um, B_um, R_um`), and `kind`,
     /// `standard`, `axis`, `n_targets`, `n_runs`, `bidirectional`, `note`, `conditions` (what the
     /// preamble said: [`super::conditions::PositioningConditions::report`]), `preamble_not_used`,
-    /// `cautions` ([`super::stability::caution`]); for a thermal series
+    /// `cautions` ([`super::plausible::cautions`]); for a thermal series
     /// (see [`super::thermal_series`]) also `runs` and `drift`.
     pub fn to_json(&self, table: &PositioningTable) -> serde_json::Value {
         use serde_json::json;
@@ -353,7 +353,7 @@ impl Iso230_2 {
             "targets": targets,
             "conditions": table.conditions.report().0,
             "preamble_not_used": table.conditions.not_used,
-            "cautions": super::stability::caution(table).into_iter().collect::<Vec<_>>(),
+            "cautions": super::plausible::cautions(table),
         });
         if let Some(series) = super::thermal_series::thermal_series(table) {
             let (runs, drift) = series.to_json();
@@ -450,7 +450,7 @@ impl Iso230_2 {
             "mean reversal value B̄ (µm)",
             self.both.map(|b| b.mean_reversal),
         );
-        if let Some(caution) = super::stability::caution(table) {
+        for caution in super::plausible::cautions(table) {
             let _ = writeln!(out, "\nCAUTION: {caution}.");
         }
         if let Some(series) = super::thermal_series::thermal_series(table) {

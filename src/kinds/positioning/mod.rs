@@ -24,6 +24,7 @@ pub mod conditions;
 pub mod discovery;
 pub mod iso230_2;
 pub mod laser;
+pub mod plausible;
 pub mod program;
 pub mod readings;
 pub mod run;

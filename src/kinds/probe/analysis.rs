@@ -184,6 +184,8 @@ pub struct ProbeEvaluation {
     pub plates: Vec<PlateResult>,
     /// Mesh points.
     pub mesh_points: Vec<SurfacePoint>,
+    /// What the touches say against the set-up ([`super::plausible`]), a sentence each.
+    pub cautions: Vec<String>,
 }
 
 /// The rows of each (cycle, feature), in order of first appearance: one hash look-up per row,
@@ -235,6 +237,7 @@ pub fn evaluate(
         rings: Vec::new(),
         plates: Vec::new(),
         mesh_points: Vec::new(),
+        cautions: Vec::new(),
     };
     for group in features(table)? {
         let key = group[0].key;
@@ -248,12 +251,30 @@ pub fn evaluate(
             CycleKind::Sphere | CycleKind::Plate => {
                 let fit = fit_sphere(&points).map_err(failed)?;
                 let radius = fit.radius - stylus_radius;
-                evaluation.spheres.push(SphereResult { key, fit, radius });
+                let sphere = SphereResult { key, fit, radius };
+                evaluation
+                    .cautions
+                    .extend(super::plausible::feature_cautions(
+                        &format!("cycle {} feature {}", key.cycle, key.feature),
+                        &group,
+                        sphere.centre(),
+                        sphere.radius_error().map(|e| 2.0 * e),
+                        None,
+                    ));
+                evaluation.spheres.push(sphere);
             }
             CycleKind::Ring => {
+                let ring = ring(&group, key, stylus_radius).map_err(failed)?;
                 evaluation
-                    .rings
-                    .push(ring(&group, key, stylus_radius).map_err(failed)?);
+                    .cautions
+                    .extend(super::plausible::feature_cautions(
+                        &format!("cycle {} feature {}", key.cycle, key.feature),
+                        &group,
+                        ring.centre,
+                        ring.diameter_error(),
+                        Some(&ring.angles),
+                    ));
+                evaluation.rings.push(ring);
             }
             CycleKind::Mesh => {
                 evaluation
@@ -462,6 +483,7 @@ impl ProbeEvaluation {
             "rings": rings,
             "plates": plates,
             "mesh_points": mesh_points,
+            "cautions": self.cautions,
         })
     }
 
@@ -533,6 +555,9 @@ impl ProbeEvaluation {
                 "\nmesh: {} surface points (--json lists them)",
                 self.mesh_points.len()
             );
+        }
+        for caution in &self.cautions {
+            let _ = writeln!(out, "\nCAUTION: {caution}.");
         }
         out
     }

@@ -48,7 +48,9 @@ const JSON_KEYS: &str = "\
                           rms_error_um, distances[] {from, to, calibrated_mm, measured_mm,
                           error_um = measured − calibrated}
   mesh_points[]           cycle, feature, point, surface_mm (latched centre + stylus radius
-                          along the approach)";
+                          along the approach)
+  cautions[]              what the touches say against the set-up: approach vectors off the
+                          feature's radius, a diameter far from the calibration, a short arc";
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]

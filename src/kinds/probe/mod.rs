@@ -20,6 +20,7 @@ pub mod cli;
 pub mod cycles;
 pub mod fit;
 pub mod instrument;
+pub mod plausible;
 pub mod readings;
 pub mod run;
 pub mod scenario;

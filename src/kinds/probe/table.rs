@@ -415,6 +415,21 @@ impl ProbeTable {
 }
 
 impl SpheresTable {
+    /// A sphere row that repeats another's fitted centre and radius exactly
+    /// ([`crate::io::plausible::copied_block`]): the same sphere counted twice.
+    pub fn copied_sphere(&self) -> Option<String> {
+        use crate::io::plausible::{Block, copied_block, copy_sentence};
+        let blocks: Vec<Block> = self
+            .spheres
+            .iter()
+            .map(|s| Block {
+                label: format!("cycle {} feature {}", s.key.cycle, s.key.feature),
+                readings: vec![s.centre.x, s.centre.y, s.centre.z, s.radius],
+            })
+            .collect();
+        copied_block(&blocks).map(|pair| copy_sentence(&blocks, pair))
+    }
+
     /// Reads a `spheres` table file.
     pub fn read(path: impl AsRef<Path>) -> Result<SpheresTable, TableError> {
         let (bytes, file) = read_file(path.as_ref())?;

@@ -63,12 +63,17 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
         crate::io::write_atomically(path, super::plot::svg(&table).as_bytes())?;
     }
     let (setup, said) = table.setup_report();
+    let cautions: Vec<String> = super::plausible::copied_test(&table).into_iter().collect();
     Ok(if args.json {
         let mut report = serde_json::to_value(&evaluation)?;
         report["setup"] = setup;
+        report["cautions"] = serde_json::json!(cautions);
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
-        let text = to_text(&evaluation);
+        let mut text = to_text(&evaluation);
+        for caution in &cautions {
+            text += &format!("CAUTION: {caution}\n");
+        }
         // The set-up after the title line.
         match text.split_once('\n') {
             Some((title, rest)) => format!("{title}\n{said}{rest}"),

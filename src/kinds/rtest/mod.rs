@@ -18,6 +18,7 @@ pub mod analysis;
 mod angles;
 pub mod cli;
 pub mod instrument;
+pub mod plausible;
 pub mod plot;
 pub mod program;
 pub mod readings;

@@ -115,6 +115,38 @@ impl ReadingModel for RtestModel {
 /// fitted as a 0.3 mm axis offset with a perfect χ².
 pub const MAX_TIP_OFF_SPHERE: Real = 1e-4;
 
+/// The smallest constant offset (m) between the commanded tool tip and the stated sphere that
+/// is refused: 2 µm, twice the rounding of a position exported to the µm.
+pub const MIN_CONSTANT_OFFSET: Real = 2e-6;
+
+/// The refusal when the commanded positions put the nominal tool tip at one point that is not
+/// the stated sphere: the same offset at every pose (its mean `m` more than
+/// [`MIN_CONSTANT_OFFSET`] and more than three times the largest row's departure from it).
+/// A controller whose kinematic parameters differ from the model's puts the tip off the sphere
+/// by an amount that turns with the axes; a constant offset is the sphere position itself
+/// mistyped (in the preamble or `--rtest-sphere-mm`), which the fit would otherwise read as
+/// location errors of the rotary axes.
+fn constant_offset(offsets: &[Vector], sphere: Vector) -> Option<String> {
+    if offsets.len() < 3 {
+        return None;
+    }
+    let mean = offsets.iter().copied().sum::<Vector>() / offsets.len() as Real;
+    let scatter = offsets
+        .iter()
+        .map(|o| (*o - mean).length())
+        .fold(0.0, Real::max);
+    (mean.length() > MIN_CONSTANT_OFFSET.max(3.0 * scatter)).then(|| {
+        let mm = |v: Vector| (v / M_PER_MM).to_array().map(|c| trimmed(c, 4)).join(" ");
+        format!(
+            "the commanded positions put the nominal tool tip at one point, {} mm, {} µm from the stated sphere at {} mm at every pose (within {} µm): under tool-centre-point control the tip is commanded onto the sphere, so the sphere position (preamble or --rtest-sphere-mm) is mistyped; the fit would read the difference as axis location errors",
+            mm(sphere + mean),
+            trimmed(mean.length() * 1e6, 3),
+            mm(sphere),
+            trimmed(scatter * 1e6, 3)
+        )
+    })
+}
+
 /// The readings of an R-test table measured on `machine` (`file` names it in messages).
 pub fn readings(
     table: &RtestTable,
@@ -149,6 +181,8 @@ pub fn readings(
     };
     let mut rows = Vec::with_capacity(table.rows.len());
     let mut measured = Vec::with_capacity(3 * table.rows.len());
+    // The nominal tip's offset from the sphere at each row with commanded positions.
+    let mut offsets: Vec<Vector> = Vec::new();
     for (line, row) in table.rows.iter().enumerate() {
         let mut angles = AxisValues::ZERO;
         for axis in [Axis::A, Axis::B, Axis::C] {
@@ -186,6 +220,9 @@ pub fn readings(
         // The table's own commanded positions must keep the nominal tool tip on the sphere
         // (tool-centre-point control): a sphere position mistyped, or angles in radians in a
         // `_deg` column, put it far off ([`MAX_TIP_OFF_SPHERE`]).
+        if row.linear.is_some() {
+            offsets.push(tip - sphere);
+        }
         if row.linear.is_some() && (tip - sphere).length() > MAX_TIP_OFF_SPHERE {
             let mm = |v: Vector| (v / M_PER_MM).to_array().map(|c| trimmed(c, 3)).join(" ");
             return Err(fail(format!(
@@ -213,6 +250,9 @@ pub fn readings(
     }
     if rows.is_empty() {
         return Err(fail("no rows".into()));
+    }
+    if let Some(message) = constant_offset(&offsets, sphere) {
+        return Err(fail(message));
     }
     let mut nuisance = Vec::new();
     for name in &names {

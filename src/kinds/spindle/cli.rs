@@ -163,6 +163,8 @@ JSON keys (--json):
     form_um[] (outward, on ψ = 360°·m/M), motion_synchronous_um (LSC value of the separated
     motion along the first probe), blind[] (harmonics the layout cannot see)
   notes[]
+  cautions[]: what the error motions say against the units (a total over 100 µm: nm in the
+    µm columns; every one under 5 nm: mm in them)
   setup: machine, artefact, structural_loop, axes (where the other axes stood), as the
     preamble says them (null when it does not); preamble_not_used[] (keys no reader took)";
 
@@ -212,13 +214,19 @@ fn analyze(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Strin
             dir.display()
         ));
     }
+    let cautions = super::plausible::cautions(&evaluation);
     Ok(if args.json {
         let mut report = to_json(&evaluation);
         let (described, _) = super::stated::described(&table.conditions);
         report["setup"] = described;
+        report["cautions"] = json!(cautions);
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
-        to_text(&table, &evaluation)
+        let mut text = to_text(&table, &evaluation);
+        for caution in &cautions {
+            text += &format!("CAUTION: {caution}\n");
+        }
+        text
     })
 }
 

@@ -26,6 +26,7 @@ pub mod cli;
 pub mod discovery;
 pub mod evaluate;
 pub mod instrument;
+pub mod plausible;
 pub mod plot;
 pub mod program;
 pub mod record;

@@ -1,0 +1,104 @@
+//! What a ball-bar table's own data say against its conditions and units, as cautions for
+//! the ISO 230-4 report (and, for a copied sweep or a single sense, as problems `identify`
+//! refuses to compensate from).
+//!
+//! - **Conditions nothing checked**: without `time_s` the angles cannot confirm feed ÷
+//!   radius, whether the radius and feed came from the preamble or the flags. A wrong radius
+//!   scales every figure in µm/m, a wrong plane names the wrong axes; neither shows in the
+//!   deviations.
+//! - **One sense only**: ISO 230-4 runs both. In one sense a servo mismatch Δτ adds
+//!   `σ·(v·Δτ/2)·sin 2θ` to the trace, the shape of a squareness `(R·s/2)·sin 2θ`: the
+//!   squareness read is `s + σ·v·Δτ/R` ([`apparent_squareness_per_ms`]).
+//! - **A copied sweep**: a stretch of one sense holding the same readings as another
+//!   ([`crate::io::plausible::copied_block`]).
+//! - **Units**: a trace spanning less than [`SMALLEST_SPREAD`] (mm in the µm column).
+
+use super::iso230_4::CircularTest;
+use super::table::{BallbarTable, Sense};
+use crate::io::plausible::{Block, copied_block, copy_sentence, spread};
+use crate::math::{M_PER_UM, Real, trimmed};
+
+/// The smallest spread of a ball-bar trace over a circle (m): 0.1 µm, a ball-bar's
+/// resolution (Renishaw QC20-W). No machine interpolates a circle rounder than its own
+/// reversal and servo effects, which a ball-bar sees as a micrometre or more; deviations in
+/// mm written in the µm column span 1000 times less.
+pub const SMALLEST_SPREAD: Real = 0.1e-6;
+
+/// Every caution for the ISO 230-4 report of `table` measured under `test`, each a sentence.
+pub fn cautions(table: &BallbarTable, test: &CircularTest) -> Vec<String> {
+    let mut found: Vec<String> = unchecked_conditions(table).into_iter().collect();
+    found.extend(one_sense(table, test));
+    found.extend(copied_sweep(table));
+    let trace = spread(table.readings.iter().map(|r| r.deviation));
+    if trace < SMALLEST_SPREAD {
+        found.push(format!(
+            "column `deviation_um`: the trace spans only {} µm, less than the {} µm a ball-bar resolves: mm in the µm column?",
+            trimmed(trace / M_PER_UM, 4),
+            trimmed(SMALLEST_SPREAD / M_PER_UM, 4)
+        ));
+    }
+    found
+}
+
+/// The caution for a table whose conditions nothing in it could check (no `time_s`).
+pub fn unchecked_conditions(table: &BallbarTable) -> Option<String> {
+    let c = &table.conditions;
+    let stated = c.plane.is_some() || c.radius.is_some() || c.feed.is_some();
+    table.angular_speed().is_none().then(|| {
+        format!(
+            "the plane, radius and feed came from {}: the file has no time_s, so nothing in it could check them (a wrong radius scales every figure in µm/m, a wrong plane names the wrong axes)",
+            if stated {
+                "the preamble (or the flags)"
+            } else {
+                "the flags, the file having no preamble"
+            }
+        )
+    })
+}
+
+/// The squareness (dimensionless, m/m) one millisecond of servo mismatch reads as in one
+/// sense of `test`: `v·Δτ/R` with Δτ = 1 ms.
+pub fn apparent_squareness_per_ms(test: &CircularTest) -> Real {
+    test.feed * 1e-3 / test.radius
+}
+
+/// The caution for a table with one sense only.
+pub fn one_sense(table: &BallbarTable, test: &CircularTest) -> Option<String> {
+    let has = |sense: Sense| table.readings.iter().any(|r| r.sense == sense);
+    let only = match (has(Sense::Ccw), has(Sense::Cw)) {
+        (true, false) => Sense::Ccw,
+        (false, true) => Sense::Cw,
+        _ => return None,
+    };
+    Some(format!(
+        "only the {} sense was measured (ISO 230-4 runs both): a servo mismatch has the shape of a squareness in one sense, so the squareness reported includes it (1 ms of mismatch reads as {} µm/m at this feed and radius), and radius and scale mismatch include the other sense-dependent terms; measure the other sense to separate them",
+        only.name(),
+        trimmed(apparent_squareness_per_ms(test) * 1e6, 1)
+    ))
+}
+
+/// The readings of each stretch of rows in one sense, as blocks.
+pub fn sweep_blocks(table: &BallbarTable) -> Vec<Block> {
+    let mut blocks: Vec<Block> = Vec::new();
+    let mut current: Option<Sense> = None;
+    for r in &table.readings {
+        if current != Some(r.sense) {
+            current = Some(r.sense);
+            blocks.push(Block {
+                label: format!("sweep {} ({})", blocks.len() + 1, r.sense.name()),
+                readings: Vec::new(),
+            });
+        }
+        if let Some(block) = blocks.last_mut() {
+            block.readings.push(r.deviation);
+        }
+    }
+    blocks
+}
+
+/// A sweep that repeats another reading for reading.
+pub fn copied_sweep(table: &BallbarTable) -> Option<String> {
+    let blocks = sweep_blocks(table);
+    copied_block(&blocks)
+        .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair)))
+}

@@ -1,0 +1,254 @@
+//! What a positioning table's own data say against its labels and units, as cautions for the
+//! ISO 230-2 report (and, for copies, as a refusal in `identify`): each names the column and
+//! the likely slip.
+//!
+//! - **Thermal stability**: [`super::stability::caution`].
+//! - **Direction labels against the travel.** In the standard's linear cycle the `+` readings
+//!   are taken with the targets rising and the `-` readings with them falling. When every run
+//!   shows the reverse (by `time_min`, or the rows' order without it), the labels are
+//!   swapped: B̄ and every one-direction figure change sign. (A pendulum cycle visits the
+//!   targets in the same order in both directions, so it never looks reversed.)
+//! - **Incomplete runs**: a run with fewer readings than the others (a cut-off export) leaves
+//!   its targets with fewer runs than the report's count.
+//! - **A copied run** ([`crate::io::plausible::copied_block`]), and runs that overlap in time
+//!   (records mixed, or a run pasted again with its times).
+//! - **Units**: deviations spanning less than [`SMALLEST_SPREAD`] or repeating better than
+//!   [`SMALLEST_SCATTER`] (mm in the µm column) or spanning more than [`LARGEST_SPREAD`] (nm
+//!   in it), readings more than [`LONGEST_STEP`] or less than [`SHORTEST_STEP`] apart at the
+//!   median (seconds or hours in `time_min`), and an air sensor outside a
+//!   shop's air ([`crate::io::plausible::air_caution`]: °F).
+
+use super::table::PositioningTable;
+use crate::io::plausible::{Block, air_caution, copied_block, copy_sentence, median, spread};
+use crate::math::{M_PER_MM, M_PER_UM, Real, trimmed};
+use crate::program::Approach;
+
+/// The smallest spread of deviations a laser reads on a machine axis (m): 5 nm. A laser in
+/// air over a few minutes alone wanders by more (refractive index, dead path), and no axis of
+/// 10 mm or more positions to better; deviations in mm written in the µm column span
+/// 1000 times less than their true µm.
+pub const SMALLEST_SPREAD: Real = 5e-9;
+
+/// The largest spread of deviations a machine axis shows to a laser (m): 1 mm. ISO 230-2
+/// tolerances are tens of µm and an uncompensated, worn axis a few hundred; nm in the µm
+/// column read 1000 times larger.
+pub const LARGEST_SPREAD: Real = 1e-3;
+
+/// The longest median time between a positioning test's successive readings (s): 3 min. A
+/// laser reading takes a dwell of seconds and the move to the next target seconds more (the
+/// standard's tests read every 5 to 60 s); seconds written in `time_min` read 60 times apart.
+pub const LONGEST_STEP: Real = 180.0;
+
+/// The shortest median time between successive readings (s): 0.5 s. A laser averages over a
+/// dwell of a second or more at each target; hours written in `time_min` read 60 times closer.
+pub const SHORTEST_STEP: Real = 0.5;
+
+/// The smallest median standard deviation of the readings at a target over the runs (m):
+/// 1 nm. A laser in air does not repeat to better (refractive index, dead path, the axis's
+/// own settling); deviations in mm written in the µm column repeat 1000 times too well.
+pub const SMALLEST_SCATTER: Real = 1e-9;
+
+/// The shortest travel (m) over which [`SMALLEST_SPREAD`] is judged.
+const SHORTEST_TRAVEL: Real = 10e-3;
+
+/// Every caution for the ISO 230-2 report of `table`, each a sentence.
+pub fn cautions(table: &PositioningTable) -> Vec<String> {
+    let mut found: Vec<String> = super::stability::caution(table).into_iter().collect();
+    found.extend(swapped_directions(table));
+    found.extend(incomplete_runs(table));
+    found.extend(copied_run(table));
+    found.extend(overlapping_runs(table));
+    found.extend(units(table));
+    found
+}
+
+/// The readings of each run as blocks, in file order.
+pub fn run_blocks(table: &PositioningTable) -> Vec<Block> {
+    table
+        .runs
+        .iter()
+        .enumerate()
+        .map(|(run, label)| Block {
+            label: format!("run \"{label}\""),
+            readings: table
+                .readings
+                .iter()
+                .filter(|r| r.run == run)
+                .map(|r| r.deviation)
+                .collect(),
+        })
+        .collect()
+}
+
+/// A run that repeats another reading for reading.
+pub fn copied_run(table: &PositioningTable) -> Option<String> {
+    let blocks = run_blocks(table);
+    copied_block(&blocks)
+        .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair)))
+}
+
+/// Whether every run travels against its direction labels.
+fn swapped_directions(table: &PositioningTable) -> Option<String> {
+    if !table.has_direction {
+        return None;
+    }
+    let timed = table.readings.iter().all(|r| r.time.is_some());
+    // Steps up and down of the target, per direction, over every run in measurement order.
+    let mut steps = [[0usize; 2]; 2]; // [+, -][rising, falling]
+    for run in 0..table.runs.len() {
+        for (d, approach) in [Approach::Up, Approach::Down].into_iter().enumerate() {
+            let mut visits: Vec<(Real, Real)> = table
+                .readings
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| r.run == run && r.approach == approach)
+                .map(|(k, r)| (r.time.unwrap_or(k as Real), r.target))
+                .collect();
+            if timed {
+                visits.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            for pair in visits.windows(2) {
+                if pair[1].1 > pair[0].1 {
+                    steps[d][0] += 1;
+                } else if pair[1].1 < pair[0].1 {
+                    steps[d][1] += 1;
+                }
+            }
+        }
+    }
+    let [[up_rising, up_falling], [down_rising, down_falling]] = steps;
+    let reversed = up_falling >= 2 && up_rising == 0 && down_rising >= 2 && down_falling == 0;
+    reversed.then(|| {
+        format!(
+            "column `direction`: in every run the `+` readings were taken with the targets falling and the `-` readings with them rising (by {}), the reverse of the travel the labels name: the labels look swapped, which changes the sign of the reversal B̄ and swaps every one-direction figure",
+            if timed { "time_min" } else { "the rows' order" }
+        )
+    })
+}
+
+/// A run that starts before the run listed before it ended: runs are read one after the
+/// other, so the file mixes records (runs of another day's test) or pastes a run again.
+fn overlapping_runs(table: &PositioningTable) -> Option<String> {
+    let span = |run: usize| -> Option<(Real, Real)> {
+        let times: Vec<Real> = table
+            .readings
+            .iter()
+            .filter(|r| r.run == run)
+            .map(|r| r.time)
+            .collect::<Option<_>>()?;
+        let first = times.iter().copied().fold(Real::INFINITY, Real::min);
+        let last = times.iter().copied().fold(Real::NEG_INFINITY, Real::max);
+        (first <= last).then_some((first, last))
+    };
+    (1..table.runs.len()).find_map(|run| {
+        let ((_, ended), (started, _)) = (span(run - 1)?, span(run)?);
+        (started < ended).then(|| {
+            format!(
+                "column `time_min`: run \"{}\" starts at {} min, before run \"{}\" ended at {} min: runs are read one after the other, so these come from different records (or one was pasted again), and their spread is not the axis's repeatability",
+                table.runs[run],
+                trimmed(started / 60.0, 4),
+                table.runs[run - 1],
+                trimmed(ended / 60.0, 4)
+            )
+        })
+    })
+}
+
+/// Runs with fewer readings than the fullest run.
+fn incomplete_runs(table: &PositioningTable) -> Option<String> {
+    let counts: Vec<usize> = (0..table.runs.len())
+        .map(|run| table.readings.iter().filter(|r| r.run == run).count())
+        .collect();
+    let most = counts.iter().copied().max()?;
+    let short: Vec<String> = table
+        .runs
+        .iter()
+        .zip(&counts)
+        .filter(|(_, n)| **n < most)
+        .map(|(label, n)| format!("run \"{label}\" has {n} of {most}"))
+        .collect();
+    (!short.is_empty()).then(|| {
+        format!(
+            "incomplete runs ({}): their missing targets rest on fewer runs than the {} the report counts (a cut-off export?)",
+            short.join(", "),
+            table.runs.len()
+        )
+    })
+}
+
+/// Deviations or times in a unit other than their column's.
+fn units(table: &PositioningTable) -> Vec<String> {
+    let mut found = Vec::new();
+    let um = |v: Real| trimmed(v / M_PER_UM, 4);
+    let deviations = spread(table.readings.iter().map(|r| r.deviation));
+    let travel = spread(table.readings.iter().map(|r| r.target));
+    if travel >= SHORTEST_TRAVEL && deviations < SMALLEST_SPREAD {
+        found.push(format!(
+            "column `deviation_um`: the deviations span only {} µm over {} mm of travel, less than the {} µm a laser reads on any machine axis: mm in the µm column?",
+            um(deviations),
+            trimmed(travel / M_PER_MM, 3),
+            um(SMALLEST_SPREAD)
+        ));
+    }
+    if deviations > LARGEST_SPREAD {
+        found.push(format!(
+            "column `deviation_um`: the deviations span {} µm, more than the {} µm of the worst machine axis a laser calibrates: nm in the µm column?",
+            um(deviations),
+            um(LARGEST_SPREAD)
+        ));
+    }
+    if let Some(scatter) = median_scatter(table).filter(|&s| s < SMALLEST_SCATTER) {
+        found.push(format!(
+            "column `deviation_um`: the readings at a target repeat over the runs to {} µm (median standard deviation), better than the {} µm a laser in air repeats to: mm in the µm column (or a noise-free simulation)?",
+            um(scatter),
+            um(SMALLEST_SCATTER)
+        ));
+    }
+    let mut times: Vec<Real> = table.readings.iter().filter_map(|r| r.time).collect();
+    times.sort_by(Real::total_cmp);
+    let steps: Vec<Real> = times.windows(2).map(|w| w[1] - w[0]).collect();
+    match median(steps) {
+        Some(step) if step > LONGEST_STEP => found.push(format!(
+            "column `time_min`: successive readings are {} min apart (median), more than the {} min a laser positioning test takes per reading: seconds in the minutes column?",
+            trimmed(step / 60.0, 3),
+            trimmed(LONGEST_STEP / 60.0, 3)
+        )),
+        Some(step) if step < SHORTEST_STEP => found.push(format!(
+            "column `time_min`: successive readings are {} s apart (median), less than the {} s dwell a laser reading takes: hours in the minutes column?",
+            trimmed(step, 4),
+            trimmed(SHORTEST_STEP, 3)
+        )),
+        _ => {}
+    }
+    for (index, sensor) in table.sensors.iter().enumerate() {
+        if sensor.contains("air") || sensor.contains("ambient") {
+            let values: Vec<Real> = table
+                .readings
+                .iter()
+                .map(|r| r.temperatures[index])
+                .collect();
+            found.extend(air_caution(&format!("temp_{sensor}_degc"), &values));
+        }
+    }
+    found
+}
+
+/// The median over targets and directions of the readings' standard deviation over the runs
+/// (targets read in at least two runs), if any.
+fn median_scatter(table: &PositioningTable) -> Option<Real> {
+    let mut groups: std::collections::BTreeMap<(bool, i64), Vec<Real>> = Default::default();
+    for r in &table.readings {
+        let key = (r.approach == Approach::Up, (r.target * 1e9).round() as i64);
+        groups.entry(key).or_default().push(r.deviation);
+    }
+    let scatters: Vec<Real> = groups
+        .values()
+        .filter(|v| v.len() >= 2)
+        .map(|v| {
+            let n = v.len() as Real;
+            let mean = v.iter().sum::<Real>() / n;
+            (v.iter().map(|x| (x - mean).powi(2)).sum::<Real>() / (n - 1.0)).sqrt()
+        })
+        .collect();
+    median(scatters)
+}

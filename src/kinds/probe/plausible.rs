@@ -1,0 +1,85 @@
+//! What a probe table's own touches say against its set-up, as cautions on the report, each
+//! naming the feature and the likely slip:
+//!
+//! - **Approach vectors off the feature's normal.** A sphere or a ring is probed along its
+//!   radius, so each touch's `i, j, k` lies along the line from the fitted centre to the
+//!   touch. When they lie on average more than [`LARGEST_TILT`] off it, the columns are
+//!   swapped or their signs flipped, and the stylus radius is added in the wrong direction
+//!   (a bore read as a plug).
+//! - **A size far from the calibration.** A measured diameter more than [`LARGEST_SIZE_ERROR`]
+//!   from `cal_diameter_mm` is no probing error: the stylus's diameter given as its radius,
+//!   positions in inches, or the radius in the diameter column.
+//! - **A short arc.** A ring probed over less than [`SHORTEST_ARC`] gives its diameter from an
+//!   arc too short to fix it.
+
+use super::table::ProbeTouch;
+use crate::math::{M_PER_MM, Real, Vector, trimmed};
+use std::f64::consts::{PI, TAU};
+
+/// The largest mean angle between the touches' approach vectors and the feature's radius
+/// (rad): 25°. A probing cycle approaches along the nominal normal; only a feature far off
+/// its nominal position tilts the approach this much against the measured radius.
+pub const LARGEST_TILT: Real = 25.0 * crate::math::RAD_PER_DEG;
+
+/// The largest difference between a measured and a calibrated diameter that probing can make
+/// (m): 0.2 mm. An uncompensated pre-travel, lobing and the machine's own errors together
+/// stay within tens of µm; a slip of the stylus radius, of units or of the calibration
+/// column is millimetres.
+pub const LARGEST_SIZE_ERROR: Real = 0.2e-3;
+
+/// The shortest arc of a ring whose diameter is worth reporting without comment (rad): 180°.
+pub const SHORTEST_ARC: Real = PI;
+
+/// The cautions for one feature (`label` names it): its `touches`, the fitted `centre`, the
+/// measured − calibrated diameter when calibrated, and for a ring the touches' angles in its
+/// plane.
+pub fn feature_cautions(
+    label: &str,
+    touches: &[&ProbeTouch],
+    centre: Vector,
+    diameter_error: Option<Real>,
+    ring_angles: Option<&[Real]>,
+) -> Vec<String> {
+    let mut found = Vec::new();
+    let alignments: Vec<Real> = touches
+        .iter()
+        .filter_map(|t| {
+            let radial = t.position - centre;
+            (radial.length() > 0.0).then(|| t.approach.dot(radial.normalize()).abs().min(1.0))
+        })
+        .collect();
+    if !alignments.is_empty() {
+        let mean_angle =
+            alignments.iter().map(|c| c.acos()).sum::<Real>() / alignments.len() as Real;
+        if mean_angle > LARGEST_TILT {
+            found.push(format!(
+                "{label}: the approach vectors (i, j, k) lie {}° off the feature's radius on average (a probing cycle approaches along it, within {}°): i, j, k swapped or a sign flipped? The stylus radius is applied along them, so the size and the side (bore or plug) are not to be trusted",
+                trimmed(mean_angle.to_degrees(), 1),
+                trimmed(LARGEST_TILT.to_degrees(), 0)
+            ));
+        }
+    }
+    if let Some(error) = diameter_error.filter(|e| e.abs() > LARGEST_SIZE_ERROR) {
+        found.push(format!(
+            "{label}: the measured diameter differs from cal_diameter_mm by {} mm, far beyond any probing error (tens of µm): the stylus's diameter given as its radius, positions in inches, or a radius in the diameter column?",
+            trimmed(error / M_PER_MM, 4)
+        ));
+    }
+    if let Some(angles) = ring_angles.filter(|a| a.len() >= 2) {
+        let mut sorted: Vec<Real> = angles.iter().map(|a| a.rem_euclid(TAU)).collect();
+        sorted.sort_by(Real::total_cmp);
+        let widest_gap = sorted
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(sorted[0] + TAU - sorted[sorted.len() - 1], Real::max);
+        let arc = TAU - widest_gap;
+        if arc < SHORTEST_ARC {
+            found.push(format!(
+                "{label}: the touches span only {}° of the ring (at least {}° fix a diameter): its diameter and centre rest on a short arc",
+                trimmed(arc.to_degrees(), 1),
+                trimmed(SHORTEST_ARC.to_degrees(), 0)
+            ));
+        }
+    }
+    found
+}

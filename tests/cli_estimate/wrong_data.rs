@@ -1,0 +1,133 @@
+//! Tables whose own data contradict counting them as given: `identify` refuses to write
+//! compensation from them, naming the file and what the data show.
+
+use super::{failed, mtwin, ok, refused_by_the_door, refused_by_the_reader, root, run_into};
+use std::ffi::OsStr;
+
+#[test]
+fn a_sphere_a_few_micrometres_off_or_a_test_pasted_twice_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/trunnion5_rtest.toml"), dir.path(), "run");
+    let clean = std::fs::read_to_string(run.join("rtest.csv")).unwrap();
+    let machine = root("models/trunnion5.urdf");
+    let identify = |table: &OsStr, name: &str, expected: &[&str], by_door: bool| {
+        let args: [&OsStr; 5] = [
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "location".as_ref(),
+            table,
+        ];
+        let out = dir.path().join(name);
+        if by_door {
+            refused_by_the_door(&args, &out, expected, "contradict counting them");
+        } else {
+            refused_by_the_reader(&args, &out, expected);
+        }
+    };
+    // The preamble's sphere 30 µm off in X: far inside the 0.1 mm a controller's own
+    // kinematics may put the tip off the sphere, but the same 30 µm at every pose (a
+    // controller's parameters would turn with the axes). Fitted, it read as EX0C ≈ 30 µm off
+    // the truth.
+    let line = "# sphere_mm = 100 0 250";
+    assert!(clean.contains(line), "the preamble's sphere line");
+    let typo = dir.path().join("typo.csv");
+    std::fs::write(&typo, clean.replacen(line, "# sphere_mm = 100.03 0 250", 1)).unwrap();
+    identify(
+        typo.as_os_str(),
+        "typo",
+        &[
+            "typo.csv",
+            "30 µm from the stated sphere at 100.03 0 250 mm",
+            "mistyped",
+        ],
+        false,
+    );
+    // The first test exported again under another name: its readings, noise included,
+    // repeat reading for reading, which no nest does twice.
+    let first = clean
+        .lines()
+        .find(|l| !l.starts_with('#') && !l.starts_with("test,"))
+        .and_then(|l| l.split(',').next())
+        .unwrap()
+        .to_string();
+    let again: String = clean
+        .lines()
+        .filter(|l| l.starts_with(&format!("{first},")))
+        .map(|l| format!("{first} again{}\n", &l[first.len()..]))
+        .collect();
+    let pasted = dir.path().join("pasted.csv");
+    std::fs::write(&pasted, clean.clone() + &again).unwrap();
+    identify(
+        pasted.as_os_str(),
+        "pasted",
+        &[
+            "pasted.csv",
+            &format!("test \"{first} again\" holds the same"),
+            &format!("as test \"{first}\""),
+        ],
+        true,
+    );
+    // The clean table passes.
+    ok(&mtwin(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        run.join("rtest.csv").as_os_str(),
+    ]));
+}
+
+#[test]
+fn a_ball_bar_of_one_sense_is_refused_for_compensation() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("bar.toml");
+    std::fs::write(
+        &scenario,
+        format!(
+            "schema = 1\nmachine = \"{}\"\nseed = 3\n[errors.EC0Y]\nconstant_urad = -20.0\n\
+             [ballbar]\nplanes = [\"XY\"]\nlength_mm = 150.0\nfeed_mm_per_min = 500.0\n\
+             centre_mm = {{ x = 380.0, y = 205.0, z = 300.0 }}\nnoise_um = 0.1\nresolution_um = 0.1\n",
+            root("models/vmc3.urdf").display()
+        ),
+    )
+    .unwrap();
+    let run = run_into(&scenario, dir.path(), "run");
+    let table = run.join("ballbar_xy.csv");
+    let machine = root("models/vmc3.urdf");
+    let identify = |table: &OsStr| {
+        mtwin(&[
+            "identify".as_ref(),
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "EC0Y".as_ref(),
+            table,
+        ])
+    };
+    ok(&identify(table.as_os_str()));
+    // The counter-clockwise sense alone: a servo mismatch Δτ has the shape of a squareness
+    // there, v·Δτ/R = (500/60 mm/s · 1 ms)/150 mm = 55.6 µm/m per millisecond, unknowable
+    // from one sense.
+    let text = std::fs::read_to_string(&table).unwrap();
+    let ccw: String = text
+        .lines()
+        .filter(|l| !l.starts_with("cw,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let one = dir.path().join("ccw_only.csv");
+    std::fs::write(&one, ccw).unwrap();
+    let message = failed(&identify(one.as_os_str()));
+    for expected in [
+        "ccw_only.csv",
+        "only the ccw sense",
+        "55.6 µm/m",
+        "fails its own checks",
+    ] {
+        assert!(
+            message.contains(expected),
+            "should name {expected}: {message}"
+        );
+    }
+}

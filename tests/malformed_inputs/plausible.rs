@@ -1,0 +1,411 @@
+//! Plausible-but-wrong tables: each test builds a clean table by hand (its numbers chosen
+//! here, a seeded noise on them), checks that it passes without a caution, then makes one slip
+//! a real export or a tired user makes (a unit, a label, a copy, a cut) and checks that the
+//! data's own evidence names it: a refusal from the reader, or a caution naming the column.
+
+use mtwin::kinds::ballbar::iso230_4::CircularTest;
+use mtwin::kinds::ballbar::plausible as ballbar_plausible;
+use mtwin::kinds::ballbar::table::BallbarTable;
+use mtwin::kinds::drift::plausible as drift_plausible;
+use mtwin::kinds::drift::table::DriftTable;
+use mtwin::kinds::positioning::plausible as positioning_plausible;
+use mtwin::kinds::positioning::table::PositioningTable;
+use mtwin::kinds::probe::analysis::evaluate as evaluate_probe;
+use mtwin::kinds::probe::table::ProbeTable;
+use mtwin::machine::Plane;
+
+/// A deterministic noise in [−1, 1) (a 64-bit LCG), so the tables are the same every run.
+struct Noise(u64);
+
+impl Noise {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+}
+
+/// Rows of an ISO 230-2 linear cycle on X (5 runs, targets 0, 50 … 500 mm, up then down):
+/// deviation = 12 µm/m of scale + 1.5 µm of lost motion against the travel + 0.1 µm noise,
+/// a reading every 6 s. Each row: run, direction, target_mm, deviation_um, time_min, air °C.
+fn positioning_rows() -> Vec<(String, &'static str, f64, f64, f64, f64)> {
+    let mut noise = Noise(7);
+    let mut rows = Vec::new();
+    let mut t = 0.0;
+    for run in 1..=5 {
+        for (direction, targets) in [
+            ("+", (0..=10).collect::<Vec<_>>()),
+            ("-", (0..=10).rev().collect::<Vec<_>>()),
+        ] {
+            for k in targets {
+                let target = 50.0 * k as f64;
+                let lost = if direction == "+" { -0.75 } else { 0.75 };
+                let deviation = 0.012 * target + lost + 0.1 * noise.next();
+                t += 0.1;
+                rows.push((run.to_string(), direction, target, deviation, t, 20.2));
+            }
+        }
+    }
+    rows
+}
+
+fn positioning_text(rows: &[(String, &str, f64, f64, f64, f64)]) -> String {
+    let mut text = String::from("run,direction,target_mm,deviation_um,time_min,temp_air_degc\n");
+    for (run, direction, target, deviation, time, air) in rows {
+        text += &format!("{run},{direction},{target:.3},{deviation:.4},{time:.4},{air:.2}\n");
+    }
+    text
+}
+
+fn positioning_cautions(rows: &[(String, &str, f64, f64, f64, f64)]) -> Vec<String> {
+    let table = PositioningTable::parse(positioning_text(rows).as_bytes(), "laser.csv")
+        .expect("the table reads");
+    positioning_plausible::cautions(&table)
+}
+
+/// The one caution of `cautions`, which must contain each of `expected`.
+fn the_caution(cautions: &[String], expected: &[&str]) {
+    assert_eq!(cautions.len(), 1, "one caution: {cautions:#?}");
+    for e in expected {
+        assert!(cautions[0].contains(e), "should name {e}: {}", cautions[0]);
+    }
+}
+
+#[test]
+fn positioning_slips_are_named_and_the_clean_table_is_not() {
+    let clean = positioning_rows();
+    assert_eq!(positioning_cautions(&clean), Vec::<String>::new());
+
+    // Millimetres in the µm column: the 0.1 µm noise becomes 0.1 nm, a scatter at a target
+    // (s ≈ 0.1 nm·0.58) no laser repeats to.
+    let mm: Vec<_> = clean
+        .iter()
+        .map(|r| (r.0.clone(), r.1, r.2, r.3 / 1000.0, r.4, r.5))
+        .collect();
+    the_caution(
+        &positioning_cautions(&mm),
+        &["`deviation_um`", "mm in the µm column"],
+    );
+
+    // Nanometres in it: the 6 µm of scale reads 7.5 mm, beyond the 1 mm of any axis.
+    let nm: Vec<_> = clean
+        .iter()
+        .map(|r| (r.0.clone(), r.1, r.2, r.3 * 1000.0, r.4, r.5))
+        .collect();
+    the_caution(
+        &positioning_cautions(&nm),
+        &["`deviation_um`", "nm in the µm column"],
+    );
+
+    // The direction labels swapped: every `+` reading was taken with the targets falling.
+    let swapped: Vec<_> = clean
+        .iter()
+        .map(|r| {
+            let d = if r.1 == "+" { "-" } else { "+" };
+            (r.0.clone(), d, r.2, r.3, r.4, r.5)
+        })
+        .collect();
+    the_caution(
+        &positioning_cautions(&swapped),
+        &["`direction`", "swapped", "time_min"],
+    );
+
+    // Run 2 pasted again as run 6 (with its times: they then overlap run 2's).
+    let mut copied = clean.clone();
+    copied.extend(
+        clean
+            .iter()
+            .filter(|r| r.0 == "2")
+            .map(|r| ("6".to_string(), r.1, r.2, r.3, r.4, r.5)),
+    );
+    let cautions = positioning_cautions(&copied);
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("run \"6\" holds the same 22 readings as run \"2\"")),
+        "{cautions:#?}"
+    );
+    // … and its times (22 readings a run, 0.1 min apart) put it inside run 2's.
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("run \"6\" starts at 2.3 min, before run \"5\" ended at 11 min")),
+        "{cautions:#?}"
+    );
+    assert_eq!(cautions.len(), 2, "{cautions:#?}");
+
+    // The export cut in the middle of run 5's way down: 17 of its 22 readings.
+    let cut = &clean[..clean.len() - 5];
+    the_caution(
+        &positioning_cautions(cut),
+        &["run \"5\" has 17 of 22", "5 the report counts"],
+    );
+
+    // Seconds in time_min (6 min between readings) and hours (0.1 s).
+    for (factor, expected) in [
+        (60.0, "seconds in the minutes column"),
+        (1.0 / 60.0, "hours in the minutes column"),
+    ] {
+        let scaled: Vec<_> = clean
+            .iter()
+            .map(|r| (r.0.clone(), r.1, r.2, r.3, r.4 * factor, r.5))
+            .collect();
+        the_caution(&positioning_cautions(&scaled), &["`time_min`", expected]);
+    }
+
+    // The air in °F: 20.2 °C reads 68.36.
+    let fahrenheit: Vec<_> = clean
+        .iter()
+        .map(|r| (r.0.clone(), r.1, r.2, r.3, r.4, r.5 * 1.8 + 32.0))
+        .collect();
+    the_caution(
+        &positioning_cautions(&fahrenheit),
+        &["`temp_air_degc`", "68.36 °C", "°F"],
+    );
+}
+
+/// A ball-bar trace of both senses (R 150 mm, 1000 mm/min, 250 Hz: 0.02546° a sample): a
+/// 10 µm ellipse from a 20 µm/m squareness (sin 2θ·R·s/2 = 1.5 µm) and 0.2 µm of noise.
+fn ballbar_text(preamble: &str, rows: &[(&str, f64, f64, f64)]) -> String {
+    let mut text = format!("{preamble}direction,angle_deg,deviation_um,time_s\n");
+    for (sense, angle, deviation, time) in rows {
+        text += &format!("{sense},{angle:.6},{deviation:.4},{time:.3}\n");
+    }
+    text
+}
+
+const BALLBAR_PREAMBLE: &str = "# plane = XY\n# radius_mm = 150\n# feed_mm_per_min = 1000\n# sample_rate_hz = 250\n# first_direction = ccw\n";
+
+fn ballbar_rows() -> Vec<(&'static str, f64, f64, f64)> {
+    let mut noise = Noise(11);
+    let step_deg = (1000.0 / 60.0 / 150.0 / 250.0_f64).to_degrees();
+    let n = (360.0 / step_deg) as usize;
+    let mut rows = Vec::new();
+    let mut t = 0.0;
+    for sense in ["ccw", "cw"] {
+        for k in 0..n {
+            let angle = if sense == "ccw" {
+                k as f64 * step_deg
+            } else {
+                (360.0 - k as f64 * step_deg).rem_euclid(360.0)
+            };
+            let deviation = 1.5 * (2.0 * angle.to_radians()).sin() + 0.2 * noise.next();
+            t += 0.004;
+            rows.push((sense, angle, deviation, t));
+        }
+    }
+    rows
+}
+
+fn ballbar_read(text: &str) -> Result<BallbarTable, String> {
+    BallbarTable::parse(text.as_bytes(), "bar.csv").map_err(|e| e.to_string())
+}
+
+#[test]
+fn ballbar_slips_are_refused_or_named_and_the_clean_table_is_not() {
+    let test = CircularTest {
+        plane: Plane::XY,
+        radius: 0.150,
+        feed: 1.0 / 60.0,
+    };
+    let clean = ballbar_rows();
+    let table = ballbar_read(&ballbar_text(BALLBAR_PREAMBLE, &clean)).expect("reads");
+    assert_eq!(
+        ballbar_plausible::cautions(&table, &test),
+        Vec::<String>::new()
+    );
+
+    // The senses swapped: the readings labelled ccw turn clockwise in time.
+    let swapped: Vec<_> = clean
+        .iter()
+        .map(|r| (if r.0 == "ccw" { "cw" } else { "ccw" }, r.1, r.2, r.3))
+        .collect();
+    let text = ballbar_text(&BALLBAR_PREAMBLE.replace("ccw\n", "cw\n"), &swapped);
+    let error = ballbar_read(&text).expect_err("refused");
+    assert!(
+        error.contains("bar.csv") && error.contains("senses are swapped"),
+        "{error}"
+    );
+
+    // The whole trace appended to itself: each sense read twice at every instant.
+    let twice: Vec<_> = clean.iter().chain(&clean).copied().collect();
+    let error = ballbar_read(&ballbar_text(BALLBAR_PREAMBLE, &twice)).expect_err("refused");
+    assert!(
+        error.contains("`time_s`: a second ccw reading at 0.004 s (the first at line 7)")
+            && error.contains("appended twice"),
+        "{error}"
+    );
+
+    // time_s rescaled (ms read as s/2: the feed doubled in the export): 2 ms steps against
+    // the preamble's 250 Hz.
+    let halved: Vec<_> = clean.iter().map(|r| (r.0, r.1, r.2, r.3 / 2.0)).collect();
+    let error = ballbar_read(&ballbar_text(BALLBAR_PREAMBLE, &halved)).expect_err("refused");
+    assert!(
+        error.contains("2 ms apart") && error.contains("says 4 ms"),
+        "{error}"
+    );
+
+    // One sense only: 1 ms of servo mismatch reads as v·Δτ/R = (1000/60 mm/s · 1 ms) /
+    // 150 mm = 111.1 µm/m of squareness.
+    let ccw: Vec<_> = clean.iter().filter(|r| r.0 == "ccw").copied().collect();
+    let table = ballbar_read(&ballbar_text(BALLBAR_PREAMBLE, &ccw)).expect("reads");
+    the_caution(
+        &ballbar_plausible::cautions(&table, &test),
+        &["only the ccw sense", "111.1 µm/m"],
+    );
+
+    // Millimetres in the µm column: a trace spanning 3 nm, under the bar's resolution.
+    let mm: Vec<_> = clean
+        .iter()
+        .map(|r| (r.0, r.1, r.2 / 1000.0, r.3))
+        .collect();
+    let table = ballbar_read(&ballbar_text(BALLBAR_PREAMBLE, &mm)).expect("reads");
+    the_caution(
+        &ballbar_plausible::cautions(&table, &test),
+        &["`deviation_um`", "mm in the µm column"],
+    );
+
+    // No time_s: the preamble's radius and feed could not be checked, and the report says so.
+    let untimed: String = ballbar_text(BALLBAR_PREAMBLE, &clean)
+        .lines()
+        .map(|l| {
+            if l.starts_with('#') {
+                l.to_string()
+            } else {
+                l.rsplit_once(',').unwrap().0.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let table = ballbar_read(&untimed).expect("reads");
+    the_caution(
+        &ballbar_plausible::cautions(&table, &test),
+        &[
+            "the preamble",
+            "no time_s",
+            "nothing in it could check them",
+        ],
+    );
+}
+
+/// A 5 h drift record read every minute: x grows 8 µm with a 60 min time constant, z 0.5 µm
+/// linearly, 10 nm of noise; the air at 20 ± 0.3 °C.
+fn drift_text(times: impl Fn(f64) -> f64, scale: f64, rows: usize, pasted: bool) -> String {
+    let mut noise = Noise(3);
+    let mut text = String::from("time_min,x_um,z_um,temp_air_degc\n");
+    let mut lines = Vec::new();
+    for k in 0..rows {
+        let t = k as f64;
+        let x = 8.0 * (1.0 - (-t / 60.0).exp()) + 0.01 * noise.next();
+        let z = 0.5 * t / 300.0 + 0.01 * noise.next();
+        let air = 20.0 + 0.3 * (t / 90.0).sin();
+        lines.push((x * scale, z * scale, air));
+    }
+    if pasted {
+        let first = lines[..rows / 2].to_vec();
+        lines.truncate(rows / 2);
+        lines.extend(first);
+    }
+    for (k, (x, z, air)) in lines.iter().enumerate() {
+        text += &format!("{:.4},{x:.4},{z:.4},{air:.3}\n", times(k as f64));
+    }
+    text
+}
+
+fn drift_cautions(text: &str) -> Vec<String> {
+    let table = DriftTable::parse(text.as_bytes(), "nest.csv").expect("reads");
+    drift_plausible::cautions(&table, 3600.0)
+}
+
+#[test]
+fn drift_slips_are_named_and_the_clean_record_is_not() {
+    let minutes = |t: f64| t;
+    assert_eq!(
+        drift_cautions(&drift_text(minutes, 1.0, 301, false)),
+        Vec::<String>::new()
+    );
+    // nm in the µm columns: 8 µm of growth reads 8 mm.
+    the_caution(
+        &drift_cautions(&drift_text(minutes, 1000.0, 301, false)),
+        &["`x_um`", "nm in the µm column"],
+    );
+    // mm in them: the widest channel spans 8 nm… and z half a nanometre: the widest decides.
+    the_caution(
+        &drift_cautions(&drift_text(minutes, 1e-3 / 2.0, 301, false)),
+        &["span at most", "mm in the µm columns"],
+    );
+    // Hours in time_min: 300 min read as 5 min, shorter than the ETVE test.
+    the_caution(
+        &drift_cautions(&drift_text(|t| t / 60.0, 1.0, 301, false)),
+        &["`time_min`", "lasts 5 min", "hours in the minutes column"],
+    );
+    // Seconds in it: a reading every 60 "min".
+    the_caution(
+        &drift_cautions(&drift_text(|t| t * 60.0, 1.0, 301, false)),
+        &[
+            "`time_min`",
+            "60 min apart",
+            "seconds in the minutes column",
+        ],
+    );
+    // The first half pasted again as the second.
+    the_caution(
+        &drift_cautions(&drift_text(minutes, 1.0, 300, true)),
+        &["from 150 min repeat those from 0 min", "pasted again"],
+    );
+}
+
+/// A 50 mm ring gauge probed at 36 points with a 1.5 mm stylus ball (bore: the stylus centre
+/// at 23.5 mm, approaching outward), the centre at (500, 250, 30) mm.
+fn ring_text(points: usize, arc_deg: f64, swap_ij: bool, cal_diameter: f64) -> String {
+    let mut text = String::from(
+        "# stylus_radius_mm = 1.5\ncycle,kind,feature,point,x_mm,y_mm,z_mm,i,j,k,cal_diameter_mm\n",
+    );
+    for p in 0..points {
+        let a = (arc_deg * p as f64 / points as f64).to_radians();
+        let (i, j) = (a.cos(), a.sin());
+        let (i, j) = if swap_ij { (j, i) } else { (i, j) };
+        text += &format!(
+            "1,ring,1,{},{:.6},{:.6},30,{i:.9},{j:.9},0,{cal_diameter}\n",
+            p + 1,
+            500.0 + 23.5 * a.cos(),
+            250.0 + 23.5 * a.sin()
+        );
+    }
+    text
+}
+
+fn ring_cautions(text: &str) -> Vec<String> {
+    let table = ProbeTable::parse(text.as_bytes(), "ring.csv").expect("reads");
+    evaluate_probe(&table, 1.5e-3).expect("evaluates").cautions
+}
+
+#[test]
+fn probe_set_up_slips_are_named_and_the_clean_ring_is_not() {
+    assert_eq!(
+        ring_cautions(&ring_text(36, 360.0, false, 50.0)),
+        Vec::<String>::new()
+    );
+    // i and j swapped: (sin a, cos a) against the radius (cos a, sin a) stands off it by
+    // arccos|sin 2a| = |90° − (2a mod 180°)|, over the 36 points (2a mod 180° = 0, 20 … 160°)
+    // 90, 70, 50, 30, 10, 10, 30, 50, 70: a mean of 410°/9 = 45.6°.
+    let cautions = ring_cautions(&ring_text(36, 360.0, true, 50.0));
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("45.6° off the feature's radius")),
+        "{cautions:#?}"
+    );
+    // The radius in the diameter column: 25 mm off the calibration.
+    the_caution(
+        &ring_cautions(&ring_text(36, 360.0, false, 25.0)),
+        &["differs from cal_diameter_mm by 25 mm"],
+    );
+    // Ten points over 100°: the arc from the first to the last touch is 90°.
+    the_caution(
+        &ring_cautions(&ring_text(10, 100.0, false, 50.0)),
+        &["span only 90° of the ring"],
+    );
+}
