@@ -131,3 +131,46 @@ fn a_ball_bar_of_one_sense_is_refused_for_compensation() {
         );
     }
 }
+
+#[test]
+fn a_laser_table_in_inches_is_refused_for_covering_a_sliver_of_its_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(&root("scenarios/vmc3_iso230_2.toml"), dir.path(), "run");
+    let text = std::fs::read_to_string(run.join("positioning.csv")).unwrap();
+    // An export in inch mode: the targets (and the preamble's list of them) in inches in the
+    // mm columns. 10 … 750 mm read 0.3937 … 29.5276: 29.134 mm of X's 760 mm of travel, so a
+    // compensation would be extrapolated over 96 % of the axis.
+    let inches = |v: f64| v / 25.4;
+    let mut converted = String::new();
+    for line in super::with_column(&text, "target_mm", inches).lines() {
+        match line.strip_prefix("# targets_mm = ") {
+            Some(list) => {
+                let list: Vec<String> = list
+                    .split(',')
+                    .map(|t| format!("{}", inches(t.trim().parse::<f64>().unwrap())))
+                    .collect();
+                converted += &format!("# targets_mm = {}\n", list.join(", "));
+            }
+            None => converted += &format!("{line}\n"),
+        }
+    }
+    let table = dir.path().join("inch.csv");
+    std::fs::write(&table, converted).unwrap();
+    let machine = root("models/vmc3.urdf");
+    refused_by_the_door(
+        &[
+            "--machine".as_ref(),
+            machine.as_os_str(),
+            "--params".as_ref(),
+            "EXX:2".as_ref(),
+            table.as_os_str(),
+        ],
+        &dir.path().join("id"),
+        &[
+            "inch.csv",
+            "the targets cover 29.134 mm of X's 760 mm of travel",
+            "inches or metres in the mm column?",
+        ],
+        "correct the column's unit",
+    );
+}

@@ -409,3 +409,119 @@ fn probe_set_up_slips_are_named_and_the_clean_ring_is_not() {
         &["span only 90° of the ring"],
     );
 }
+
+/// An R-test export of the probe readings alone (no commanded positions): C turned 0 … 360° in
+/// 10° steps, A swung 0 … −90° in 15° steps, deviations a 10 µm circle and a 5 µm sag, and a
+/// copy of the C circle under another name.
+fn rtest_text(to_file: impl Fn(f64) -> f64, pasted: bool) -> String {
+    let mut text = String::from("test,a_deg,c_deg,dx_um,dy_um,dz_um\n");
+    let mut noise = Noise(5);
+    let mut circle = String::new();
+    for k in 0..=36 {
+        let c = 10.0 * k as f64;
+        let (s, co) = c.to_radians().sin_cos();
+        circle += &format!(
+            "{{NAME}},{},{},{:.4},{:.4},{:.4}\n",
+            to_file(0.0),
+            to_file(c),
+            10.0 * (co - 1.0) + 0.2 * noise.next(),
+            10.0 * s + 0.2 * noise.next(),
+            0.2 * noise.next()
+        );
+    }
+    text += &circle.replace("{NAME}", "C circle");
+    for k in 0..=6 {
+        let a = -15.0 * k as f64;
+        text += &format!(
+            "A swing,{},0,{:.4},0,{:.4}\n",
+            to_file(a),
+            0.2 * noise.next(),
+            -5.0 * (a / 90.0).powi(2)
+        );
+    }
+    if pasted {
+        text += &circle.replace("{NAME}", "C circle again");
+    }
+    text
+}
+
+fn rtest_cautions(text: &str) -> Vec<String> {
+    let table =
+        mtwin::kinds::rtest::RtestTable::parse(text.as_bytes(), "rtest.csv").expect("reads");
+    mtwin::kinds::rtest::plausible::cautions(&table)
+}
+
+#[test]
+fn rtest_radians_without_positions_and_a_pasted_test_are_named() {
+    assert_eq!(
+        rtest_cautions(&rtest_text(|d| d, false)),
+        Vec::<String>::new()
+    );
+    // Radians: C's turn reads 0 … 6.2832, A's swing 0 … −1.5708; the widest sweep is C's.
+    the_caution(
+        &rtest_cautions(&rtest_text(f64::to_radians, false)),
+        &[
+            "`c_deg`",
+            "test \"C circle\" sweeps 6.283",
+            "radians in the degree columns",
+        ],
+    );
+    the_caution(
+        &rtest_cautions(&rtest_text(|d| d, true)),
+        &["test \"C circle again\" holds the same 111 readings as test \"C circle\""],
+    );
+}
+
+/// The foreign spindle export of `tests/data/spindle` (another analyser's column order, 32
+/// samples a revolution, error motions of tenths of a µm) with every probe column scaled.
+fn spindle_cautions(scale: f64) -> Vec<String> {
+    use mtwin::kinds::spindle::{evaluate::Options, evaluate::evaluate, plausible, table};
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/spindle/foreign_sea.csv");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    let mut probes: Vec<usize> = Vec::new();
+    for line in text.lines() {
+        if line.starts_with('#') {
+            out += &format!("{line}\n");
+        } else if probes.is_empty() {
+            probes = (line.split(',').enumerate())
+                .filter(|(_, name)| name.ends_with("_um"))
+                .map(|(i, _)| i)
+                .collect();
+            out += &format!("{line}\n");
+        } else {
+            let fields: Vec<String> = line
+                .split(',')
+                .enumerate()
+                .map(|(i, f)| match probes.contains(&i) {
+                    true => format!("{}", f.parse::<f64>().unwrap() * scale),
+                    false => f.to_string(),
+                })
+                .collect();
+            out += &format!("{}\n", fields.join(","));
+        }
+    }
+    let table = table::parse(out.as_bytes(), "sea.csv").expect("reads");
+    let evaluation = evaluate(
+        &table.record,
+        table.samples_per_revolution,
+        &Options::default(),
+    )
+    .expect("evaluates");
+    plausible::cautions(&evaluation)
+}
+
+#[test]
+fn spindle_records_in_nm_or_mm_are_named() {
+    // Its error motions are 0.1 … 0.3 µm (radial and axial; the tilt is not judged).
+    assert_eq!(spindle_cautions(1.0), Vec::<String>::new());
+    the_caution(
+        &spindle_cautions(1000.0),
+        &["more than the 100 µm", "nm in the µm columns"],
+    );
+    the_caution(
+        &spindle_cautions(1e-3),
+        &["below 0.005 µm", "mm in the µm columns"],
+    );
+}

@@ -63,7 +63,7 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
         crate::io::write_atomically(path, super::plot::svg(&table).as_bytes())?;
     }
     let (setup, said) = table.setup_report();
-    let cautions: Vec<String> = super::plausible::copied_test(&table).into_iter().collect();
+    let cautions = super::plausible::cautions(&table);
     Ok(if args.json {
         let mut report = serde_json::to_value(&evaluation)?;
         report["setup"] = setup;

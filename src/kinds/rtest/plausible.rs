@@ -1,11 +1,13 @@
-//! What an R-test table's own data say against its labels, as a caution for the report and
+//! What an R-test table's own data say against its labels, as cautions for the report and
 //! a problem `identify` refuses to compensate from: a test that repeats another reading for
 //! reading ([`crate::io::plausible::copied_block`]: a test exported twice, or pasted under a
-//! new name). (Whether an angle column is the tilting axis's or the turntable's only the
+//! new name), and angles that read as radians in a table without commanded positions. (Whether an angle column is the tilting axis's or the turntable's only the
 //! machine can say: `identify` checks every angle against its joint's limits.)
 
 use super::table::RtestTable;
-use crate::io::plausible::{Block, copied_block, copy_sentence};
+use crate::io::plausible::{Block, copied_block, copy_sentence, spread};
+use crate::math::{Real, trimmed};
+use std::f64::consts::TAU;
 
 /// The deviations of each test as blocks (x, y, z of every row, in file order).
 pub fn test_blocks(table: &RtestTable) -> Vec<Block> {
@@ -33,4 +35,58 @@ pub fn test_blocks(table: &RtestTable) -> Vec<Block> {
 pub fn copied_test(table: &RtestTable) -> Option<String> {
     let blocks = test_blocks(table);
     copied_block(&blocks).map(|pair| copy_sentence(&blocks, pair))
+}
+
+/// The smallest sweep (in the file's numbers) of some test that, with no angle beyond 2π,
+/// makes a table read as radians: 1.5, i.e. 86° if radians. R-tests turn their axes through
+/// tens of degrees or full turns; one whose every angle stays within ±6.283 "degrees" while
+/// a test sweeps more than 1.5 of them is in radians.
+pub const RADIAN_SWEEP: Real = 1.5;
+
+/// Every caution for the R-test report of `table`: a copied test, and angles in radians
+/// where no commanded positions let the reader refuse them
+/// (the reader judges tables with `x_mm, y_mm, z_mm` itself).
+pub fn cautions(table: &RtestTable) -> Vec<String> {
+    let mut found: Vec<String> = copied_test(table).into_iter().collect();
+    found.extend(radians_without_positions(table));
+    found
+}
+
+fn radians_without_positions(table: &RtestTable) -> Option<String> {
+    if table.rows.iter().any(|r| r.linear.is_some()) {
+        return None;
+    }
+    let columns: Vec<usize> = (0..3)
+        .filter(|&i| table.rows.iter().any(|r| r.angles[i].is_some()))
+        .collect();
+    let written = |r: &super::table::RtestRow, i: usize| r.angles[i].map(Real::to_degrees);
+    let within = table.rows.iter().all(|r| {
+        columns
+            .iter()
+            .all(|&i| written(r, i).is_none_or(|v| v.abs() <= TAU + 1e-6))
+    });
+    let mut tests: Vec<&str> = table.rows.iter().map(|r| r.test.as_str()).collect();
+    tests.dedup();
+    let widest = tests
+        .iter()
+        .flat_map(|test| {
+            columns.iter().map(move |&i| {
+                let values = table
+                    .rows
+                    .iter()
+                    .filter(|r| r.test == *test)
+                    .filter_map(|r| written(r, i));
+                (test, i, spread(values))
+            })
+        })
+        .max_by(|a, b| a.2.total_cmp(&b.2))?;
+    let names = ["a_deg", "b_deg", "c_deg"];
+    (within && widest.2 > RADIAN_SWEEP).then(|| {
+        format!(
+            "column `{}`: no angle of the table passes 2π = 6.283 while test \"{}\" sweeps {} of them: radians in the degree columns? (an R-test turns its axes through tens of degrees; without x_mm, y_mm, z_mm the reader cannot check)",
+            names[widest.1],
+            widest.0,
+            trimmed(widest.2, 3)
+        )
+    })
 }
