@@ -50,6 +50,56 @@ pub fn copied_block(blocks: &[Block]) -> Option<(usize, usize)> {
     None
 }
 
+/// The block whose readings span `factor` times more or less than the median span of the
+/// others (blocks of at least [`MIN_COPY_READINGS`]), with its span and that median: one run,
+/// sense or test written in another unit than the rest (×1000 for mm or nm, ×10 for a count
+/// of 0.1 µm). The most extreme one, if any.
+pub fn odd_block(blocks: &[Block], factor: Real) -> Option<(usize, Real, Real)> {
+    let spans: Vec<Option<Real>> = blocks
+        .iter()
+        .map(|b| {
+            (b.readings.len() >= MIN_COPY_READINGS).then(|| spread(b.readings.iter().copied()))
+        })
+        .collect();
+    let mut worst: Option<(usize, Real, Real, Real)> = None;
+    for (j, span) in spans.iter().enumerate() {
+        let Some(span) = *span else { continue };
+        let others: Vec<Real> = spans
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != j)
+            .filter_map(|(_, s)| *s)
+            .collect();
+        let Some(middle) = median(others) else {
+            continue;
+        };
+        if middle <= 0.0 || span <= 0.0 {
+            continue;
+        }
+        let ratio = (span / middle).max(middle / span);
+        if ratio > factor && worst.is_none_or(|w| ratio > w.3) {
+            worst = Some((j, span, middle, ratio));
+        }
+    }
+    worst.map(|(j, span, middle, _)| (j, span, middle))
+}
+
+/// The sentence for an [`odd_block`] (µm figures; the caller names the file).
+pub fn odd_sentence(
+    column: &str,
+    blocks: &[Block],
+    (j, span, middle): (usize, Real, Real),
+) -> String {
+    format!(
+        "column `{column}`: {} spans {} µm where the others span {} µm (median), {} times {}: that one in another unit (mm, nm, a count of 0.1 µm)?",
+        blocks[j].label,
+        crate::math::trimmed(span * 1e6, 4),
+        crate::math::trimmed(middle * 1e6, 4),
+        crate::math::trimmed((span / middle).max(middle / span), 1),
+        if span > middle { "more" } else { "less" }
+    )
+}
+
 /// The sentence for a copy [`copied_block`] found (the caller names the file).
 pub fn copy_sentence(blocks: &[Block], (i, j): (usize, usize)) -> String {
     format!(
@@ -73,6 +123,52 @@ pub fn air_caution(column: &str, values: &[Real]) -> Option<String> {
     (!(lo..=hi).contains(&middle)).then(|| {
         format!(
             "column `{column}`: the air reads {} °C (median), outside the {lo} … {hi} °C of any machine shop: °F in the °C column?",
+            crate::math::trimmed(middle, 2)
+        )
+    })
+}
+
+/// The coarsest of the steps a metrology export is rounded to (m: 10 µm, 1 µm) that every
+/// one of `values` is a whole multiple of, when there are at least 10 values and 3 distinct:
+/// a column rounded that coarsely loses what an instrument reads (a laser 1 nm, a ball-bar or
+/// a nest 0.1 µm) and its rounding does not average out along a smooth trace.
+pub fn rounded_to(values: &[Real]) -> Option<Real> {
+    if values.len() < 10 {
+        return None;
+    }
+    let mut distinct: Vec<u64> = values.iter().take(1000).map(|v| v.to_bits()).collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    if distinct.len() < 3 {
+        return None;
+    }
+    [1e-5, 1e-6].into_iter().find(|step| {
+        values.iter().all(|v| {
+            let n = v / step;
+            (n - n.round()).abs() < 1e-6
+        })
+    })
+}
+
+/// The sentence for a column `column` rounded to `step` (m).
+pub fn rounding_sentence(column: &str, step: Real, what: &str) -> String {
+    format!(
+        "column `{column}`: every reading is a whole multiple of {} µm, an export rounded that coarsely ({what}): the figures carry its rounding",
+        crate::math::trimmed(step * 1e6, 3)
+    )
+}
+
+/// The hottest a machine's structure runs where test sensors sit (°C): 60 °C. Spindle
+/// housings and screw nuts run at 30 to 50 °C; 20 °C in °F reads 68.
+pub const HOTTEST_STRUCTURE_DEGC: Real = 60.0;
+
+/// The caution for a structure temperature column `column` whose median is above
+/// [`HOTTEST_STRUCTURE_DEGC`].
+pub fn structure_caution(column: &str, values: &[Real]) -> Option<String> {
+    let middle = median(values.to_vec())?;
+    (middle > HOTTEST_STRUCTURE_DEGC).then(|| {
+        format!(
+            "column `{column}`: the structure reads {} °C (median), hotter than the {HOTTEST_STRUCTURE_DEGC} °C any machine tool runs at where sensors sit: °F in the °C column?",
             crate::math::trimmed(middle, 2)
         )
     })
@@ -132,6 +228,48 @@ mod tests {
         assert_eq!(copied_block(&short), None);
         let zeros = [block("a", &[0.0; 5]), block("b", &[0.0; 5])];
         assert_eq!(copied_block(&zeros), None);
+    }
+
+    #[test]
+    fn one_block_in_another_unit_is_found() {
+        let blocks = [
+            block("run 1", &[0.0, 5e-6, 10e-6]),
+            block("run 2", &[0.0, 5.2e-6, 10.1e-6]),
+            block("run 3", &[0.0, 5e-9, 10e-9]),
+            block("run 4", &[0.1e-6, 5e-6, 9.9e-6]),
+        ];
+        // Run 3 spans 10 nm against a median 10 µm of the others (10, 10.1, 9.8).
+        let (j, span, middle) = odd_block(&blocks, 30.0).unwrap();
+        assert_eq!(j, 2);
+        assert!((span - 10e-9).abs() < 1e-15 && (middle - 10e-6).abs() < 1e-12);
+        assert_eq!(odd_block(&blocks[..2], 30.0), None);
+        assert!(
+            odd_sentence("deviation_um", &blocks, (j, span, middle)).contains(
+                "run 3 spans 0.01 µm where the others span 10 µm (median), 1000 times less"
+            )
+        );
+    }
+
+    #[test]
+    fn rounding_is_found_at_the_coarsest_step_and_not_in_finer_data() {
+        let whole: Vec<Real> = (0..20).map(|k| (k % 7) as Real * 1e-6).collect();
+        assert_eq!(rounded_to(&whole), Some(1e-6));
+        let tens: Vec<Real> = whole.iter().map(|v| v * 10.0).collect();
+        assert_eq!(rounded_to(&tens), Some(1e-5));
+        let tenths: Vec<Real> = (0..20).map(|k| k as Real * 0.1e-6).collect();
+        assert_eq!(rounded_to(&tenths), None);
+        assert_eq!(rounded_to(&whole[..9]), None);
+    }
+
+    #[test]
+    fn air_and_structure_in_fahrenheit_are_named() {
+        // 20.5 °C of air read in °F: 68.9; a screw nut at 24 °C: 75.2.
+        let air = air_caution("temp_air_degc", &[68.9, 68.9, 69.0]).unwrap();
+        assert!(air.contains("`temp_air_degc`") && air.contains("68.9 °C") && air.contains("°F"));
+        assert_eq!(air_caution("temp_air_degc", &[20.5, 20.6]), None);
+        let nut = structure_caution("temp_nut_degc", &[75.2, 75.3, 75.4]).unwrap();
+        assert!(nut.contains("`temp_nut_degc`") && nut.contains("75.3 °C"));
+        assert_eq!(structure_caution("temp_spindle_degc", &[45.0, 48.0]), None);
     }
 
     #[test]

@@ -80,7 +80,7 @@ fn a_sphere_a_few_micrometres_off_or_a_test_pasted_twice_is_refused() {
 }
 
 #[test]
-fn a_ball_bar_of_one_sense_is_refused_for_compensation() {
+fn a_ball_bar_of_one_sense_a_mistyped_radius_or_whole_micrometres_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = dir.path().join("bar.toml");
     std::fs::write(
@@ -124,6 +124,44 @@ fn a_ball_bar_of_one_sense_is_refused_for_compensation() {
         "only the ccw sense",
         "55.6 µm/m",
         "fails its own checks",
+    ] {
+        assert!(
+            message.contains(expected),
+            "should name {expected}: {message}"
+        );
+    }
+    // The preamble's radius typed 100 for 150: the angles against time_s turn at
+    // (500/60)/150 = 0.0556 rad/s, not the 0.0833 the preamble's 500 mm/min on 100 mm says.
+    let line = "# radius_mm = 150";
+    assert!(text.contains(line), "the preamble's radius");
+    let typo = dir.path().join("radius.csv");
+    std::fs::write(&typo, text.replacen(line, "# radius_mm = 100", 1)).unwrap();
+    let message = failed(&identify(typo.as_os_str()));
+    for expected in [
+        "radius.csv",
+        "turn at 0.0556 rad/s",
+        "says 0.0833 rad/s",
+        "mistyped",
+    ] {
+        assert!(
+            message.contains(expected),
+            "should name {expected}: {message}"
+        );
+    }
+    // Exported rounded to whole µm: the rounding (1/√12 = 0.289 µm) is three times the bar's
+    // stated 0.104 µm and does not average out along the trace.
+    let rounded = dir.path().join("rounded.csv");
+    std::fs::write(
+        &rounded,
+        super::with_column(&text, "deviation_um", f64::round),
+    )
+    .unwrap();
+    let message = failed(&identify(rounded.as_os_str()));
+    for expected in [
+        "rounded.csv",
+        "whole multiple of 1 µm",
+        "(0.289 µm) exceeds",
+        "(0.104 µm)",
     ] {
         assert!(
             message.contains(expected),

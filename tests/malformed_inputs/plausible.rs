@@ -99,6 +99,36 @@ fn positioning_slips_are_named_and_the_clean_table_is_not() {
         &["`deviation_um`", "nm in the µm column"],
     );
 
+    // Run 3 alone in mm: it spans a thousandth of the others.
+    let one_run: Vec<_> = clean
+        .iter()
+        .map(|r| {
+            let d = if r.0 == "3" { r.3 / 1000.0 } else { r.3 };
+            (r.0.clone(), r.1, r.2, d, r.4, r.5)
+        })
+        .collect();
+    // (The stability check sees run 3 off the others too and says so; the unit is named.)
+    let cautions = positioning_cautions(&one_run);
+    assert_eq!(cautions.len(), 2, "{cautions:#?}");
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("`deviation_um`: run \"3\" spans")
+                && c.contains("times less")
+                && c.contains("another unit")),
+        "{cautions:#?}"
+    );
+
+    // An export rounded to whole µm: the rounding is named (not a copy, not mm).
+    let rounded: Vec<_> = clean
+        .iter()
+        .map(|r| (r.0.clone(), r.1, r.2, r.3.round(), r.4, r.5))
+        .collect();
+    the_caution(
+        &positioning_cautions(&rounded),
+        &["`deviation_um`: every reading is a whole multiple of 1 µm"],
+    );
+
     // The direction labels swapped: every `+` reading was taken with the targets falling.
     let swapped: Vec<_> = clean
         .iter()

@@ -227,6 +227,10 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                 problems.extend(
                     ballbar::plausible::copied_sweep(&table).map(|c| format!("{file}: {c}")),
                 );
+                problems.extend(
+                    ballbar::plausible::stated_speed_contradiction(&table)
+                        .map(|c| format!("{file}: {c}")),
+                );
                 if let (Some(radius), Some(feed)) = (table.conditions.radius, table.conditions.feed)
                     && let Some(plane) = table.conditions.plane
                 {
@@ -243,6 +247,23 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                 sets.push(ballbar::readings::readings(&table, &file, machine, &setup)?);
             }
             other => unreachable!("{other} is not in TABLE_KINDS"),
+        }
+    }
+    // Readings rounded more coarsely than their stated uncertainty: the rounding, not the
+    // noise, sets the residuals, and it does not average out along a smooth trace.
+    for set in &sets {
+        let sigma = set.sigma.iter().sum::<crate::math::Real>()
+            / set.sigma.len().max(1) as crate::math::Real;
+        if let Some(step) = crate::io::plausible::rounded_to(&set.measured)
+            && step / 12f64.sqrt() > sigma
+        {
+            problems.push(format!(
+                "{}: every reading is a whole multiple of {} µm: the rounding alone ({} µm) exceeds the readings' stated uncertainty ({} µm); export at the instrument's resolution, or state --sigma-um of at least the rounding",
+                set.source,
+                crate::math::trimmed(step * 1e6, 3),
+                crate::math::trimmed(step / 12f64.sqrt() * 1e6, 3),
+                crate::math::trimmed(sigma * 1e6, 3)
+            ));
         }
     }
     Ok(Loaded {
@@ -326,8 +347,13 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         .ok()
         .flatten()
         .into();
-    if scenario.is_some() && provenances.iter().all(|p| p.scenario.is_none()) {
-        text += "\nProvenance: no table names the scenario it was made from (no manifest.json of `mtwin run` beside it, or the table edited since); compensated.toml assumes they come from --scenario.\n";
+    if provenances.iter().all(|p| p.scenario.is_none()) {
+        text += "\nProvenance: no table names the scenario it was made from (no manifest.json of `mtwin run` beside it, or the table edited since): that the tables are of this machine, and each of the axis or plane it says, rests on their own labels";
+        text += if scenario.is_some() {
+            "; compensated.toml assumes they come from --scenario.\n"
+        } else {
+            ".\n"
+        };
     }
     if !fit.identifiability.null_combinations.is_empty()
         && let Some(table) = sets.iter().position(|s| s.kind == "rtest")

@@ -24,11 +24,29 @@ use crate::math::{M_PER_UM, Real, trimmed};
 /// mm written in the µm column span 1000 times less.
 pub const SMALLEST_SPREAD: Real = 0.1e-6;
 
+/// How many times more or less than the other sweeps one may span before it reads as another
+/// unit: 5. The two senses of one circle differ by their servo and reversal terms, which a
+/// machine keeps within a factor of two or so.
+pub const ODD_SENSE: Real = 5.0;
+
 /// Every caution for the ISO 230-4 report of `table` measured under `test`, each a sentence.
 pub fn cautions(table: &BallbarTable, test: &CircularTest) -> Vec<String> {
     let mut found: Vec<String> = unchecked_conditions(table).into_iter().collect();
     found.extend(one_sense(table, test));
     found.extend(copied_sweep(table));
+    let blocks = sweep_blocks(table);
+    found.extend(
+        crate::io::plausible::odd_block(&blocks, ODD_SENSE)
+            .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
+    );
+    let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
+    if let Some(step) = crate::io::plausible::rounded_to(&values) {
+        found.push(crate::io::plausible::rounding_sentence(
+            "deviation_um",
+            step,
+            "a ball-bar reads to 0.1 µm",
+        ));
+    }
     let trace = spread(table.readings.iter().map(|r| r.deviation));
     if trace < SMALLEST_SPREAD {
         found.push(format!(
@@ -101,4 +119,24 @@ pub fn copied_sweep(table: &BallbarTable) -> Option<String> {
     let blocks = sweep_blocks(table);
     copied_block(&blocks)
         .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair)))
+}
+
+/// The preamble's feed ÷ radius against what the angles and times turn at (more than 1 % plus
+/// three standard errors of that slope apart, as `analyze` refuses it): a radius or a feed
+/// mistyped in the preamble, which scales every figure in µm/m. `None` without the three.
+pub fn stated_speed_contradiction(table: &BallbarTable) -> Option<String> {
+    let (radius, feed) = (table.conditions.radius?, table.conditions.feed?);
+    let (speed, se) = table.angular_speed()?;
+    let stated = feed / radius;
+    ((speed - stated).abs() > 0.01 * stated + 3.0 * se).then(|| {
+        format!(
+            "angle_deg against time_s turn at {} rad/s, which at the preamble's radius {} mm gives a feed of {} mm/min (or, at its feed {} mm/min, a radius of {} mm); the preamble says {} rad/s: its radius or feed is mistyped",
+            trimmed(speed, 4),
+            trimmed(radius * 1e3, 3),
+            trimmed(speed * radius * 6e4, 1),
+            trimmed(feed * 6e4, 1),
+            trimmed(feed / speed * 1e3, 3),
+            trimmed(stated, 4)
+        )
+    })
 }

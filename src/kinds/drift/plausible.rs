@@ -58,6 +58,13 @@ pub fn cautions(table: &DriftTable, etve_duration: Real) -> Vec<String> {
     found.extend(pasted(table));
     let linear: Vec<_> = table.channels.iter().filter(|c| !c.angular).collect();
     for channel in &linear {
+        if let Some(step) = crate::io::plausible::rounded_to(&channel.values) {
+            found.push(crate::io::plausible::rounding_sentence(
+                &format!("{}_um", channel.name),
+                step,
+                "a displacement sensor reads to 0.01 µm or better",
+            ));
+        }
         let span = spread(channel.values.iter().copied());
         if span > LARGEST_DRIFT {
             found.push(format!(
@@ -89,8 +96,11 @@ pub fn cautions(table: &DriftTable, etve_duration: Real) -> Vec<String> {
     }
     let stated = table.conditions.ambient_sensor.as_deref();
     for (name, values) in &table.temperatures {
+        let column = format!("temp_{name}_degc");
         if Some(name.as_str()) == stated || name.contains("air") || name.contains("ambient") {
-            found.extend(air_caution(&format!("temp_{name}_degc"), values));
+            found.extend(air_caution(&column, values));
+        } else {
+            found.extend(crate::io::plausible::structure_caution(&column, values));
         }
     }
     found

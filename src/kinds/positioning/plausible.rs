@@ -48,6 +48,10 @@ pub const SHORTEST_STEP: Real = 0.5;
 /// own settling); deviations in mm written in the µm column repeat 1000 times too well.
 pub const SMALLEST_SCATTER: Real = 1e-9;
 
+/// How many times more or less than the other runs one run may span before it reads as
+/// another unit: 30. Runs of one axis span the same errors within their drift and noise.
+pub const ODD_RUN: Real = 30.0;
+
 /// The shortest travel (m) over which [`SMALLEST_SPREAD`] is judged.
 const SHORTEST_TRAVEL: Real = 10e-3;
 
@@ -56,10 +60,31 @@ pub fn cautions(table: &PositioningTable) -> Vec<String> {
     let mut found: Vec<String> = super::stability::caution(table).into_iter().collect();
     found.extend(swapped_directions(table));
     found.extend(incomplete_runs(table));
-    found.extend(copied_run(table));
+    // Readings rounded to a micrometre repeat by the rounding, not by a copy.
+    let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
+    if crate::io::plausible::rounded_to(&values).is_none() {
+        found.extend(copied_run(table));
+    }
+    let blocks = run_blocks(table);
+    found.extend(
+        crate::io::plausible::odd_block(&blocks, ODD_RUN)
+            .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
+    );
     found.extend(overlapping_runs(table));
     found.extend(units(table));
     found
+}
+
+/// The indices of each run's readings, in file order (one pass, so every check stays linear
+/// in the readings whatever the number of runs).
+fn by_run(table: &PositioningTable) -> Vec<Vec<usize>> {
+    let mut runs = vec![Vec::new(); table.runs.len()];
+    for (k, r) in table.readings.iter().enumerate() {
+        if let Some(run) = runs.get_mut(r.run) {
+            run.push(k);
+        }
+    }
+    runs
 }
 
 /// The readings of each run as blocks, in file order.
@@ -68,13 +93,12 @@ pub fn run_blocks(table: &PositioningTable) -> Vec<Block> {
         .runs
         .iter()
         .enumerate()
-        .map(|(run, label)| Block {
+        .zip(by_run(table))
+        .map(|((_, label), indices)| Block {
             label: format!("run \"{label}\""),
-            readings: table
-                .readings
+            readings: indices
                 .iter()
-                .filter(|r| r.run == run)
-                .map(|r| r.deviation)
+                .map(|&k| table.readings[k].deviation)
                 .collect(),
         })
         .collect()
@@ -95,13 +119,12 @@ fn swapped_directions(table: &PositioningTable) -> Option<String> {
     let timed = table.readings.iter().all(|r| r.time.is_some());
     // Steps up and down of the target, per direction, over every run in measurement order.
     let mut steps = [[0usize; 2]; 2]; // [+, -][rising, falling]
-    for run in 0..table.runs.len() {
+    for indices in by_run(table) {
         for (d, approach) in [Approach::Up, Approach::Down].into_iter().enumerate() {
-            let mut visits: Vec<(Real, Real)> = table
-                .readings
+            let mut visits: Vec<(Real, Real)> = indices
                 .iter()
-                .enumerate()
-                .filter(|(_, r)| r.run == run && r.approach == approach)
+                .map(|&k| (k, &table.readings[k]))
+                .filter(|(_, r)| r.approach == approach)
                 .map(|(k, r)| (r.time.unwrap_or(k as Real), r.target))
                 .collect();
             if timed {
@@ -129,12 +152,11 @@ fn swapped_directions(table: &PositioningTable) -> Option<String> {
 /// A run that starts before the run listed before it ended: runs are read one after the
 /// other, so the file mixes records (runs of another day's test) or pastes a run again.
 fn overlapping_runs(table: &PositioningTable) -> Option<String> {
+    let runs = by_run(table);
     let span = |run: usize| -> Option<(Real, Real)> {
-        let times: Vec<Real> = table
-            .readings
+        let times: Vec<Real> = runs[run]
             .iter()
-            .filter(|r| r.run == run)
-            .map(|r| r.time)
+            .map(|&k| table.readings[k].time)
             .collect::<Option<_>>()?;
         let first = times.iter().copied().fold(Real::INFINITY, Real::min);
         let last = times.iter().copied().fold(Real::NEG_INFINITY, Real::max);
@@ -156,9 +178,7 @@ fn overlapping_runs(table: &PositioningTable) -> Option<String> {
 
 /// Runs with fewer readings than the fullest run.
 fn incomplete_runs(table: &PositioningTable) -> Option<String> {
-    let counts: Vec<usize> = (0..table.runs.len())
-        .map(|run| table.readings.iter().filter(|r| r.run == run).count())
-        .collect();
+    let counts: Vec<usize> = by_run(table).iter().map(Vec::len).collect();
     let most = counts.iter().copied().max()?;
     let short: Vec<String> = table
         .runs
@@ -197,7 +217,19 @@ fn units(table: &PositioningTable) -> Vec<String> {
             um(LARGEST_SPREAD)
         ));
     }
-    if let Some(scatter) = median_scatter(table).filter(|&s| s < SMALLEST_SCATTER) {
+    let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
+    let rounded = crate::io::plausible::rounded_to(&values);
+    if let Some(step) = rounded {
+        found.push(crate::io::plausible::rounding_sentence(
+            "deviation_um",
+            step,
+            "a laser reads to 0.001 µm; R and s are computed from it",
+        ));
+    }
+    if let Some(scatter) = median_scatter(table)
+        .filter(|&s| s < SMALLEST_SCATTER)
+        .filter(|_| rounded.is_none())
+    {
         found.push(format!(
             "column `deviation_um`: the readings at a target repeat over the runs to {} µm (median standard deviation), better than the {} µm a laser in air repeats to: mm in the µm column (or a noise-free simulation)?",
             um(scatter),
@@ -221,13 +253,16 @@ fn units(table: &PositioningTable) -> Vec<String> {
         _ => {}
     }
     for (index, sensor) in table.sensors.iter().enumerate() {
+        let values: Vec<Real> = table
+            .readings
+            .iter()
+            .map(|r| r.temperatures[index])
+            .collect();
+        let column = format!("temp_{sensor}_degc");
         if sensor.contains("air") || sensor.contains("ambient") {
-            let values: Vec<Real> = table
-                .readings
-                .iter()
-                .map(|r| r.temperatures[index])
-                .collect();
-            found.extend(air_caution(&format!("temp_{sensor}_degc"), &values));
+            found.extend(air_caution(&column, &values));
+        } else {
+            found.extend(crate::io::plausible::structure_caution(&column, &values));
         }
     }
     found

@@ -37,6 +37,11 @@ pub fn copied_test(table: &RtestTable) -> Option<String> {
     copied_block(&blocks).map(|pair| copy_sentence(&blocks, pair))
 }
 
+/// How many times more or less than the other tests one may span before it reads as another
+/// unit: 100. Tests of one machine differ (a full turn against a short swing), but not by a
+/// factor of a hundred.
+pub const ODD_TEST: Real = 100.0;
+
 /// The smallest sweep (in the file's numbers) of some test that, with no angle beyond 2π,
 /// makes a table read as radians: 1.5, i.e. 86° if radians. R-tests turn their axes through
 /// tens of degrees or full turns; one whose every angle stays within ±6.283 "degrees" while
@@ -48,6 +53,11 @@ pub const RADIAN_SWEEP: Real = 1.5;
 /// (the reader judges tables with `x_mm, y_mm, z_mm` itself).
 pub fn cautions(table: &RtestTable) -> Vec<String> {
     let mut found: Vec<String> = copied_test(table).into_iter().collect();
+    let blocks = test_blocks(table);
+    found.extend(
+        crate::io::plausible::odd_block(&blocks, ODD_TEST)
+            .map(|odd| crate::io::plausible::odd_sentence("dx_um, dy_um, dz_um", &blocks, odd)),
+    );
     found.extend(radians_without_positions(table));
     found
 }
