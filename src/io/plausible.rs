@@ -84,12 +84,31 @@ pub fn odd_block(blocks: &[Block], factor: Real) -> Option<(usize, Real, Real)> 
     worst.map(|(j, span, middle, _)| (j, span, middle))
 }
 
-/// The sentence for an [`odd_block`] (µm figures; the caller names the file).
+/// The sentence for an [`odd_block`] (µm figures; the caller names the file). With two
+/// blocks, either may be the odd one, and the sentence names both.
 pub fn odd_sentence(
     column: &str,
     blocks: &[Block],
     (j, span, middle): (usize, Real, Real),
 ) -> String {
+    let judged = blocks
+        .iter()
+        .filter(|b| b.readings.len() >= MIN_COPY_READINGS)
+        .count();
+    if judged == 2 {
+        let other = blocks
+            .iter()
+            .enumerate()
+            .find(|(i, b)| *i != j && b.readings.len() >= MIN_COPY_READINGS)
+            .map_or("the other", |(_, b)| b.label.as_str());
+        return format!(
+            "column `{column}`: {} spans {} µm and {other} {} µm, {} times apart: one of them in another unit (mm, nm, a count of 0.1 µm)?",
+            blocks[j].label,
+            crate::math::trimmed(span * 1e6, 4),
+            crate::math::trimmed(middle * 1e6, 4),
+            crate::math::trimmed((span / middle).max(middle / span), 1),
+        );
+    }
     format!(
         "column `{column}`: {} spans {} µm where the others span {} µm (median), {} times {}: that one in another unit (mm, nm, a count of 0.1 µm)?",
         blocks[j].label,

@@ -433,6 +433,25 @@ fn probe_set_up_slips_are_named_and_the_clean_ring_is_not() {
         &ring_cautions(&ring_text(36, 360.0, false, 25.0)),
         &["differs from cal_diameter_mm by 25 mm"],
     );
+    // The x of point 5 (at 40°) typed 0.1 mm off: 0.1·cos 40° = 77 µm along its radius, less
+    // the little it pulls the fit; the other touches stay within a few µm of it.
+    let typo = ring_text(36, 360.0, false, 50.0).replacen(
+        &format!("1,ring,1,5,{:.6},", 500.0 + 23.5 * 40f64.to_radians().cos()),
+        &format!(
+            "1,ring,1,5,{:.6},",
+            500.0 + 23.5 * 40f64.to_radians().cos() + 0.1
+        ),
+        1,
+    );
+    assert_ne!(typo, ring_text(36, 360.0, false, 50.0), "point 5 moved");
+    let cautions = ring_cautions(&typo);
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("point 5 lies") && c.contains("mistyped or dirty touch")),
+        "{cautions:#?}"
+    );
+
     // Ten points over 100°: the arc from the first to the last touch is 90°.
     the_caution(
         &ring_cautions(&ring_text(10, 100.0, false, 50.0)),

@@ -260,6 +260,7 @@ pub fn evaluate(
                         sphere.centre(),
                         sphere.radius_error().map(|e| 2.0 * e),
                         None,
+                        &sphere.fit.residuals,
                     ));
                 evaluation.spheres.push(sphere);
             }
@@ -273,6 +274,7 @@ pub fn evaluate(
                         ring.centre,
                         ring.diameter_error(),
                         Some(&ring.angles),
+                        &ring.fit.residuals,
                     ));
                 evaluation.rings.push(ring);
             }

@@ -9,6 +9,7 @@
 //! - **A size far from the calibration.** A measured diameter more than [`LARGEST_SIZE_ERROR`]
 //!   from `cal_diameter_mm` is no probing error: the stylus's diameter given as its radius,
 //!   positions in inches, or the radius in the diameter column.
+//! - **One touch far off the fit** ([`OUTLIER`]): a mistyped or dirty touch.
 //! - **A short arc.** A ring probed over less than [`SHORTEST_ARC`] gives its diameter from an
 //!   arc too short to fix it.
 
@@ -30,17 +31,46 @@ pub const LARGEST_SIZE_ERROR: Real = 0.2e-3;
 /// The shortest arc of a ring whose diameter is worth reporting without comment (rad): 180°.
 pub const SHORTEST_ARC: Real = PI;
 
+/// The smallest residual (m) a single touch must have to stand out: 10 µm, beyond the lobing
+/// and form a probing cycle sees on a calibrated artefact.
+pub const OUTLIER: Real = 10e-6;
+
+/// The touch whose residual from the fit is above [`OUTLIER`] and ten times the median of the
+/// residuals' magnitudes: a mistyped or dirty touch, which sets the form and pulls the size.
+fn outlier(label: &str, touches: &[&ProbeTouch], residuals: &[Real]) -> Option<String> {
+    if residuals.len() != touches.len() || residuals.len() < 5 {
+        return None;
+    }
+    let magnitudes: Vec<Real> = residuals.iter().map(|r| r.abs()).collect();
+    let middle = crate::io::plausible::median(magnitudes.clone())?;
+    let (k, worst) = magnitudes
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (worst > OUTLIER && worst > 10.0 * middle).then(|| {
+        format!(
+            "{label}: point {} lies {} µm off the fit, more than ten times the touches' median of {} µm: a mistyped or dirty touch? It sets the form and pulls the size",
+            touches[k].point,
+            trimmed(worst * 1e6, 3),
+            trimmed(middle * 1e6, 3)
+        )
+    })
+}
+
 /// The cautions for one feature (`label` names it): its `touches`, the fitted `centre`, the
 /// measured − calibrated diameter when calibrated, and for a ring the touches' angles in its
-/// plane.
+/// plane, and the fit's residual at each touch (in `touches`' order).
 pub fn feature_cautions(
     label: &str,
     touches: &[&ProbeTouch],
     centre: Vector,
     diameter_error: Option<Real>,
     ring_angles: Option<&[Real]>,
+    residuals: &[Real],
 ) -> Vec<String> {
     let mut found = Vec::new();
+    found.extend(outlier(label, touches, residuals));
     let alignments: Vec<Real> = touches
         .iter()
         .filter_map(|t| {
