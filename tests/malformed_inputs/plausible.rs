@@ -119,6 +119,29 @@ fn positioning_slips_are_named_and_the_clean_table_is_not() {
         "{cautions:#?}"
     );
 
+    // Runs 4 and 5 from another day, whose lost motion is 3 µm instead of 1.5: their
+    // reversal (+ less −) is −3 µm against −1.5, where the noise (0.1/√3 µm a reading, 11
+    // targets) lets runs differ by 8·√2·0.058/√11 ≈ 0.2 µm.
+    let mixed: Vec<_> = clean
+        .iter()
+        .map(|r| {
+            let extra = match (r.0.as_str(), r.1) {
+                ("4" | "5", "+") => -0.75,
+                ("4" | "5", _) => 0.75,
+                _ => 0.0,
+            };
+            (r.0.clone(), r.1, r.2, r.3 + extra, r.4, r.5)
+        })
+        .collect();
+    let cautions = positioning_cautions(&mixed);
+    assert!(
+        cautions.iter().any(
+            |c| c.contains("the reversal changes from run to run, from -3")
+                && c.contains("runs of different conditions mixed")
+        ),
+        "{cautions:#?}"
+    );
+
     // An export rounded to whole µm: the rounding is named (not a copy, not mm).
     let rounded: Vec<_> = clean
         .iter()

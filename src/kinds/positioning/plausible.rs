@@ -10,8 +10,9 @@
 //!   targets in the same order in both directions, so it never looks reversed.)
 //! - **Incomplete runs**: a run with fewer readings than the others (a cut-off export) leaves
 //!   its targets with fewer runs than the report's count.
-//! - **A copied run** ([`crate::io::plausible::copied_block`]), and runs that overlap in time
-//!   (records mixed, or a run pasted again with its times).
+//! - **A copied run** ([`crate::io::plausible::copied_block`]), runs that overlap in time
+//!   (records mixed, or a run pasted again with its times), and runs that reverse by
+//!   different amounts (records of different conditions mixed).
 //! - **Units**: deviations spanning less than [`SMALLEST_SPREAD`] or repeating better than
 //!   [`SMALLEST_SCATTER`] (mm in the µm column) or spanning more than [`LARGEST_SPREAD`] (nm
 //!   in it), readings more than [`LONGEST_STEP`] or less than [`SHORTEST_STEP`] apart at the
@@ -71,6 +72,7 @@ pub fn cautions(table: &PositioningTable) -> Vec<String> {
             .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
     );
     found.extend(overlapping_runs(table));
+    found.extend(changing_reversal(table));
     found.extend(units(table));
     found
 }
@@ -173,6 +175,60 @@ fn overlapping_runs(table: &PositioningTable) -> Option<String> {
                 trimmed(ended / 60.0, 4)
             )
         })
+    })
+}
+
+/// The smallest change of the reversal between runs worth a caution (m): 1 µm.
+pub const REVERSAL_CHANGE: Real = 1e-6;
+
+/// Runs whose reversal (the mean over their targets of the `+` reading less the `-` one)
+/// differ by more than [`REVERSAL_CHANGE`] and eight times what the readings' scatter lets
+/// them differ by (√2·s/√n for n targets): drift moves both directions alike and leaves the
+/// reversal, so runs that reverse by different amounts were taken under different conditions
+/// (records of another day or another feed mixed), or their lost motion changed with
+/// temperature.
+fn changing_reversal(table: &PositioningTable) -> Option<String> {
+    let scatter = median_scatter(table)?;
+    let key = |target: Real| (target * 1e9).round() as i64;
+    let mut reversals: Vec<(usize, Real, usize)> = Vec::new(); // run, B, targets
+    for (run, indices) in by_run(table).iter().enumerate() {
+        let mut up: std::collections::BTreeMap<i64, Real> = Default::default();
+        let mut down: std::collections::BTreeMap<i64, Real> = Default::default();
+        for &k in indices {
+            let r = &table.readings[k];
+            match r.approach {
+                Approach::Up => up.insert(key(r.target), r.deviation),
+                Approach::Down => down.insert(key(r.target), r.deviation),
+            };
+        }
+        let differences: Vec<Real> = up
+            .iter()
+            .filter_map(|(t, u)| down.get(t).map(|d| u - d))
+            .collect();
+        if differences.len() >= 3 {
+            let n = differences.len();
+            reversals.push((run, differences.iter().sum::<Real>() / n as Real, n));
+        }
+    }
+    if reversals.len() < 3 {
+        return None;
+    }
+    let (low, high) = (
+        reversals.iter().min_by(|a, b| a.1.total_cmp(&b.1))?,
+        reversals.iter().max_by(|a, b| a.1.total_cmp(&b.1))?,
+    );
+    let fewest = reversals.iter().map(|r| r.2).min()? as Real;
+    let allowed = 8.0 * std::f64::consts::SQRT_2 * scatter / fewest.sqrt();
+    let change = high.1 - low.1;
+    (change > REVERSAL_CHANGE && change > allowed).then(|| {
+        format!(
+            "column `deviation_um`: the reversal changes from run to run, from {} µm (run \"{}\") to {} µm (run \"{}\"), more than the {} µm their scatter allows: runs of different conditions mixed (another day, another feed), or lost motion changing with temperature; B and R do not describe one state of the axis",
+            um(low.1),
+            table.runs[low.0],
+            um(high.1),
+            table.runs[high.0],
+            um(allowed)
+        )
     })
 }
 
@@ -286,4 +342,8 @@ fn median_scatter(table: &PositioningTable) -> Option<Real> {
         })
         .collect();
     median(scatters)
+}
+
+fn um(value: Real) -> String {
+    trimmed(value / M_PER_UM, 3)
 }
