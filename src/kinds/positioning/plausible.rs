@@ -182,15 +182,15 @@ fn overlapping_runs(table: &PositioningTable) -> Option<String> {
 pub const REVERSAL_CHANGE: Real = 1e-6;
 
 /// Runs whose reversal (the mean over their targets of the `+` reading less the `-` one)
-/// differ by more than [`REVERSAL_CHANGE`] and eight times what the readings' scatter lets
-/// them differ by (√2·s/√n for n targets): drift moves both directions alike and leaves the
-/// reversal, so runs that reverse by different amounts were taken under different conditions
-/// (records of another day or another feed mixed), or their lost motion changed with
-/// temperature.
+/// differ by more than [`REVERSAL_CHANGE`] and eight times what their noise lets them differ
+/// by. Drift moves both directions alike and leaves the reversal, so runs that reverse by
+/// different amounts were taken under different conditions (records of another day or
+/// another feed mixed), or their lost motion changed with temperature. The noise is taken
+/// from each run's reversal profile about the mean profile of the runs, less its own mean
+/// (so a reversal that varies along the axis, alike in every run, is not noise).
 fn changing_reversal(table: &PositioningTable) -> Option<String> {
-    let scatter = median_scatter(table)?;
     let key = |target: Real| (target * 1e9).round() as i64;
-    let mut reversals: Vec<(usize, Real, usize)> = Vec::new(); // run, B, targets
+    let mut profiles: Vec<(usize, std::collections::BTreeMap<i64, Real>)> = Vec::new();
     for (run, indices) in by_run(table).iter().enumerate() {
         let mut up: std::collections::BTreeMap<i64, Real> = Default::default();
         let mut down: std::collections::BTreeMap<i64, Real> = Default::default();
@@ -201,31 +201,57 @@ fn changing_reversal(table: &PositioningTable) -> Option<String> {
                 Approach::Down => down.insert(key(r.target), r.deviation),
             };
         }
-        let differences: Vec<Real> = up
+        let profile: std::collections::BTreeMap<i64, Real> = up
             .iter()
-            .filter_map(|(t, u)| down.get(t).map(|d| u - d))
+            .filter_map(|(t, u)| down.get(t).map(|d| (*t, u - d)))
             .collect();
-        if differences.len() >= 3 {
-            let n = differences.len();
-            reversals.push((run, differences.iter().sum::<Real>() / n as Real, n));
+        if profile.len() >= 3 {
+            profiles.push((run, profile));
         }
     }
-    if reversals.len() < 3 {
+    if profiles.len() < 3 {
         return None;
     }
+    // The mean profile over the runs, then each run's departure from it.
+    let mut sums: std::collections::BTreeMap<i64, (Real, usize)> = Default::default();
+    for (_, profile) in &profiles {
+        for (t, d) in profile {
+            let entry = sums.entry(*t).or_insert((0.0, 0));
+            entry.0 += d;
+            entry.1 += 1;
+        }
+    }
+    let mut shifts: Vec<(usize, Real, usize)> = Vec::new(); // run, mean departure, targets
+    let (mut squares, mut dof) = (0.0, 0usize);
+    for (run, profile) in &profiles {
+        let departures: Vec<Real> = profile
+            .iter()
+            .map(|(t, d)| d - sums[t].0 / sums[t].1 as Real)
+            .collect();
+        let n = departures.len();
+        let mean = departures.iter().sum::<Real>() / n as Real;
+        squares += departures.iter().map(|e| (e - mean).powi(2)).sum::<Real>();
+        dof += n - 1;
+        shifts.push((*run, mean, n));
+    }
+    let noise = (squares / dof.max(1) as Real).sqrt();
     let (low, high) = (
-        reversals.iter().min_by(|a, b| a.1.total_cmp(&b.1))?,
-        reversals.iter().max_by(|a, b| a.1.total_cmp(&b.1))?,
+        shifts.iter().min_by(|a, b| a.1.total_cmp(&b.1))?,
+        shifts.iter().max_by(|a, b| a.1.total_cmp(&b.1))?,
     );
-    let fewest = reversals.iter().map(|r| r.2).min()? as Real;
-    let allowed = 8.0 * std::f64::consts::SQRT_2 * scatter / fewest.sqrt();
+    let fewest = shifts.iter().map(|r| r.2).min()? as Real;
+    let allowed = 8.0 * noise / fewest.sqrt();
     let change = high.1 - low.1;
     (change > REVERSAL_CHANGE && change > allowed).then(|| {
+        let reversal = |run: usize| {
+            let profile = &profiles.iter().find(|(r, _)| *r == run).expect("a run with a profile").1;
+            profile.values().sum::<Real>() / profile.len() as Real
+        };
         format!(
-            "column `deviation_um`: the reversal changes from run to run, from {} µm (run \"{}\") to {} µm (run \"{}\"), more than the {} µm their scatter allows: runs of different conditions mixed (another day, another feed), or lost motion changing with temperature; B and R do not describe one state of the axis",
-            um(low.1),
+            "column `deviation_um`: the reversal changes from run to run, from {} µm (run \"{}\") to {} µm (run \"{}\"), more than the {} µm their noise allows: runs of different conditions mixed (another day, another feed), or lost motion changing with temperature; B and R do not describe one state of the axis",
+            um(reversal(low.0)),
             table.runs[low.0],
-            um(high.1),
+            um(reversal(high.0)),
             table.runs[high.0],
             um(allowed)
         )
