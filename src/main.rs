@@ -558,11 +558,8 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 })
             };
             let (estimate_json, truth_json) = (read(&estimate)?, read(&truth)?);
-            if estimate_json.get("mtwin").and_then(|v| v.as_str()) == Some("truth") {
-                bail!(
-                    "{}: a truth (mtwin = \"truth\") given as the estimate: give the estimate.json `mtwin identify --out` wrote first, then the truth",
-                    estimate.display()
-                );
+            if let Some(refusal) = mtwin::app::score::truth_as_estimate(&estimate_json, &estimate) {
+                bail!(refusal);
             }
             let machine_file = match machine {
                 Some(path) => path,
@@ -576,32 +573,15 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             };
             let machine = Machine::from_urdf_file(&machine_file)?;
             let score = mtwin::estimate::score::score(&estimate_json, &truth_json, &machine)?;
-            // Whether the truth is of the scenario the estimate's tables came from could be
-            // checked only when both name it.
-            let named = |file: &serde_json::Value| {
-                file.get("scenario_sha256")
-                    .and_then(|v| v.as_str())
-                    .is_some()
-            };
-            let cautions: Vec<String> = (!named(&estimate_json) || !named(&truth_json))
-                .then(|| format!(
-                    "{} does not name the scenario {}, so nothing checked that this truth is of the run its tables came from (tables edited, or read without the manifest.json `mtwin run` wrote beside them)",
-                    if named(&estimate_json) { truth.display() } else { estimate.display() },
-                    if named(&estimate_json) { "it is of" } else { "its tables came from" }
-                ))
-                .into_iter()
-                .collect();
-            if json {
-                let mut value = score.to_json();
-                value["cautions"] = serde_json::json!(cautions);
-                say_raw(&format!("{value:#}\n"));
-            } else {
-                let mut text = score.report();
-                for caution in &cautions {
-                    text += &format!("CAUTION: {caution}.\n");
-                }
-                say_raw(&text);
-            }
+            let cautions: Vec<String> = mtwin::app::score::unchecked_scenario(
+                &estimate_json,
+                &estimate,
+                &truth_json,
+                &truth,
+            )
+            .into_iter()
+            .collect();
+            say_raw(&mtwin::app::score::printed(&score, &cautions, json));
             Ok(())
         }
     }

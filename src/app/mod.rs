@@ -19,6 +19,7 @@ pub mod identify;
 pub mod record;
 mod run;
 mod scenario;
+pub mod score;
 
 pub use run::{
     RunError, RunOutput, Simulation, check_run_folder, run_scenario, simulate, write_outputs,

@@ -66,6 +66,11 @@ impl Readings {
     pub fn is_empty(&self) -> bool {
         self.sigma.is_empty()
     }
+
+    /// The mean of the readings' standard uncertainties (m; 0 for none).
+    pub fn mean_sigma(&self) -> Real {
+        self.sigma.iter().sum::<Real>() / self.sigma.len().max(1) as Real
+    }
 }
 
 impl std::fmt::Debug for Readings {

@@ -84,7 +84,7 @@ pub fn check(
             .enumerate()
             .map(|(k, set)| {
                 let rms = fit.residual_rms.get(k).copied().unwrap_or(0.0);
-                let sigma = set.sigma.iter().sum::<Real>() / set.sigma.len().max(1) as Real;
+                let sigma = set.mean_sigma();
                 (k, rms, sigma)
             })
             .filter(|(_, rms, sigma)| rms.is_finite() && *sigma > 0.0)
@@ -112,7 +112,7 @@ pub fn check(
     }
     for (k, set) in sets.iter().enumerate() {
         let rms = fit.residual_rms.get(k).copied().unwrap_or(0.0);
-        let sigma = set.sigma.iter().sum::<Real>() / set.sigma.len().max(1) as Real;
+        let sigma = set.mean_sigma();
         if !rms.is_finite() {
             units = true;
             problems.push(format!(

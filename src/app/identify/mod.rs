@@ -252,8 +252,7 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
     // Readings rounded more coarsely than their stated uncertainty: the rounding, not the
     // noise, sets the residuals, and it does not average out along a smooth trace.
     for set in &sets {
-        let sigma = set.sigma.iter().sum::<crate::math::Real>()
-            / set.sigma.len().max(1) as crate::math::Real;
+        let sigma = set.mean_sigma();
         if let Some(step) = crate::io::plausible::rounded_to(&set.measured)
             && step / 12f64.sqrt() > sigma
         {

@@ -167,35 +167,32 @@ impl CircleArgs {
             );
         };
         // The data's own word on feed ÷ radius: the programmed angle against time.
-        if let Some((speed, se)) = table.angular_speed() {
+        if let Some(speed) = super::plausible::speed_disagreement(table, radius, feed) {
             let stated = feed / radius;
-            let tolerance = 0.01 * stated + 3.0 * se;
-            if (speed - stated).abs() > tolerance {
-                let source = |flag: bool, text: String| {
-                    if flag {
-                        text
-                    } else {
-                        format!("the preamble's {text}")
-                    }
-                };
-                bail!(
-                    "{file}: its angle_deg against time_s turn at {:.4} rad/s, which at {} gives a \
+            let source = |flag: bool, text: String| {
+                if flag {
+                    text
+                } else {
+                    format!("the preamble's {text}")
+                }
+            };
+            bail!(
+                "{file}: its angle_deg against time_s turn at {:.4} rad/s, which at {} gives a \
                      feed of {:.1} mm/min (or, at {}, a radius of {:.3} mm); the test conditions say \
                      {:.4} rad/s",
-                    speed,
-                    source(
-                        self.radius_mm.is_some(),
-                        format!("radius {} mm", mm(radius))
-                    ),
-                    mm_per_min(speed * radius).parse::<Real>().unwrap_or(0.0),
-                    source(
-                        self.feed_mm_per_min.is_some(),
-                        format!("feed {} mm/min", mm_per_min(feed))
-                    ),
-                    (feed / speed) / M_PER_MM,
-                    stated
-                );
-            }
+                speed,
+                source(
+                    self.radius_mm.is_some(),
+                    format!("radius {} mm", mm(radius))
+                ),
+                mm_per_min(speed * radius).parse::<Real>().unwrap_or(0.0),
+                source(
+                    self.feed_mm_per_min.is_some(),
+                    format!("feed {} mm/min", mm_per_min(feed))
+                ),
+                (feed / speed) / M_PER_MM,
+                stated
+            );
         }
         Ok(CircularTest {
             plane,

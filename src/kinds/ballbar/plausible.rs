@@ -33,8 +33,11 @@ pub const ODD_SENSE: Real = 5.0;
 pub fn cautions(table: &BallbarTable, test: &CircularTest) -> Vec<String> {
     let mut found: Vec<String> = unchecked_conditions(table).into_iter().collect();
     found.extend(one_sense(table, test));
-    found.extend(copied_sweep(table));
     let blocks = sweep_blocks(table);
+    found.extend(
+        copied_block(&blocks)
+            .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair))),
+    );
     found.extend(
         crate::io::plausible::odd_block(&blocks, ODD_SENSE)
             .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
@@ -121,14 +124,24 @@ pub fn copied_sweep(table: &BallbarTable) -> Option<String> {
         .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair)))
 }
 
-/// The preamble's feed ÷ radius against what the angles and times turn at (more than 1 % plus
-/// three standard errors of that slope apart, as `analyze` refuses it): a radius or a feed
-/// mistyped in the preamble, which scales every figure in µm/m. `None` without the three.
-pub fn stated_speed_contradiction(table: &BallbarTable) -> Option<String> {
-    let (radius, feed) = (table.conditions.radius?, table.conditions.feed?);
+/// The angular speed (rad/s) `table`'s angles and times turn at, when it disagrees with
+/// `feed / radius` by more than 1 % plus three standard errors of that slope: the one test
+/// `analyze` (conditions from the preamble or the flags) and `identify` (from the preamble)
+/// both refuse. `None` without times, or when they agree.
+pub fn speed_disagreement(table: &BallbarTable, radius: Real, feed: Real) -> Option<Real> {
     let (speed, se) = table.angular_speed()?;
     let stated = feed / radius;
-    ((speed - stated).abs() > 0.01 * stated + 3.0 * se).then(|| {
+    ((speed - stated).abs() > 0.01 * stated + 3.0 * se).then_some(speed)
+}
+
+/// The preamble's feed ÷ radius against what the angles and times turn at
+/// ([`speed_disagreement`]): a radius or a feed mistyped in the preamble, which scales every
+/// figure in µm/m. `None` without the three.
+pub fn stated_speed_contradiction(table: &BallbarTable) -> Option<String> {
+    let (radius, feed) = (table.conditions.radius?, table.conditions.feed?);
+    let speed = speed_disagreement(table, radius, feed)?;
+    let stated = feed / radius;
+    Some({
         format!(
             "angle_deg against time_s turn at {} rad/s, which at the preamble's radius {} mm gives a feed of {} mm/min (or, at its feed {} mm/min, a radius of {} mm); the preamble says {} rad/s: its radius or feed is mistyped",
             trimmed(speed, 4),

@@ -61,19 +61,23 @@ pub fn cautions(table: &PositioningTable) -> Vec<String> {
     let mut found: Vec<String> = super::stability::caution(table).into_iter().collect();
     found.extend(swapped_directions(table));
     found.extend(incomplete_runs(table));
-    // Readings rounded to a micrometre repeat by the rounding, not by a copy.
     let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
-    if crate::io::plausible::rounded_to(&values).is_none() {
-        found.extend(copied_run(table));
-    }
+    let rounded = crate::io::plausible::rounded_to(&values);
     let blocks = run_blocks(table);
+    // Readings rounded to a micrometre repeat by the rounding, not by a copy.
+    if rounded.is_none() {
+        found.extend(
+            copied_block(&blocks)
+                .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair))),
+        );
+    }
     found.extend(
         crate::io::plausible::odd_block(&blocks, ODD_RUN)
             .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
     );
     found.extend(overlapping_runs(table));
     found.extend(changing_reversal(table));
-    found.extend(units(table));
+    found.extend(units(table, rounded));
     found
 }
 
@@ -278,8 +282,9 @@ fn incomplete_runs(table: &PositioningTable) -> Option<String> {
     })
 }
 
-/// Deviations or times in a unit other than their column's.
-fn units(table: &PositioningTable) -> Vec<String> {
+/// Deviations or times in a unit other than their column's (`rounded`: the step every
+/// deviation is a multiple of, if any).
+fn units(table: &PositioningTable, rounded: Option<Real>) -> Vec<String> {
     let mut found = Vec::new();
     let um = |v: Real| trimmed(v / M_PER_UM, 4);
     let deviations = spread(table.readings.iter().map(|r| r.deviation));
@@ -299,8 +304,6 @@ fn units(table: &PositioningTable) -> Vec<String> {
             um(LARGEST_SPREAD)
         ));
     }
-    let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
-    let rounded = crate::io::plausible::rounded_to(&values);
     if let Some(step) = rounded {
         found.push(crate::io::plausible::rounding_sentence(
             "deviation_um",

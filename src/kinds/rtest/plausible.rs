@@ -52,8 +52,11 @@ pub const RADIAN_SWEEP: Real = 1.5;
 /// where no commanded positions let the reader refuse them
 /// (the reader judges tables with `x_mm, y_mm, z_mm` itself).
 pub fn cautions(table: &RtestTable) -> Vec<String> {
-    let mut found: Vec<String> = copied_test(table).into_iter().collect();
     let blocks = test_blocks(table);
+    let mut found: Vec<String> = copied_block(&blocks)
+        .map(|pair| copy_sentence(&blocks, pair))
+        .into_iter()
+        .collect();
     found.extend(
         crate::io::plausible::odd_block(&blocks, ODD_TEST)
             .map(|odd| crate::io::plausible::odd_sentence("dx_um, dy_um, dz_um", &blocks, odd)),

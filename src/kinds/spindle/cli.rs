@@ -9,6 +9,7 @@ use super::evaluate::{Evaluation, Options, Test, compact_list, evaluate};
 use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
 use super::record::Sensing;
 use super::table::{self, SpindleTable};
+use crate::io::plausible::spread;
 use crate::kinds::{Kind, Verb};
 use crate::math::Real;
 use anyhow::{Context, Result};
@@ -353,7 +354,7 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
                 "method": s.method,
                 "probes": s.probes,
                 "speed_rpm": round(rpm(s.speed)),
-                "form_range_um": round(range(&s.form) * 1e6),
+                "form_range_um": round(spread(s.form.iter().copied()) * 1e6),
                 "form_um": s.form.iter().map(|v| round(v * 1e6)).collect::<Vec<_>>(),
                 "motion_synchronous_um": round(lsc_range(&s.motion_x) * 1e6),
                 "blind": s.blind,
@@ -367,15 +368,6 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
         "separations": separations,
         "notes": evaluation.notes,
     })
-}
-
-fn range(values: &[Real]) -> Real {
-    let (lo, hi) = values
-        .iter()
-        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(*v), hi.max(*v))
-        });
-    if values.is_empty() { 0.0 } else { hi - lo }
 }
 
 /// The range of a synchronous profile with its first harmonic removed (the LSC value).
@@ -399,7 +391,7 @@ fn lsc_range(values: &[Real]) -> Real {
             v - a * t.cos() - b * t.sin()
         })
         .collect();
-    range(&residual)
+    spread(residual.iter().copied())
 }
 
 /// The report for people.
@@ -486,7 +478,7 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
             s.method,
             s.probes.join("+"),
             rpm(s.speed),
-            range(&s.form) * 1e6,
+            spread(s.form.iter().copied()) * 1e6,
             lsc_range(&s.motion_x) * 1e6
         );
         if !s.blind.is_empty() {
