@@ -17,6 +17,9 @@ mod ranges;
 #[path = "malformed_inputs/plausible.rs"]
 mod plausible;
 
+#[path = "malformed_inputs/glitches.rs"]
+mod glitches;
+
 const VMC3: &str = include_str!("../models/vmc3.urdf");
 
 /// `text` with the single occurrence of `from` replaced by `to`.

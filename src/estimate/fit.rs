@@ -445,6 +445,9 @@ pub struct Fit {
     pub birge_scaled: Option<Real>,
     /// RMS of the unweighted residuals (m) per set.
     pub residual_rms: Vec<Real>,
+    /// The reading, and the row of three, whose leaving-out lowers χ² most
+    /// ([`super::influence`]).
+    pub influential: Vec<super::influence::Influential>,
     /// Solver iterations.
     pub iterations: usize,
     /// The Monte Carlo, when asked.
@@ -611,6 +614,13 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
             (sum / set.len().max(1) as Real).sqrt()
         })
         .collect();
+    let blocks: Vec<(usize, usize, &[Real])> = problem
+        .sets
+        .iter()
+        .enumerate()
+        .map(|(k, set)| (problem.row_at[k], set.model.per_row(), set.sigma.as_slice()))
+        .collect();
+    let influential = super::influence::most_influential(&jb, &inverse, &residuals, chi2, &blocks);
     let identified = (0..problem.unknowns())
         .map(|j| !report.unidentifiable.contains(&j))
         .collect();
@@ -638,6 +648,7 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
         dof,
         birge_scaled,
         residual_rms,
+        influential,
         iterations: solution.iterations,
         monte_carlo,
     })
@@ -768,7 +779,7 @@ fn quantile(sorted: &[Real], p: Real) -> Real {
 
 /// The 99 % quantile of χ² with `k` degrees of freedom (Wilson–Hilferty, within 0.5 % for
 /// k ≥ 3).
-fn chi2_quantile_99(k: Real) -> Real {
+pub(crate) fn chi2_quantile_99(k: Real) -> Real {
     let z = 2.326_347_874;
     let a = 2.0 / (9.0 * k);
     k * (1.0 - a + z * a.sqrt()).powi(3)

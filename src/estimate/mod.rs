@@ -13,6 +13,7 @@
 pub mod compensate;
 pub mod fit;
 pub mod identifiability;
+pub mod influence;
 pub mod lm;
 pub mod plan;
 mod readings;

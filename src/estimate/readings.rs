@@ -33,6 +33,17 @@ pub trait ReadingModel: Send + Sync {
         setup: &[Real],
         out: &mut [Real],
     );
+
+    /// How many consecutive readings one row of the table gives (a sphere centre's or an
+    /// R-test pose's x, y, z: 3), for naming and leaving out a whole row; 1 by default.
+    fn per_row(&self) -> usize {
+        1
+    }
+
+    /// What reading `i` (from 0, in the set's order) is, for people: `reading 7` by default.
+    fn reading_name(&self, i: usize) -> String {
+        format!("reading {} in file order", i + 1)
+    }
 }
 
 /// One set of readings from one table (or one planned test): what was measured, how well,

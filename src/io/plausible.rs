@@ -193,6 +193,135 @@ pub fn structure_caution(column: &str, values: &[Real]) -> Option<String> {
     })
 }
 
+/// How many times the readings' typical scatter one reading must lie from the others of its
+/// group to read as a glitch: 20 (the robust standard deviation, 1.4826 × the median absolute
+/// deviation from each group's median, so that a Gaussian noise exceeds it with a
+/// probability of about 1e-88).
+pub const LONE_READING: Real = 20.0;
+
+/// A reading that lies far from the others of its group: its group and index, how far from the
+/// group's median (m, signed) and the readings' robust standard deviation (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lone {
+    /// The group (a target and direction, a test).
+    pub group: usize,
+    /// The reading, within its group.
+    pub index: usize,
+    /// Its distance from the group's median (signed, the reading's unit).
+    pub off: Real,
+    /// The readings' robust standard deviation about their groups' medians.
+    pub scale: Real,
+}
+
+/// The reading farthest from its group's median, when it lies more than [`LONE_READING`]
+/// times the readings' robust scatter and more than `floor` from it, and the other readings
+/// of its source (its run) lie within a quarter of that from theirs: a glitch (a beam
+/// interrupted, a chip, a typo), not a source offset or in another unit as a whole (which
+/// other checks name). Each reading is `(value, source)`. Groups of fewer than 3 readings
+/// have no median that one reading cannot move, and are passed over.
+pub fn lone_reading(groups: &[Vec<(Real, usize)>], floor: Real) -> Option<Lone> {
+    let mut offs: Vec<(usize, usize, Real, usize)> = Vec::new();
+    for (g, values) in groups.iter().enumerate() {
+        if values.len() < 3 {
+            continue;
+        }
+        let middle = median(values.iter().map(|v| v.0).collect())?;
+        offs.extend(
+            values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (g, i, v.0 - middle, v.1)),
+        );
+    }
+    let scale = 1.4826 * median(offs.iter().map(|o| o.2.abs()).collect())?;
+    let &(group, index, off, source) =
+        offs.iter().max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()))?;
+    let others = median(
+        offs.iter()
+            .filter(|o| o.3 == source && (o.0, o.1) != (group, index))
+            .map(|o| o.2.abs())
+            .collect(),
+    )
+    .unwrap_or(0.0);
+    (off.abs() > LONE_READING * scale && off.abs() > floor && others < 0.25 * off.abs()).then_some(
+        Lone {
+            group,
+            index,
+            off,
+            scale,
+        },
+    )
+}
+
+/// The longest stretch of consecutive readings that hold one value bit for bit, as (first,
+/// count), when it has at least `fewest` readings, is not the whole channel (a constant
+/// channel is judged by its spread), and is at least ten times the channel's longest other
+/// rest on one value (a channel whose resolution is coarse for its motion rests often and
+/// long, and a long rest then says nothing). A sensor's noise, or the motion it follows,
+/// changes its reading at a pace of its own; a value held ten times longer than ever before
+/// is a sensor out of its range, disconnected, or a logger repeating its last value.
+pub fn stuck(values: &[Real], fewest: usize) -> Option<(usize, usize)> {
+    let mut rests: Vec<(usize, usize)> = Vec::new();
+    let mut start = 0;
+    for k in 1..=values.len() {
+        if k == values.len() || values[k].to_bits() != values[start].to_bits() {
+            rests.push((start, k - start));
+            start = k;
+        }
+    }
+    let &best = rests.iter().max_by_key(|r| r.1)?;
+    let other = rests
+        .iter()
+        .filter(|r| r.0 != best.0)
+        .map(|r| r.1)
+        .max()
+        .unwrap_or(0);
+    (best.1 >= fewest.max(2) && best.1 < values.len() && best.1 >= 10 * other).then_some(best)
+}
+
+/// The unit factors one channel can differ from its partner by: a count of 0.1 µm, nm, mm
+/// (powers of ten), inches (25.4) and micro-inches in a µm column (39.37).
+pub const UNIT_FACTORS: [Real; 5] = [10.0, 100.0, 1000.0, 25.4, 39.37];
+
+/// How closely two channels must follow each other, reading for reading, for their ratio to
+/// be read as a unit slip rather than a motion: a correlation of 0.99, and a slope within
+/// [`UNIT_RATIO_TOLERANCE`] of a factor of [`UNIT_FACTORS`].
+pub const UNIT_RATIO_CORRELATION: Real = 0.99;
+
+/// How far (relative) a slope may be from a unit factor and still be read as it: 10 %. Two
+/// sensors of one nest differ by the tilt between them, a few % of the drift on a spindle
+/// head; the nearest factors (10 and 25.4) are 2.5 times apart, so no factor is mistaken for
+/// another.
+pub const UNIT_RATIO_TOLERANCE: Real = 0.1;
+
+/// Whether `b` reads a unit factor times `a`, reading for reading: the factor (of
+/// [`UNIT_FACTORS`], or its inverse when `a` is the larger) when the least-squares slope of `b`
+/// on `a` is within [`UNIT_RATIO_TOLERANCE`] of it and the two correlate by [`UNIT_RATIO_CORRELATION`] or more.
+/// At least ten readings; None for constant channels.
+pub fn unit_ratio(a: &[Real], b: &[Real]) -> Option<Real> {
+    let n = a.len().min(b.len());
+    if n < 10 {
+        return None;
+    }
+    let mean = |v: &[Real]| v[..n].iter().sum::<Real>() / n as Real;
+    let (ma, mb) = (mean(a), mean(b));
+    let (mut saa, mut sbb, mut sab) = (0.0, 0.0, 0.0);
+    for (p, q) in a[..n].iter().zip(&b[..n]) {
+        let (p, q) = (p - ma, q - mb);
+        saa += p * p;
+        sbb += q * q;
+        sab += p * q;
+    }
+    if !(saa > 0.0 && sbb > 0.0) || sab / (saa * sbb).sqrt() < UNIT_RATIO_CORRELATION {
+        return None;
+    }
+    let slope = sab / saa;
+    UNIT_FACTORS
+        .iter()
+        .flat_map(|&f| [f, 1.0 / f])
+        .find(|&f| (slope / f - 1.0).abs() < UNIT_RATIO_TOLERANCE)
+}
+
 /// Max − min of `values` (0 for none).
 pub fn spread(values: impl IntoIterator<Item = Real>) -> Real {
     let (lo, hi) = values
@@ -289,6 +418,91 @@ mod tests {
         let nut = structure_caution("temp_nut_degc", &[75.2, 75.3, 75.4]).unwrap();
         assert!(nut.contains("`temp_nut_degc`") && nut.contains("75.3 °C"));
         assert_eq!(structure_caution("temp_spindle_degc", &[45.0, 48.0]), None);
+    }
+
+    #[test]
+    fn a_channel_ten_times_its_partner_is_a_unit_ratio_and_a_tilt_is_not() {
+        // Two sensors of a nest drifting together with a little noise, then the second read in
+        // counts of 0.1 µm (×10), or in mm (÷1000); and a real tilt: the partner drifts 1.8 times
+        // as much, a factor of no unit (nor is 11.5, 15 % from 10).
+        let x1: Vec<Real> = (0..40)
+            .map(|k| 1e-6 * (k as Real / 10.0).tanh() + 1e-9 * ((k * 7 % 5) as Real))
+            .collect();
+        let tens: Vec<Real> = x1.iter().map(|v| 10.0 * v).collect();
+        assert_eq!(unit_ratio(&x1, &tens), Some(10.0));
+        let mm: Vec<Real> = x1.iter().map(|v| v / 1000.0).collect();
+        assert_eq!(unit_ratio(&x1, &mm), Some(1e-3));
+        let tilted: Vec<Real> = x1.iter().map(|v| 1.8 * v).collect();
+        assert_eq!(unit_ratio(&x1, &tilted), None);
+        let near: Vec<Real> = x1.iter().map(|v| 11.5 * v).collect();
+        assert_eq!(unit_ratio(&x1, &near), None);
+        let unrelated: Vec<Real> = (0..40).map(|k| 1e-5 * ((k * 13 % 7) as Real)).collect();
+        assert_eq!(unit_ratio(&x1, &unrelated), None);
+        assert_eq!(unit_ratio(&x1[..9], &tens[..9]), None);
+    }
+
+    #[test]
+    fn one_reading_far_from_its_group_is_lone_and_a_drift_is_not() {
+        // Eleven targets read in five runs (the source) with ±0.1 µm of scatter; then one
+        // reading +150 µm.
+        let mut groups: Vec<Vec<(Real, usize)>> = (0..11)
+            .map(|t| {
+                (0..5)
+                    .map(|r| {
+                        let noise = 0.1 * (((t * 5 + r) * 7 % 5) as Real - 2.0);
+                        (1e-6 * (t as Real + noise), r)
+                    })
+                    .collect()
+            })
+            .collect();
+        assert_eq!(lone_reading(&groups, 1e-6), None);
+        groups[7][2].0 += 150e-6;
+        let lone = lone_reading(&groups, 1e-6).unwrap();
+        assert_eq!((lone.group, lone.index), (7, 2));
+        assert!((lone.off - 150e-6).abs() < 0.21e-6, "{lone:?}");
+        // Run 2 offset as a whole by 2 µm (re-zeroed): no reading is lone in it.
+        let mut offset = groups.clone();
+        offset[7][2].0 -= 150e-6;
+        offset.iter_mut().for_each(|g| g[2].0 += 2e-6);
+        assert_eq!(lone_reading(&offset, 1e-6), None);
+        // Runs drifting apart by 2 µm a run (a warm-up) move every reading, not one.
+        let drifting: Vec<Vec<(Real, usize)>> = (0..11)
+            .map(|t| {
+                (0..5)
+                    .map(|r| (1e-6 * (t as Real + 2.0 * r as Real), r))
+                    .collect()
+            })
+            .collect();
+        assert_eq!(lone_reading(&drifting, 1e-6), None);
+        // Two readings a group: no median to judge by.
+        let pairs = [vec![(0.0, 0), (1.0, 1)], vec![(0.0, 0), (5.0, 1)]];
+        assert_eq!(lone_reading(&pairs, 0.0), None);
+    }
+
+    #[test]
+    fn a_value_held_through_a_stretch_is_stuck_and_noise_is_not() {
+        let mut values: Vec<Real> = (0..100).map(|k| ((k * 37 % 11) as Real) * 1e-9).collect();
+        assert_eq!(stuck(&values, 20), None);
+        for v in &mut values[60..] {
+            *v = 20e-9;
+        }
+        assert_eq!(stuck(&values, 20), Some((60, 40)));
+        assert_eq!(stuck(&values, 41), None);
+        assert_eq!(
+            stuck(&[1.0; 30], 20),
+            None,
+            "a constant channel is not judged here"
+        );
+        // A slow ramp read at a coarse resolution rests 8 readings on each value: a rest of 40
+        // is only five of those, no evidence; a ramp that rests 2 and then holds 40 is stuck.
+        let slow: Vec<Real> = (0..100)
+            .map(|k| if k < 60 { (k / 8) as Real } else { 7.0 })
+            .collect();
+        assert_eq!(stuck(&slow, 20), None);
+        let fast: Vec<Real> = (0..100)
+            .map(|k| if k < 60 { (k / 2) as Real } else { 30.0 })
+            .collect();
+        assert_eq!(stuck(&fast, 20), Some((60, 40)));
     }
 
     #[test]

@@ -46,16 +46,36 @@ pub(crate) fn csv_reader(bytes: &[u8]) -> csv::Reader<&[u8]> {
 }
 
 /// The header row of a table and its 1-based line (after any preamble), refused if it cannot
-/// be read or names a column twice.
+/// be read or names a column twice. A trailing comma on every line (a spreadsheet's export)
+/// leaves an unnamed last column: it is dropped from the header when it holds nothing, and
+/// refused when a row puts a value under it (a header one name short).
 pub(crate) fn read_header(
     reader: &mut csv::Reader<&[u8]>,
     file: &str,
 ) -> Result<(csv::StringRecord, u64), TableError> {
-    let line = record_line(reader.get_ref(), 0, 1);
-    let header = reader
+    // The whole table, taken before the reader consumes it.
+    let bytes: &[u8] = reader.get_ref();
+    let line = record_line(bytes, 0, 1);
+    let mut header = reader
         .headers()
         .map_err(|e| TableError::new(file, Some(line), format!("cannot read the header: {e}")))?
         .clone();
+    if header.len() > 1 && header.get(header.len() - 1) == Some("") {
+        for record in csv_reader(bytes).records() {
+            let record = row(record, bytes, file)?;
+            if record.get(header.len() - 1).is_some_and(|v| !v.is_empty()) {
+                return Err(TableError::new(
+                    file,
+                    record.position().map(|p| p.line()),
+                    format!(
+                        "the last column has no name in the header but holds \"{}\" here: a header one name short?",
+                        &record[header.len() - 1]
+                    ),
+                ));
+            }
+        }
+        header.truncate(header.len() - 1);
+    }
     // A set, not a pairwise scan: a header of 100 000 names is checked in milliseconds.
     let mut seen = std::collections::HashSet::with_capacity(header.len());
     for name in header.iter() {
@@ -247,6 +267,20 @@ mod tests {
         .unwrap();
         let error = finite_number(&record, 1, "y", "t.csv").unwrap_err();
         assert_eq!(error.line(), Some(4), "{error}");
+    }
+
+    #[test]
+    fn a_trailing_comma_on_every_line_is_no_column_and_a_value_under_it_is_refused() {
+        let text = b"# zero = once\na,b,\n1,2,\n3,4,\n";
+        let mut reader = csv_reader(text);
+        let (header, _) = read_header(&mut reader, "t.csv").unwrap();
+        assert_eq!(header.iter().collect::<Vec<_>>(), ["a", "b"]);
+        let rows: Vec<_> = reader.records().map(|r| r.unwrap()).collect();
+        assert_eq!((&rows[1][0], &rows[1][1]), ("3", "4"));
+        let short = b"a,b,\n1,2,\n3,4,5\n";
+        let error = read_header(&mut csv_reader(short), "t.csv").unwrap_err();
+        assert_eq!(error.line(), Some(3), "{error}");
+        assert!(error.to_string().contains("holds \"5\""), "{error}");
     }
 
     #[test]

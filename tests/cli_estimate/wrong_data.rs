@@ -123,7 +123,8 @@ fn a_ball_bar_of_one_sense_a_mistyped_radius_or_whole_micrometres_is_refused() {
         "ccw_only.csv",
         "only the ccw sense",
         "55.6 µm/m",
-        "fails its own checks",
+        "fail their own checks, so no fit is made",
+        "a ball-bar's other sense",
     ] {
         assert!(
             message.contains(expected),
@@ -211,4 +212,103 @@ fn a_laser_table_in_inches_is_refused_for_covering_a_sliver_of_its_axis() {
         ],
         "correct the column's unit",
     );
+}
+
+#[test]
+fn one_sphere_centre_off_is_named_and_laser_readings_below_their_noise_are_cautioned() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = run_into(
+        &root("scenarios/trunnion5_probe_sphere.toml"),
+        dir.path(),
+        "run",
+    );
+    let clean = std::fs::read_to_string(run.join("spheres.csv")).unwrap();
+    let machine = root("models/trunnion5.urdf");
+    // The stylus re-qualified before the sixth sphere: its centre 20 µm high, the others as
+    // measured (0.5 µm each). Birge scaling would spread it over every estimate as noise;
+    // without it χ² falls back to its noise's.
+    let mut row = 0;
+    let moved: String = clean
+        .lines()
+        .map(|line| {
+            let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+            if fields.get(1).is_some_and(|k| k == "sphere") {
+                row += 1;
+                if row == 6 {
+                    fields[7] = format!("{:.6}", fields[7].parse::<f64>().unwrap() + 0.020);
+                }
+            }
+            fields.join(",") + "\n"
+        })
+        .collect();
+    assert_eq!(
+        row,
+        clean.lines().filter(|l| l.contains(",sphere,")).count()
+    );
+    let table = dir.path().join("moved.csv");
+    std::fs::write(&table, moved).unwrap();
+    let args: [&OsStr; 5] = [
+        "--machine".as_ref(),
+        machine.as_os_str(),
+        "--params".as_ref(),
+        "location".as_ref(),
+        table.as_os_str(),
+    ];
+    refused_by_the_door(
+        &args,
+        &dir.path().join("id"),
+        &[
+            "moved.csv: sphere centre 6 in file order (z) alone makes the misfit",
+            "without it χ²/dof falls from",
+        ],
+        "one reading mistyped or disturbed",
+    );
+
+    // A laser table written in tenths of a thou (µm ÷ 2.54): the 20 nm noise reads 7.9 nm, and
+    // χ²/dof falls to about 1/2.54² = 0.155 of the stated 20 nm. The fit passes (the
+    // estimates are plausible, 2.54 times small) and says so.
+    let scenario = dir.path().join("laser.toml");
+    std::fs::write(
+        &scenario,
+        format!(
+            "schema = 1\nmachine = \"{}\"\nseed = 1\n[errors.EXX]\npolynomial_um = [0.0, 0.012, -8.0e-6]\n\
+             [iso230_2]\naxis = \"X\"\ntargets_mm = {{ from = 10.0, to = 750, count = 11 }}\nruns = 5\n\
+             overrun_mm = 5.0\nfeed_mm_per_min = 2000.0\ndwell_s = 2.0\ny_mm = 205.0\nz_mm = 100.0\n\
+             [laser]\nbeam_offset_mm = [0.0, 0.0, 0.0]\nresolution_nm = 1.0\nnoise_nm = 20.0\ncompensation = \"off\"\n",
+            root("models/vmc3.urdf").display()
+        ),
+    )
+    .unwrap();
+    let laser = run_into(&scenario, dir.path(), "laser");
+    let text = std::fs::read_to_string(laser.join("positioning.csv")).unwrap();
+    let identify = |table: &std::path::Path, out: &str| {
+        mtwin(&[
+            "identify".as_ref(),
+            "--machine".as_ref(),
+            root("models/vmc3.urdf").as_os_str(),
+            "--params".as_ref(),
+            "EXX:2".as_ref(),
+            table.as_os_str(),
+            "--out".as_ref(),
+            dir.path().join(out).as_os_str(),
+        ])
+    };
+    let report = ok(&identify(&laser.join("positioning.csv"), "clean"));
+    assert!(!report.contains("CAUTION"), "{report}");
+    let tenths = dir.path().join("tenths.csv");
+    std::fs::write(
+        &tenths,
+        super::with_column(&text, "deviation_um", |v| v / 2.54),
+    )
+    .unwrap();
+    let report = ok(&identify(&tenths, "tenths"));
+    assert!(
+        report.contains("CAUTION: χ²/dof = 0.1") && report.contains("tenths of a thou"),
+        "{report}"
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("tenths/estimate.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(json["cautions"][0].as_str().unwrap().contains("2.54"));
 }

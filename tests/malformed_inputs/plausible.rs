@@ -15,10 +15,10 @@ use mtwin::kinds::probe::table::ProbeTable;
 use mtwin::machine::Plane;
 
 /// A deterministic noise in [−1, 1) (a 64-bit LCG), so the tables are the same every run.
-struct Noise(u64);
+pub(super) struct Noise(pub(super) u64);
 
 impl Noise {
-    fn next(&mut self) -> f64 {
+    pub(super) fn next(&mut self) -> f64 {
         self.0 = self
             .0
             .wrapping_mul(6_364_136_223_846_793_005)
@@ -30,7 +30,7 @@ impl Noise {
 /// Rows of an ISO 230-2 linear cycle on X (5 runs, targets 0, 50 … 500 mm, up then down):
 /// deviation = 12 µm/m of scale + 1.5 µm of lost motion against the travel + 0.1 µm noise,
 /// a reading every 6 s. Each row: run, direction, target_mm, deviation_um, time_min, air °C.
-fn positioning_rows() -> Vec<(String, &'static str, f64, f64, f64, f64)> {
+pub(super) fn positioning_rows() -> Vec<(String, &'static str, f64, f64, f64, f64)> {
     let mut noise = Noise(7);
     let mut rows = Vec::new();
     let mut t = 0.0;
@@ -59,14 +59,14 @@ fn positioning_text(rows: &[(String, &str, f64, f64, f64, f64)]) -> String {
     text
 }
 
-fn positioning_cautions(rows: &[(String, &str, f64, f64, f64, f64)]) -> Vec<String> {
+pub(super) fn positioning_cautions(rows: &[(String, &str, f64, f64, f64, f64)]) -> Vec<String> {
     let table = PositioningTable::parse(positioning_text(rows).as_bytes(), "laser.csv")
         .expect("the table reads");
     positioning_plausible::cautions(&table)
 }
 
 /// The one caution of `cautions`, which must contain each of `expected`.
-fn the_caution(cautions: &[String], expected: &[&str]) {
+pub(super) fn the_caution(cautions: &[String], expected: &[&str]) {
     assert_eq!(cautions.len(), 1, "one caution: {cautions:#?}");
     for e in expected {
         assert!(cautions[0].contains(e), "should name {e}: {}", cautions[0]);
@@ -368,9 +368,25 @@ fn drift_text(times: impl Fn(f64) -> f64, scale: f64, rows: usize, pasted: bool)
     text
 }
 
-fn drift_cautions(text: &str) -> Vec<String> {
+pub(super) fn drift_cautions(text: &str) -> Vec<String> {
     let table = DriftTable::parse(text.as_bytes(), "nest.csv").expect("reads");
-    drift_plausible::cautions(&table, 3600.0)
+    drift_plausible::cautions(&table, 3600.0, table.conditions.spacing)
+}
+
+/// A 5 h record of a nest with two X sensors `spacing_mm` apart: x1 grows 6 µm (60 min time
+/// constant), x2 the same plus 0.2 µm·(1 − e^{−t/90}) (a tilt of 2 µrad over 100 mm, within
+/// the 10 % the unit check allows), z 1.75 µm linearly; 10 nm of noise. `x2_scale` and `z_scale` multiply what the file holds.
+pub(super) fn nest_text(spacing_mm: f64, x2_scale: f64, z_scale: f64) -> String {
+    let mut noise = Noise(11);
+    let mut text = format!("# spacing_mm = {spacing_mm}\ntime_min,x1_um,x2_um,z_um\n");
+    for k in 0..301 {
+        let t = k as f64;
+        let x1 = 6.0 * (1.0 - (-t / 60.0).exp()) + 0.01 * noise.next();
+        let x2 = x1 + 0.2 * (1.0 - (-t / 90.0).exp()) + 0.01 * noise.next();
+        let z = -1.75 * t / 300.0 + 0.01 * noise.next();
+        text += &format!("{t},{x1:.4},{:.6},{:.7}\n", x2 * x2_scale, z * z_scale);
+    }
+    text
 }
 
 #[test]
@@ -408,6 +424,30 @@ fn drift_slips_are_named_and_the_clean_record_is_not() {
     the_caution(
         &drift_cautions(&drift_text(minutes, 1.0, 300, true)),
         &["from 150 min repeat those from 0 min", "pasted again"],
+    );
+    // A nest whose sensors tilt apart by 0.2 µm is clean; x2 read in counts of 0.1 µm (×10)
+    // makes a tilt of (10·6.2 − 6)/100 mm ≈ 560 µrad, and is named against x1.
+    assert_eq!(
+        drift_cautions(&nest_text(100.0, 1.0, 1.0)),
+        Vec::<String>::new()
+    );
+    the_caution(
+        &drift_cautions(&nest_text(100.0, 10.0, 1.0)),
+        &[
+            "`x1_um` and `x2_um`",
+            "x2 reads 10 times x1",
+            "gain or unit",
+        ],
+    );
+    // z alone in mm: 1.75 µm reads 1.75 nm while x1 spans 6 µm.
+    the_caution(
+        &drift_cautions(&nest_text(100.0, 1.0, 1e-3)),
+        &["`z_um` spans 0.00", "mm in that column"],
+    );
+    // The spacing in inches (100 mm = 3.937 in): closer than any two sensors stand.
+    the_caution(
+        &drift_cautions(&nest_text(3.937, 1.0, 1.0)),
+        &["spacing_mm 3.937", "25.4 times too large"],
     );
 }
 
@@ -486,7 +526,7 @@ fn probe_set_up_slips_are_named_and_the_clean_ring_is_not() {
 /// An R-test export of the probe readings alone (no commanded positions): C turned 0 … 360° in
 /// 10° steps, A swung 0 … −90° in 15° steps, deviations a 10 µm circle and a 5 µm sag, and a
 /// copy of the C circle under another name.
-fn rtest_text(to_file: impl Fn(f64) -> f64, pasted: bool) -> String {
+pub(super) fn rtest_text(to_file: impl Fn(f64) -> f64, pasted: bool) -> String {
     let mut text = String::from("test,a_deg,c_deg,dx_um,dy_um,dz_um\n");
     let mut noise = Noise(5);
     let mut circle = String::new();
@@ -518,7 +558,7 @@ fn rtest_text(to_file: impl Fn(f64) -> f64, pasted: bool) -> String {
     text
 }
 
-fn rtest_cautions(text: &str) -> Vec<String> {
+pub(super) fn rtest_cautions(text: &str) -> Vec<String> {
     let table =
         mtwin::kinds::rtest::RtestTable::parse(text.as_bytes(), "rtest.csv").expect("reads");
     mtwin::kinds::rtest::plausible::cautions(&table)
@@ -546,33 +586,34 @@ fn rtest_radians_without_positions_and_a_pasted_test_are_named() {
 }
 
 /// The foreign spindle export of `tests/data/spindle` (another analyser's column order, 32
-/// samples a revolution, error motions of tenths of a µm) with every probe column scaled.
-fn spindle_cautions(scale: f64) -> Vec<String> {
+/// samples a revolution, error motions of tenths of a µm, 4 µm of eccentricity; no probe
+/// directions, so each probe reads along +X, +Y or +Z) with `edit(column, row, value)` applied
+/// to every probe reading (rows counted from 0 after the header).
+pub(super) fn spindle_cautions(edit: impl Fn(&str, usize, f64) -> f64) -> Vec<String> {
     use mtwin::kinds::spindle::{evaluate::Options, evaluate::evaluate, plausible, table};
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/spindle/foreign_sea.csv");
     let text = std::fs::read_to_string(path).unwrap();
     let mut out = String::new();
-    let mut probes: Vec<usize> = Vec::new();
+    let mut names: Vec<String> = Vec::new();
+    let mut row = 0;
     for line in text.lines() {
         if line.starts_with('#') {
             out += &format!("{line}\n");
-        } else if probes.is_empty() {
-            probes = (line.split(',').enumerate())
-                .filter(|(_, name)| name.ends_with("_um"))
-                .map(|(i, _)| i)
-                .collect();
+        } else if names.is_empty() {
+            names = line.split(',').map(str::to_string).collect();
             out += &format!("{line}\n");
         } else {
             let fields: Vec<String> = line
                 .split(',')
-                .enumerate()
-                .map(|(i, f)| match probes.contains(&i) {
-                    true => format!("{}", f.parse::<f64>().unwrap() * scale),
+                .zip(&names)
+                .map(|(f, name)| match name.ends_with("_um") {
+                    true => format!("{}", edit(name, row, f.parse::<f64>().unwrap())),
                     false => f.to_string(),
                 })
                 .collect();
             out += &format!("{}\n", fields.join(","));
+            row += 1;
         }
     }
     let table = table::parse(out.as_bytes(), "sea.csv").expect("reads");
@@ -582,19 +623,40 @@ fn spindle_cautions(scale: f64) -> Vec<String> {
         &Options::default(),
     )
     .expect("evaluates");
-    plausible::cautions(&evaluation)
+    plausible::cautions(&table.record, &evaluation)
 }
 
 #[test]
 fn spindle_records_in_nm_or_mm_are_named() {
     // Its error motions are 0.1 … 0.3 µm (radial and axial; the tilt is not judged).
-    assert_eq!(spindle_cautions(1.0), Vec::<String>::new());
+    assert_eq!(spindle_cautions(|_, _, v| v), Vec::<String>::new());
     the_caution(
-        &spindle_cautions(1000.0),
+        &spindle_cautions(|_, _, v| v * 1000.0),
         &["more than the 100 µm", "nm in the µm columns"],
     );
     the_caution(
-        &spindle_cautions(1e-3),
+        &spindle_cautions(|_, _, v| v * 1e-3),
         &["below 0.005 µm", "mm in the µm columns"],
+    );
+    // The axial probe alone in mm: its 0.1 µm read as 0.1 nm, the radial probes span 9 µm.
+    the_caution(
+        &spindle_cautions(|name, _, v| if name == "z_um" { v * 1e-3 } else { v }),
+        &["`z_um` spans 0.000", "mm in that column"],
+    );
+}
+
+#[test]
+fn a_radial_probe_read_from_the_other_side_turns_the_eccentricity_against_the_axis() {
+    // The 4 µm eccentricity turns with the angle on x1 and y1 (x ≈ 4 cos θ, y ≈ 4 sin θ). With
+    // x1 read from the −X side (its sign reversed), the centre turns against the angle: the
+    // co-rotating part falls to the error motions' tenths and the counter-rotating is ~4 µm.
+    let flipped = spindle_cautions(|name, _, v| if name == "x1_um" { -v } else { v });
+    the_caution(
+        &flipped,
+        &["probes y1 and x1", "turns against the axis", "wrong sign"],
+    );
+    assert!(
+        flipped.iter().all(|c| !c.contains("x2 and y2")),
+        "{flipped:?}"
     );
 }

@@ -16,7 +16,13 @@
 //! - an identified parameter reaches beyond what a scenario accepts (10 mm or 10 mrad over its
 //!   axis's travel, [`crate::scenario::errors::LARGEST_ERROR`]): no machine error is that
 //!   large, a unit or a set-up value is wrong;
-//! - an estimate, an uncertainty or χ² is not a finite number (one reading of 1e300).
+//! - an estimate, an uncertainty or χ² is not a finite number (one reading of 1e300);
+//! - one reading, or one row of three (a sphere centre, an R-test pose), makes the misfit:
+//!   χ²/dof is above [`MIN_OUTLIER_CHI2_PER_DOF`] and beyond its noise's 99 % quantile, and
+//!   falls within it when that block is left out ([`crate::estimate::influence`]). Birge
+//!   scaling would spread one bad value over every estimate as if it were noise (a sphere
+//!   20 µm off among 0.5 µm readings moved EY0C by 11 µm); the user should correct or remove
+//!   it.
 //!
 //! Each problem says what was found against what limit, and the message names the likely
 //! cause. With `--accept-implausible` the files are written all the same, with the problems
@@ -35,6 +41,11 @@ pub const MAX_CHI2_PER_DOF: Real = 100.0;
 /// The smallest χ²/dof a fit with at least 20 degrees of freedom may
 /// have (see the module doc): residuals a tenth of the readings' stated uncertainty.
 pub const MIN_CHI2_PER_DOF: Real = 0.01;
+
+/// The χ²/dof from which one reading that makes the whole misfit refuses the fit: residuals
+/// twice the stated uncertainty. Below it, one reading's excess changes the estimates by less
+/// than their uncertainty.
+pub const MIN_OUTLIER_CHI2_PER_DOF: Real = 4.0;
 
 /// The degrees of freedom from which a too small χ² is judged.
 const MIN_DOF_FOR_SMALL_CHI2: usize = 20;
@@ -130,6 +141,8 @@ pub fn check(
             ));
         }
     }
+    let outlier = outlier(fit, sets, sources);
+    problems.extend(outlier.clone());
     let infinite = (0..fit.z.len())
         .filter(|&j| fit.identified[j] && fit.uncertainty(j).is_none_or(|u| !u.is_finite()))
         .count();
@@ -148,6 +161,10 @@ pub fn check(
     }
     let cause = if problems.is_empty() {
         String::new()
+    } else if outlier.is_some() {
+        "likely cause: one reading mistyped or disturbed (a typo, a stylus re-qualified between \
+         features, dirt on the sphere, a knock): correct or remove it and run again"
+            .to_string()
     } else if units {
         "likely cause: units or set-up: a column in another unit than its name says (nm or mm \
          in a `_um` column, radians in a `_deg` column), a mistyped set-up position \
@@ -161,6 +178,63 @@ pub fn check(
             .to_string()
     };
     Findings { problems, cause }
+}
+
+/// The χ²/dof below which a fit that passes its checks (with 20 degrees of freedom or more)
+/// is told to the user: residuals 0.55 of the stated uncertainty, which noise of that size
+/// leaves with a probability below 1e-3 at 20 degrees of freedom and far less with more.
+pub const SMALL_CHI2_PER_DOF: Real = 0.3;
+
+/// What a fit that passes its checks should still say: residuals well below the readings'
+/// stated uncertainty (above [`MIN_CHI2_PER_DOF`], which refuses). Either every uncertainty
+/// printed is that much too large, or the readings are in a unit a few times smaller than
+/// their column says (tenths of a thou, ÷2.54; counts of 0.1 µm read as µm are 10 times
+/// larger and land above) and every estimate is that many times too small: the data cannot
+/// tell which.
+pub fn cautions(fit: &Fit) -> Vec<String> {
+    let per_dof = fit.chi2 / fit.dof.max(1) as Real;
+    if fit.dof >= MIN_DOF_FOR_SMALL_CHI2
+        && (MIN_CHI2_PER_DOF..SMALL_CHI2_PER_DOF).contains(&per_dof)
+    {
+        vec![format!(
+            "χ²/dof = {} with {} degrees of freedom: the residuals are {} of the readings' stated uncertainty, less than noise of that size leaves. Either the stated uncertainty is too large (--sigma-um; every u printed is then too large), or the readings are in a smaller unit than their column says (tenths of a thou in a `_um` column read 2.54 times small) and every estimate is too small by that factor",
+            significant(per_dof),
+            fit.dof,
+            significant(per_dof.sqrt())
+        )]
+    } else {
+        Vec::new()
+    }
+}
+
+/// One reading, or one row of three, without which the misfit falls back to the noise's.
+fn outlier(fit: &Fit, sets: &[Readings], sources: &[String]) -> Option<String> {
+    use crate::estimate::fit::chi2_quantile_99;
+    let per_dof = fit.chi2 / fit.dof.max(1) as Real;
+    if fit.dof < 2
+        || per_dof < MIN_OUTLIER_CHI2_PER_DOF
+        || fit.chi2 <= chi2_quantile_99(fit.dof as Real)
+    {
+        return None;
+    }
+    let block = fit.influential.iter().find(|b| {
+        fit.dof > b.count && b.chi2_without <= chi2_quantile_99((fit.dof - b.count) as Real)
+    })?;
+    let set = sets.get(block.set)?;
+    let name = if block.count == 1 {
+        set.model.reading_name(block.first)
+    } else {
+        let name = set.model.reading_name(block.first);
+        name.split(" (").next().unwrap_or(&name).to_string()
+    };
+    Some(format!(
+        "{}: {name} alone makes the misfit: without it χ²/dof falls from {} to {}; its residual is {} µm against the readings' {} µm, a mistyped or disturbed reading",
+        sources.get(block.set).map_or(set.kind, String::as_str),
+        significant(per_dof),
+        significant(block.chi2_without / (fit.dof - block.count) as Real),
+        significant(block.residual * 1e6),
+        significant(set.mean_sigma() * 1e6)
+    ))
 }
 
 /// A value with four significant digits, in scientific notation when large.

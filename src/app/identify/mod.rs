@@ -55,6 +55,14 @@ pub enum IdentifyError {
         .0.cause
     )]
     Implausible(checks::Findings),
+    /// The tables' own data contradict counting them as given ([`Loaded::problems`]): no fit
+    /// is made and nothing is written.
+    #[error(
+        "the tables fail their own checks, so no fit is made and no estimate or compensation is written:\n{}\n{}\n(--accept-implausible fits and writes them all the same, with these warnings)",
+        .0.problems.iter().map(|p| format!("  - {p}")).collect::<Vec<_>>().join("\n"),
+        .0.cause
+    )]
+    Contradicted(checks::Findings),
 }
 
 /// What `identify` is asked.
@@ -315,9 +323,11 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     // What the tables' own data contradict is refused before any fit (the fit would only
     // dress it in estimates), unless the user accepts it.
     let data_cause = "likely cause: the tables' own data contradict counting them as given: \
-                      remove the copy, measure what is missing, or correct the column's unit";
+                      remove the copy, correct the column's unit, or measure what is missing \
+                      (a ball-bar's other sense; where the axes' servo gains are known to be \
+                      matched, --accept-implausible fits one sense all the same)";
     if !data_problems.is_empty() && !request.accept_implausible {
-        return Err(IdentifyError::Implausible(checks::Findings {
+        return Err(IdentifyError::Contradicted(checks::Findings {
             problems: data_problems,
             cause: data_cause.into(),
         }));
@@ -402,6 +412,12 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         text = caution + &text;
         json["warnings"] = serde_json::json!(findings.problems);
         json["warnings_cause"] = serde_json::json!(findings.cause);
+    }
+    let cautions = checks::cautions(&fit);
+    if !cautions.is_empty() {
+        let said: String = cautions.iter().map(|c| format!("CAUTION: {c}\n")).collect();
+        text = said + "\n" + &text;
+        json["cautions"] = serde_json::json!(cautions);
     }
     let mut files = vec![(
         "estimate.json".to_string(),

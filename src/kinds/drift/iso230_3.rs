@@ -217,7 +217,7 @@ pub fn drift_report(
             ));
         }
     }
-    cautions.extend(super::plausible::cautions(table, etve_duration));
+    cautions.extend(super::plausible::cautions(table, etve_duration, spacing));
     let channels: Vec<serde_json::Value> = table
         .channels
         .iter()

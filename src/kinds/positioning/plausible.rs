@@ -10,6 +10,9 @@
 //!   targets in the same order in both directions, so it never looks reversed.)
 //! - **Incomplete runs**: a run with fewer readings than the others (a cut-off export) leaves
 //!   its targets with fewer runs than the report's count.
+//! - **A lone reading** far from the other runs at its target and direction
+//!   ([`crate::io::plausible::lone_reading`], beyond [`SMALLEST_GLITCH`]): a beam
+//!   interrupted, a vibration, a typo; it alone sets R and A.
 //! - **A copied run** ([`crate::io::plausible::copied_block`]), runs that overlap in time
 //!   (records mixed, or a run pasted again with its times), and runs that reverse by
 //!   different amounts (records of different conditions mixed).
@@ -53,6 +56,11 @@ pub const SMALLEST_SCATTER: Real = 1e-9;
 /// another unit: 30. Runs of one axis span the same errors within their drift and noise.
 pub const ODD_RUN: Real = 30.0;
 
+/// The smallest distance (m) a lone reading must lie from the other runs' median at its
+/// target to be named: 2 µm, so that readings rounded to 1 µm (no scatter left to judge by)
+/// are never named for their rounding.
+pub const SMALLEST_GLITCH: Real = 2e-6;
+
 /// The shortest travel (m) over which [`SMALLEST_SPREAD`] is judged.
 const SHORTEST_TRAVEL: Real = 10e-3;
 
@@ -75,6 +83,7 @@ pub fn cautions(table: &PositioningTable) -> Vec<String> {
         crate::io::plausible::odd_block(&blocks, ODD_RUN)
             .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
     );
+    found.extend(lone_reading(table));
     found.extend(overlapping_runs(table));
     found.extend(changing_reversal(table));
     found.extend(units(table, rounded));
@@ -115,6 +124,37 @@ pub fn copied_run(table: &PositioningTable) -> Option<String> {
     let blocks = run_blocks(table);
     copied_block(&blocks)
         .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair)))
+}
+
+/// A reading far from the other runs at its target and direction.
+fn lone_reading(table: &PositioningTable) -> Option<String> {
+    let mut groups: Vec<Vec<(Real, usize)>> = Vec::new();
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    let mut index: std::collections::HashMap<(u64, Approach), usize> = Default::default();
+    for (k, r) in table.readings.iter().enumerate() {
+        let key = (r.target.to_bits(), r.approach);
+        let g = *index.entry(key).or_insert_with(|| {
+            groups.push(Vec::new());
+            members.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[g].push((r.deviation, r.run));
+        members[g].push(k);
+    }
+    let lone = crate::io::plausible::lone_reading(&groups, SMALLEST_GLITCH)?;
+    let reading = &table.readings[members[lone.group][lone.index]];
+    Some(format!(
+        "column `deviation_um`: run \"{}\", {} at target {} mm reads {} µm from the other runs' median there, more than {} times the runs' typical scatter of {} µm: a beam interrupted, a vibration or a typo? It alone sets R and A",
+        table.runs.get(reading.run).map_or("?", String::as_str),
+        match reading.approach {
+            Approach::Up => "+ direction",
+            Approach::Down => "− direction",
+        },
+        trimmed(reading.target / M_PER_MM, 4),
+        trimmed(lone.off / M_PER_UM, 4),
+        crate::io::plausible::LONE_READING,
+        trimmed(lone.scale / M_PER_UM, 3)
+    ))
 }
 
 /// Whether every run travels against its direction labels.

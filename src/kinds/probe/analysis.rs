@@ -328,6 +328,9 @@ pub fn evaluate(
             results.push(PlateResult { cycle, distances });
         }
     }
+    evaluation
+        .cautions
+        .extend(results.iter().filter_map(super::plausible::odd_plate_ball));
     evaluation.plates = results;
     Ok(evaluation)
 }

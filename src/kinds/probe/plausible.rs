@@ -10,6 +10,8 @@
 //!   from `cal_diameter_mm` is no probing error: the stylus's diameter given as its radius,
 //!   positions in inches, or the radius in the diameter column.
 //! - **One touch far off the fit** ([`OUTLIER`]): a mistyped or dirty touch.
+//! - **One ball of a plate off the others** ([`odd_plate_ball`]): a calibrated centre
+//!   mistyped.
 //! - **A short arc.** A ring probed over less than [`SHORTEST_ARC`] gives its diameter from an
 //!   arc too short to fix it.
 
@@ -34,6 +36,44 @@ pub const SHORTEST_ARC: Real = PI;
 /// The smallest residual (m) a single touch must have to stand out: 10 µm, beyond the lobing
 /// and form a probing cycle sees on a calibrated artefact.
 pub const OUTLIER: Real = 10e-6;
+
+/// The ball of a plate placement whose distances to the others are off by more than
+/// [`OUTLIER`] and ten times the other pairs' errors (medians): its calibrated centre
+/// mistyped (a certificate transcribed wrong) or the ball disturbed. A machine's errors
+/// change the distances smoothly over the plate; one ball alone off is not the machine.
+pub fn odd_plate_ball(plate: &super::analysis::PlateResult) -> Option<String> {
+    let error = |d: &super::analysis::DistanceError| (d.measured - d.calibrated).abs();
+    let mut balls: Vec<usize> = plate
+        .distances
+        .iter()
+        .flat_map(|d| [d.balls.0, d.balls.1])
+        .collect();
+    balls.sort_unstable();
+    balls.dedup();
+    if balls.len() < 4 {
+        return None;
+    }
+    let (ball, own, others) = balls
+        .iter()
+        .filter_map(|&b| {
+            let (with, without): (Vec<_>, Vec<_>) = plate
+                .distances
+                .iter()
+                .partition(|d| d.balls.0 == b || d.balls.1 == b);
+            let own = crate::io::plausible::median(with.iter().map(&error).collect())?;
+            let others = crate::io::plausible::median(without.iter().map(&error).collect())?;
+            Some((b, own, others))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (own > OUTLIER && own > 10.0 * others).then(|| {
+        format!(
+            "cycle {}: ball {ball}'s distances to the other balls are off by {} µm (median) while the other balls' agree within {} µm: its calibrated centre (cal_x_mm, cal_y_mm, cal_z_mm) mistyped, or the ball disturbed? It sets the placement's largest errors",
+            plate.cycle,
+            trimmed(own * 1e6, 4),
+            trimmed(others * 1e6, 3)
+        )
+    })
+}
 
 /// The touch whose residual from the fit is above [`OUTLIER`] and ten times the median of the
 /// residuals' magnitudes: a mistyped or dirty touch, which sets the form and pulls the size.

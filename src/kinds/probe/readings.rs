@@ -45,6 +45,18 @@ struct SpheresModel {
 }
 
 impl ReadingModel for SpheresModel {
+    fn per_row(&self) -> usize {
+        3
+    }
+
+    fn reading_name(&self, i: usize) -> String {
+        format!(
+            "sphere centre {} in file order ({})",
+            i / 3 + 1,
+            ["x", "y", "z"][i % 3]
+        )
+    }
+
     fn predict(
         &self,
         machine: &Machine,

@@ -1,8 +1,11 @@
 //! What an R-test table's own data say against its labels, as cautions for the report and
 //! a problem `identify` refuses to compensate from: a test that repeats another reading for
 //! reading ([`crate::io::plausible::copied_block`]: a test exported twice, or pasted under a
-//! new name), and angles that read as radians in a table without commanded positions. (Whether an angle column is the tilting axis's or the turntable's only the
-//! machine can say: `identify` checks every angle against its joint's limits.)
+//! new name), one test in another unit, angles that read as radians in a table without
+//! commanded positions, and one pose off the path the poses beside it trace (a chip on the
+//! nest, a knock, a typo: [`lone_pose`]). (Whether an angle column is the tilting axis's or
+//! the turntable's only the machine can say: `identify` checks every angle against its
+//! joint's limits.)
 
 use super::table::RtestTable;
 use crate::io::plausible::{Block, copied_block, copy_sentence, spread};
@@ -62,7 +65,74 @@ pub fn cautions(table: &RtestTable) -> Vec<String> {
             .map(|odd| crate::io::plausible::odd_sentence("dx_um, dy_um, dz_um", &blocks, odd)),
     );
     found.extend(radians_without_positions(table));
+    found.extend(lone_pose(table));
+    found.extend(misnamed_tests(table));
     found
+}
+
+/// Tests whose name states an angle (`A-45`, `C0`: a letter of a rotary axis and a number, as
+/// the twin and ISO 10791-6's K1…K4 names write them) that the table holds at another value
+/// all through the test: names exchanged between tests, or the angle columns of another
+/// table. The report's figures go under the names.
+fn misnamed_tests(table: &RtestTable) -> Vec<String> {
+    let mut found = Vec::new();
+    let columns = ["a_deg", "b_deg", "c_deg"];
+    for (name, rows) in table.tests() {
+        for token in name.split([' ', '_', ',', '/']) {
+            let mut chars = token.chars();
+            let Some(axis) = chars.next().and_then(|c| "ABC".find(c)) else {
+                continue;
+            };
+            let Ok(stated) = chars.as_str().parse::<Real>() else {
+                continue;
+            };
+            let held: Vec<Real> = rows.iter().filter_map(|r| r.angles[axis]).collect();
+            if held.len() != rows.len() || spread(held.iter().copied()) > 1e-9 {
+                continue;
+            }
+            let read = held[0].to_degrees();
+            if (read - stated).abs() > 0.5 {
+                found.push(format!(
+                    "test \"{name}\": its name says {token} but `{}` holds {} through the test: names exchanged between tests, or the axis zeroed elsewhere? Its figures are reported under that name",
+                    columns[axis],
+                    trimmed(read, 4)
+                ));
+            }
+        }
+    }
+    found
+}
+
+/// The smallest step (m) off the path of its neighbours a pose must take to be named: 2 µm,
+/// above the curvature an R-test path shows between poses 10° apart (its 15 µm radius bends
+/// 0.2 µm there) and the noise of the nest's probes.
+pub const SMALLEST_GLITCH: Real = 2e-6;
+
+/// A pose off the path its two neighbours trace: the length of its deviation less their mean,
+/// more than [`crate::io::plausible::LONE_READING`] times the robust scatter of that same
+/// figure over every inner pose of every test, and more than [`SMALLEST_GLITCH`]. The path of
+/// an R-test is smooth in the swept angle (error motions of a few harmonics), so the second
+/// difference of the poses in file order is small everywhere but at a disturbed pose; poses
+/// not in angle order only make every difference large and nothing is named.
+pub fn lone_pose(table: &RtestTable) -> Option<String> {
+    let mut steps: Vec<(&str, usize, Real)> = Vec::new();
+    for (name, rows) in table.tests() {
+        for k in 1..rows.len().saturating_sub(1) {
+            let mean = (rows[k - 1].deviation + rows[k + 1].deviation) * 0.5;
+            steps.push((name, k, (rows[k].deviation - mean).length()));
+        }
+    }
+    let scale = 1.4826 * crate::io::plausible::median(steps.iter().map(|s| s.2).collect())?;
+    let &(name, k, step) = steps.iter().max_by(|a, b| a.2.total_cmp(&b.2))?;
+    (step > crate::io::plausible::LONE_READING * scale && step > SMALLEST_GLITCH).then(|| {
+        format!(
+            "test \"{name}\": pose {} in file order lies {} µm off the path its neighbours trace, more than {} times the poses' typical {} µm: a chip on the nest, a knock or a typo? It sets the test's range and its fitted circle",
+            k + 1,
+            trimmed(step * 1e6, 4),
+            crate::io::plausible::LONE_READING,
+            trimmed(scale * 1e6, 3)
+        )
+    })
 }
 
 fn radians_without_positions(table: &RtestTable) -> Option<String> {

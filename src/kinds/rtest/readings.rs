@@ -82,6 +82,18 @@ struct RtestModel {
 }
 
 impl ReadingModel for RtestModel {
+    fn per_row(&self) -> usize {
+        3
+    }
+
+    fn reading_name(&self, i: usize) -> String {
+        format!(
+            "pose {} in file order (d{})",
+            i / 3 + 1,
+            ["x", "y", "z"][i % 3]
+        )
+    }
+
     fn predict(
         &self,
         machine: &Machine,

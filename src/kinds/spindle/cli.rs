@@ -215,7 +215,7 @@ fn analyze(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Strin
             dir.display()
         ));
     }
-    let cautions = super::plausible::cautions(&evaluation);
+    let cautions = super::plausible::cautions(&table.record, &evaluation);
     Ok(if args.json {
         let mut report = to_json(&evaluation);
         let (described, _) = super::stated::described(&table.conditions);

@@ -1,9 +1,20 @@
-//! What a spindle record's own error motions say against its units, as cautions for the
-//! ISO 230-7 report: a total error motion beyond [`LARGEST_MOTION`] (nm in the µm columns),
-//! or the largest below [`SMALLEST_MOTION`] (mm in them).
+//! What a spindle record's own readings say against its units and its preamble, as cautions
+//! for the ISO 230-7 report:
+//!
+//! - a total error motion beyond [`LARGEST_MOTION`] (nm in the µm columns), or the largest
+//!   below [`SMALLEST_MOTION`] (mm in them);
+//! - one probe spanning less than [`SMALLEST_MOTION`] while another spans a hundred times more
+//!   (mm in that column);
+//! - a probe holding one value through a whole revolution or more
+//!   ([`crate::io::plausible::stuck`]: saturated at its range's end, disconnected);
+//! - an artefact's eccentricity that turns against the axis (more than twice as much as with
+//!   it, and by over [`SMALLEST_COUNTER_ROTATION`]): a probe direction's sign, swapped columns
+//!   or the angle's sense wrong.
 
 use super::analysis::motion::Direction;
 use super::evaluate::Evaluation;
+use super::record::{Sensing, SpindleRecord};
+use crate::io::plausible::spread;
 use crate::math::{Real, trimmed};
 
 /// The largest total error motion of a machine tool's axis of rotation (m): 100 µm. A worn
@@ -16,8 +27,14 @@ pub const LARGEST_MOTION: Real = 100e-6;
 /// the record gives a few; mm written in the µm columns read 1000 times smaller.
 pub const SMALLEST_MOTION: Real = 5e-9;
 
-/// Every caution for the report of `evaluation`.
-pub fn cautions(evaluation: &Evaluation) -> Vec<String> {
+/// The smallest once-per-revolution motion that turns against the axis which is read as a
+/// probe's stated direction being wrong (m): 0.2 µm, above the counter-rotating part real
+/// error motions show (0.1 µm in the twin's 12 000 min⁻¹ test) and below the few µm an
+/// artefact is centred to.
+pub const SMALLEST_COUNTER_ROTATION: Real = 0.2e-6;
+
+/// Every caution for the report of `evaluation` of `record`.
+pub fn cautions(record: &SpindleRecord, evaluation: &Evaluation) -> Vec<String> {
     let mut found = Vec::new();
     let totals: Vec<(String, Real)> = evaluation
         .segments
@@ -42,6 +59,128 @@ pub fn cautions(evaluation: &Evaluation) -> Vec<String> {
             "every total error motion is below {} µm, less than the best air-bearing spindle shows (tens of nm): mm in the µm columns?",
             trimmed(SMALLEST_MOTION * 1e6, 4)
         ));
+    } else {
+        found.extend(flat_probes(record));
+    }
+    found.extend(stuck_probes(record, evaluation.samples_per_revolution));
+    found.extend(counter_rotating(record));
+    found
+}
+
+/// Probes that hold one value through a revolution or more: a probe's noise and the
+/// artefact's form change every sample, so a held value is a probe saturated at its range's
+/// end, or disconnected. Its error motions read as none there.
+fn stuck_probes(record: &SpindleRecord, per_revolution: usize) -> Vec<String> {
+    let mut found = Vec::new();
+    for (probe, values) in record.probes.iter().zip(&record.readings) {
+        if let Some((first, count)) = crate::io::plausible::stuck(values, per_revolution.max(20)) {
+            let rpm = record
+                .speed
+                .get(first)
+                .map_or(0.0, |w| w * 60.0 / std::f64::consts::TAU);
+            found.push(format!(
+                "column `{}_um` holds {} µm unchanged for {count} samples ({} revolutions) from revolution {} at {} rpm: a probe saturated at its range's end or disconnected? Its error motions there read as none",
+                probe.name,
+                trimmed(values[first] * 1e6, 4),
+                trimmed(count as Real / per_revolution.max(1) as Real, 3),
+                record.revolution.get(first).copied().unwrap_or(0),
+                trimmed(rpm, 5)
+            ));
+        }
     }
     found
+}
+
+/// Probes whose readings span less than [`SMALLEST_MOTION`] over the whole record while
+/// another probe spans a hundred times more: below any probe's noise, mm in that column.
+fn flat_probes(record: &SpindleRecord) -> Vec<String> {
+    let spans: Vec<Real> = record
+        .readings
+        .iter()
+        .map(|r| spread(r.iter().copied()))
+        .collect();
+    let widest = spans.iter().copied().fold(0.0, Real::max);
+    record
+        .probes
+        .iter()
+        .zip(&spans)
+        .filter(|&(_, &span)| span < SMALLEST_MOTION && widest > 100.0 * SMALLEST_MOTION)
+        .map(|(probe, span)| {
+            format!(
+                "column `{}_um` spans {} µm over the record, less than a probe's noise alone gives, while another probe spans {} µm: mm in that column?",
+                probe.name,
+                trimmed(span * 1e6, 6),
+                trimmed(widest * 1e6, 4)
+            )
+        })
+        .collect()
+}
+
+/// Two fixed radial probes at one height whose readings, taken along their stated directions,
+/// put the once-per-revolution motion turning against the axis.
+///
+/// An artefact's eccentricity is a vector fixed in the rotor, so the centre it puts on the
+/// probes turns with the axis angle: c(θ) = e·e^{iθ}, all co-rotating. Error motions add a
+/// little counter-rotating first harmonic (unequal stiffness under unbalance), never more
+/// than the centring itself. When the counter-rotating part is more than twice the
+/// co-rotating one and above [`SMALLEST_COUNTER_ROTATION`], one probe's direction in the
+/// preamble has the wrong sign, the x and y columns are swapped, or the angle runs against
+/// the rotation: every radial and tilt value of that pair is then wrong.
+fn counter_rotating(record: &SpindleRecord) -> Vec<String> {
+    let mut found = Vec::new();
+    let probes = &record.probes;
+    for (i, a) in probes.iter().enumerate() {
+        for (j, b) in probes.iter().enumerate().skip(i + 1) {
+            let radial = |d: &[Real; 3]| d[2].abs() < 1e-6;
+            if a.sensing != Sensing::Fixed
+                || b.sensing != Sensing::Fixed
+                || !radial(&a.direction)
+                || !radial(&b.direction)
+                || (a.position[2] - b.position[2]).abs() > 1e-3
+            {
+                continue;
+            }
+            let det = a.direction[0] * b.direction[1] - a.direction[1] * b.direction[0];
+            if det.abs() < 0.5 {
+                continue;
+            }
+            if let Some((co, counter)) = first_harmonics(record, i, j, det)
+                && counter > 2.0 * co
+                && counter > SMALLEST_COUNTER_ROTATION
+            {
+                found.push(format!(
+                    "probes {} and {}: their once-per-revolution motion turns against the axis ({} µm) more than with it ({} µm), while an artefact's eccentricity always turns with it: a direction in the preamble with the wrong sign, the two columns swapped, or the angle running against the rotation? Their radial and tilt values are wrong if so",
+                    a.name,
+                    b.name,
+                    trimmed(counter * 1e6, 4),
+                    trimmed(co * 1e6, 4)
+                ));
+            }
+        }
+    }
+    found
+}
+
+/// The co- and counter-rotating first harmonics (m) of the centre that probes `i` and `j`
+/// (directions with determinant `det` in the plane) read, averaged over the whole record.
+fn first_harmonics(record: &SpindleRecord, i: usize, j: usize, det: Real) -> Option<(Real, Real)> {
+    let (da, db) = (record.probes[i].direction, record.probes[j].direction);
+    let n = record.len();
+    if n == 0 {
+        return None;
+    }
+    let (mut co, mut counter) = ([0.0; 2], [0.0; 2]);
+    for k in 0..n {
+        let (ra, rb) = (record.readings[i][k], record.readings[j][k]);
+        let x = (ra * db[1] - rb * da[1]) / det;
+        let y = (da[0] * rb - db[0] * ra) / det;
+        let (s, c) = record.angle[k].sin_cos();
+        // (x + iy)·e^{−iθ} and (x + iy)·e^{+iθ}
+        co[0] += x * c + y * s;
+        co[1] += y * c - x * s;
+        counter[0] += x * c - y * s;
+        counter[1] += y * c + x * s;
+    }
+    let norm = |v: [Real; 2]| v[0].hypot(v[1]) / n as Real;
+    Some((norm(co), norm(counter)))
 }

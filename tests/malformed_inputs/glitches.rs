@@ -1,0 +1,186 @@
+//! One disturbed reading, a stuck sensor and a preamble that contradicts its record: each test
+//! takes a clean table built by hand (the helpers of [`super::plausible`]), checks it passes,
+//! disturbs it as an instrument or an export does, and checks the caution names where.
+
+use super::plausible::{
+    Noise, drift_cautions, nest_text, positioning_cautions, positioning_rows, rtest_cautions,
+    rtest_text, spindle_cautions, the_caution,
+};
+
+#[test]
+fn one_laser_reading_off_is_named_and_a_run_offset_as_a_whole_is_not() {
+    let clean = positioning_rows();
+    // Run 3 on its way down at 350 mm: the beam interrupted, +150 µm kept in the export. The
+    // other runs there lie within 0.2 µm (noise ±0.1 µm), so it lies 150 µm from their median.
+    let glitch: Vec<_> = clean
+        .iter()
+        .map(|r| {
+            let hit = r.0 == "3" && r.1 == "-" && r.2 == 350.0;
+            (
+                r.0.clone(),
+                r.1,
+                r.2,
+                r.3 + if hit { 150.0 } else { 0.0 },
+                r.4,
+                r.5,
+            )
+        })
+        .collect();
+    let cautions = positioning_cautions(&glitch);
+    assert!(
+        cautions.iter().any(
+            |c| c.contains("run \"3\", − direction at target 350 mm reads 150.")
+                && c.contains("a beam interrupted")
+        ),
+        "{cautions:#?}"
+    );
+    // Run 4 re-zeroed: every reading of it 2 µm up. No single reading is named for it.
+    let offset: Vec<_> = clean
+        .iter()
+        .map(|r| {
+            let d = if r.0 == "4" { r.3 + 2.0 } else { r.3 };
+            (r.0.clone(), r.1, r.2, d, r.4, r.5)
+        })
+        .collect();
+    let cautions = positioning_cautions(&offset);
+    assert!(
+        cautions.iter().all(|c| !c.contains("alone sets R and A")),
+        "{cautions:#?}"
+    );
+}
+
+/// `rtest_text` with the C circle's pose at `c_deg` moved by `dx` µm in X and the test renamed.
+fn rtest_edited(c_deg: &str, dx: f64, name: &str) -> String {
+    rtest_text(|v| v, false)
+        .lines()
+        .map(|line| {
+            let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+            if fields[0] == "C circle" {
+                if fields[2] == c_deg {
+                    fields[3] = format!("{:.4}", fields[3].parse::<f64>().unwrap() + dx);
+                }
+                fields[0] = name.to_string();
+            }
+            fields.join(",") + "\n"
+        })
+        .collect()
+}
+
+#[test]
+fn a_chip_on_the_nest_at_one_pose_and_a_test_named_for_another_angle_are_named() {
+    assert_eq!(
+        rtest_cautions(&rtest_edited("200", 0.0, "C circle")),
+        Vec::<String>::new()
+    );
+    // +30 µm at C = 200°, the 21st pose: its neighbours' mean differs from it by 30 µm, less
+    // the circle's own bend (10 µm·(1 − cos 10°) = 0.15 µm) and the noise (±0.2 µm a reading).
+    the_caution(
+        &rtest_cautions(&rtest_edited("200", 30.0, "C circle")),
+        &[
+            "test \"C circle\": pose 21 in file order lies 29.8",
+            "chip on the nest",
+        ],
+    );
+    // The C circle named for A = −45° while its a_deg holds 0 all through.
+    the_caution(
+        &rtest_cautions(&rtest_edited("200", 0.0, "CK1 A-45")),
+        &["test \"CK1 A-45\"", "says A-45 but `a_deg` holds 0"],
+    );
+}
+
+#[test]
+fn a_drift_sensor_that_stops_changing_is_named() {
+    // x1 frozen at its 199 min value to the end: 102 readings of one value.
+    let frozen: String = nest_text(100.0, 1.0, 1.0)
+        .lines()
+        .map(|line| line.split(',').map(str::to_string).collect::<Vec<_>>())
+        .scan(String::new(), |held, mut fields| {
+            if let Ok(t) = fields[0].parse::<f64>() {
+                if t == 199.0 {
+                    *held = fields[1].clone();
+                } else if t > 199.0 {
+                    fields[1] = held.clone();
+                }
+            }
+            Some(fields.join(",") + "\n")
+        })
+        .collect();
+    let cautions = drift_cautions(&frozen);
+    assert!(
+        cautions.iter().any(|c| c.contains("`x1_um` holds")
+            && c.contains("from 199 to 300 min (102 readings)")
+            && c.contains("out of its range")),
+        "{cautions:#?}"
+    );
+}
+
+/// A spindle thermal test that ran 240 min at speed and stood 60 (stated as `run_min`,
+/// `stop_min`): the bearing warms 12 °C with a 30 min time constant and cools with 40 min
+/// after the stop, Z grows 3 µm; the air at 20 ± 0.2 °C. `ambient` names the ambient sensor.
+fn spindle_test_text(run_min: f64, stop_min: f64, ambient: &str) -> String {
+    let mut noise = Noise(13);
+    let mut text = format!(
+        "# test = iso230_3_spindle\n# run_min = {run_min}\n# stop_min = {stop_min}\n\
+         # ambient_sensor = {ambient}\n\
+         time_min,x1_um,z_um,temp_air_degc,temp_bearing_degc\n"
+    );
+    let warm = |t: f64| 1.0 - (-t / 30.0).exp();
+    for k in 0..=300 {
+        let t = k as f64;
+        let heat = if t <= 240.0 {
+            warm(t)
+        } else {
+            warm(240.0) * (-(t - 240.0) / 40.0).exp()
+        };
+        text += &format!(
+            "{t},{:.4},{:.4},{:.3},{:.3}\n",
+            0.01 * noise.next(),
+            -3.0 * heat + 0.01 * noise.next(),
+            20.0 + 0.2 * (t / 50.0).sin(),
+            20.0 + 12.0 * heat
+        );
+    }
+    text
+}
+
+#[test]
+fn a_running_period_that_contradicts_the_temperatures_or_a_structure_sensor_as_ambient_is_named() {
+    assert_eq!(
+        drift_cautions(&spindle_test_text(240.0, 60.0, "air")),
+        Vec::<String>::new()
+    );
+    // run_min and stop_min exchanged: the bearing is hottest at 240 min, 180 min after the
+    // stated end of the run, later than 60 + 240/2 = 180 min.
+    the_caution(
+        &drift_cautions(&spindle_test_text(60.0, 240.0, "air")),
+        &[
+            "`temp_bearing_degc` is hottest at 240 min",
+            "180 min after",
+            "run_min and stop_min exchanged",
+        ],
+    );
+    // The bearing sensor named as the ambient one while the table has an air sensor.
+    the_caution(
+        &drift_cautions(&spindle_test_text(240.0, 60.0, "bearing")),
+        &["`temp_bearing_degc` while the table has `temp_air_degc`"],
+    );
+}
+
+#[test]
+fn a_spindle_probe_saturated_through_revolutions_is_named() {
+    // x2 held at −5 µm (its range's end) from sample 32 to 95: two of the four revolutions of
+    // 32 samples.
+    let cautions = spindle_cautions(|name, row, v| {
+        if name == "x2_um" && (32..96).contains(&row) {
+            -5.0
+        } else {
+            v
+        }
+    });
+    assert!(
+        cautions.iter().any(|c| c
+            .contains("`x2_um` holds -5 µm unchanged for 64 samples (2 revolutions)")
+            && c.contains("saturated")),
+        "{cautions:#?}"
+    );
+}
