@@ -184,3 +184,65 @@ fn a_spindle_probe_saturated_through_revolutions_is_named() {
         "{cautions:#?}"
     );
 }
+
+/// A 3 × 3 ball plate (20 mm balls, 80 mm pitch) placed at (220, 85, 20) mm, each ball touched
+/// at four points 30° below its equator and once on top with a 2 mm stylus, the machine's X
+/// reading 20 µm/m long and 0.3 µm of noise; `cal_typo` adds to ball 7's calibrated X (mm).
+fn plate_text(cal_typo: f64) -> String {
+    let mut noise = Noise(17);
+    let mut text = String::from(
+        "# stylus_radius_mm = 2\n\
+         cycle,kind,feature,point,x_mm,y_mm,z_mm,i,j,k,cal_diameter_mm,cal_x_mm,cal_y_mm,cal_z_mm\n",
+    );
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let approaches = [
+        (-c, 0.0, -s),
+        (0.0, -c, -s),
+        (c, 0.0, -s),
+        (0.0, c, -s),
+        (0.0, 0.0, -1.0),
+    ];
+    for ball in 0..9 {
+        let cal = [80.0 * (ball % 3) as f64, 80.0 * (ball / 3) as f64, 0.0];
+        let centre = [220.0 + cal[0] * (1.0 + 20e-6), 85.0 + cal[1], 20.0 + cal[2]];
+        let cal_x = cal[0] + if ball == 6 { cal_typo } else { 0.0 };
+        for (p, (i, j, k)) in approaches.iter().enumerate() {
+            // The stylus centre latched at ball radius + stylus radius against the approach.
+            let mut at = |q: usize, e: f64| centre[q] - 12.0 * e + 0.3e-3 * noise.next();
+            text += &format!(
+                "1,plate,{},{},{:.6},{:.6},{:.6},{i:.9},{j:.9},{k:.9},20,{cal_x:.6},{:.6},0\n",
+                ball + 1,
+                p + 1,
+                at(0, *i),
+                at(1, *j),
+                at(2, *k),
+                cal[1]
+            );
+        }
+    }
+    text
+}
+
+#[test]
+fn a_ball_plate_certificate_value_typed_wrong_is_named() {
+    let cautions = |text: &str| {
+        let table = mtwin::kinds::probe::table::ProbeTable::parse(text.as_bytes(), "plate.csv")
+            .expect("reads");
+        mtwin::kinds::probe::analysis::evaluate(&table, 2e-3)
+            .expect("evaluates")
+            .cautions
+    };
+    // The machine's 20 µm/m changes the distances smoothly, 3.2 µm at most over 160 mm: no
+    // ball stands out.
+    assert_eq!(cautions(&plate_text(0.0)), Vec::<String>::new());
+    // Ball 7's X typed 0.1 mm long: its distances to the others are off by up to 100 µm
+    // (along X; less across), the other pairs by the machine's few µm.
+    the_caution(
+        &cautions(&plate_text(0.1)),
+        &[
+            "cycle 1: ball 7's distances",
+            "calibrated centre",
+            "mistyped",
+        ],
+    );
+}
