@@ -279,6 +279,67 @@ pub fn stuck(values: &[Real], fewest: usize) -> Option<(usize, usize)> {
     (best.1 >= fewest.max(2) && best.1 < values.len() && best.1 >= 10 * other).then_some(best)
 }
 
+/// The robust scale of a series' steps (their magnitudes): 1.4826 × their median, and at least
+/// the smallest step that is not zero (the series' resolution: a series that mostly rests on
+/// one value has a median step of 0, and its every change is one resolution step, not a
+/// glitch).
+fn step_scale(magnitudes: &[Real]) -> Option<Real> {
+    let robust = 1.4826 * median(magnitudes.to_vec())?;
+    let finest = magnitudes
+        .iter()
+        .copied()
+        .filter(|&d| d > 0.0)
+        .fold(Real::INFINITY, Real::min);
+    Some(if finest.is_finite() {
+        robust.max(finest)
+    } else {
+        robust
+    })
+}
+
+/// A reading that stands apart from both its neighbours the same way (a spike: a glitch, an
+/// electrical pulse, a typo), as (index, its distance from its neighbours' mean, the robust
+/// scale of that distance over the series): when it is more than [`LONE_READING`] times that
+/// scale, and its smaller step to a neighbour more than `floor`. The distance from the
+/// neighbours' mean (a second difference) is small on any smooth series, however fast it
+/// moves (a spindle warming, an eccentricity sampled 32 times a turn); a step (re-zeroed)
+/// moves one neighbour only and is not a spike.
+pub fn spike(values: &[Real], floor: Real) -> Option<(usize, Real, Real)> {
+    if values.len() < 5 {
+        return None;
+    }
+    let off: Vec<Real> = (1..values.len() - 1)
+        .map(|k| values[k] - 0.5 * (values[k - 1] + values[k + 1]))
+        .collect();
+    let scale = step_scale(&off.iter().map(|e| e.abs()).collect::<Vec<_>>())?;
+    let (k, size) = (1..values.len() - 1)
+        .filter(|&k| {
+            let (before, after) = (values[k] - values[k - 1], values[k] - values[k + 1]);
+            before * after > 0.0 && before.abs().min(after.abs()) > floor
+        })
+        .map(|k| (k, off[k - 1]))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+    (size.abs() > LONE_READING * scale).then_some((k, size, scale))
+}
+
+/// A step between two readings with quiet steps on either side (a sensor re-zeroed or
+/// knocked), as (index of the reading after the step, the step, the robust scale of the
+/// steps): more than [`LONE_READING`] times that scale and `floor`, its neighbouring steps
+/// within five times the scale. A fast but smooth change (a spindle starting) moves several
+/// steps in a row and is not one.
+pub fn lone_step(values: &[Real], floor: Real) -> Option<(usize, Real, Real)> {
+    if values.len() < 5 {
+        return None;
+    }
+    let steps: Vec<Real> = values.windows(2).map(|w| w[1] - w[0]).collect();
+    let scale = step_scale(&steps.iter().map(|d| d.abs()).collect::<Vec<_>>())?;
+    let (k, step) = (1..steps.len() - 1)
+        .filter(|&k| steps[k - 1].abs() < 5.0 * scale && steps[k + 1].abs() < 5.0 * scale)
+        .map(|k| (k, steps[k]))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+    (step.abs() > LONE_READING * scale && step.abs() > floor).then_some((k + 1, step, scale))
+}
+
 /// The unit factors one channel can differ from its partner by: a count of 0.1 µm, nm, mm
 /// (powers of ten), inches (25.4) and micro-inches in a µm column (39.37).
 pub const UNIT_FACTORS: [Real; 5] = [10.0, 100.0, 1000.0, 25.4, 39.37];
@@ -503,6 +564,40 @@ mod tests {
             .map(|k| if k < 60 { (k / 2) as Real } else { 30.0 })
             .collect();
         assert_eq!(stuck(&fast, 20), Some((60, 40)));
+    }
+
+    #[test]
+    fn a_spike_and_a_lone_step_are_found_and_a_fast_smooth_rise_is_neither() {
+        // A warming: 10 µm with a 20-reading time constant, ±0.01 µm of noise.
+        let warm: Vec<Real> = (0..200)
+            .map(|k| {
+                10e-6 * (1.0 - (-(k as Real) / 20.0).exp()) + 1e-8 * ((k * 7 % 5) as Real - 2.0)
+            })
+            .collect();
+        assert_eq!(spike(&warm, 1e-6), None);
+        assert_eq!(lone_step(&warm, 1e-6), None);
+        let mut spiked = warm.clone();
+        spiked[120] += 15e-6;
+        let (k, size, _) = spike(&spiked, 1e-6).unwrap();
+        assert_eq!(k, 120);
+        assert!((size - 15e-6).abs() < 0.1e-6, "{size}");
+        // Re-zeroed at reading 150: every reading from it 4 µm lower.
+        let stepped: Vec<Real> = warm
+            .iter()
+            .enumerate()
+            .map(|(k, v)| if k >= 150 { v - 4e-6 } else { *v })
+            .collect();
+        assert_eq!(spike(&stepped, 1e-6), None);
+        let (k, step, _) = lone_step(&stepped, 1e-6).unwrap();
+        assert_eq!(k, 150);
+        assert!((step + 4e-6).abs() < 0.1e-6, "{step}");
+        // A channel rounded to 1 µm that rests and moves a step at a time: no spike, no step.
+        let rounded: Vec<Real> = warm
+            .iter()
+            .map(|v| (v * 1e6 / 3.0).round() * 1e-6)
+            .collect();
+        assert_eq!(spike(&rounded, 0.5e-6), None);
+        assert_eq!(lone_step(&rounded, 0.5e-6), None);
     }
 
     #[test]

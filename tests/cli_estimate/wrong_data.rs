@@ -295,6 +295,35 @@ fn one_sphere_centre_off_is_named_and_laser_readings_below_their_noise_are_cauti
     };
     let report = ok(&identify(&laser.join("positioning.csv"), "clean"));
     assert!(!report.contains("CAUTION"), "{report}");
+    // The same rows listed last to first (an export sorted newest first), times intact: the
+    // laser was zeroed on the first reading in time, not in the file, and the estimate is the
+    // same to the last digit but the summation's rounding.
+    let mut lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| !l.starts_with('#')).unwrap();
+    lines[header + 1..].reverse();
+    let reversed = dir.path().join("reversed.csv");
+    std::fs::write(&reversed, lines.join("\n") + "\n").unwrap();
+    ok(&identify(&reversed, "reversed"));
+    let coefficients = |out: &str| -> Vec<f64> {
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join(out).join("estimate.json")).unwrap(),
+        )
+        .unwrap();
+        json["coefficients"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["value_si"].as_f64().unwrap())
+            .collect()
+    };
+    let (clean, reversed) = (coefficients("clean"), coefficients("reversed"));
+    assert_eq!(clean.len(), 2);
+    for (a, b) in clean.iter().zip(&reversed) {
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs(),
+            "{clean:?} against {reversed:?}"
+        );
+    }
     let tenths = dir.path().join("tenths.csv");
     std::fs::write(
         &tenths,

@@ -3,8 +3,9 @@
 //! disturbs it as an instrument or an export does, and checks the caution names where.
 
 use super::plausible::{
-    Noise, drift_cautions, nest_text, positioning_cautions, positioning_rows, rtest_cautions,
-    rtest_text, spindle_cautions, the_caution,
+    BALLBAR_PREAMBLE, Noise, ballbar_read, ballbar_rows, ballbar_text, drift_cautions, nest_text,
+    positioning_cautions, positioning_rows, rtest_cautions, rtest_text, spindle_cautions,
+    the_caution,
 };
 
 #[test]
@@ -244,5 +245,167 @@ fn a_ball_plate_certificate_value_typed_wrong_is_named() {
             "calibrated centre",
             "mistyped",
         ],
+    );
+}
+
+#[test]
+fn rows_in_another_order_are_read_as_measured_and_a_laser_re_zeroed_each_run_is_named() {
+    let clean = positioning_rows();
+    // The rows listed run by run from the last (an export sorted otherwise), times intact:
+    // the runs were read one after the other all the same.
+    let mut reordered = clean.clone();
+    reordered.sort_by(|a, b| b.0.cmp(&a.0).then(a.4.total_cmp(&b.4)));
+    assert_eq!(positioning_cautions(&reordered), Vec::<String>::new());
+    // Each run's first reading subtracted from the run: the laser re-zeroed at each run.
+    let zeroed: Vec<_> = clean
+        .iter()
+        .map(|r| {
+            let first = clean.iter().find(|f| f.0 == r.0).unwrap().3;
+            (r.0.clone(), r.1, r.2, r.3 - first, r.4, r.5)
+        })
+        .collect();
+    let cautions = positioning_cautions(&zeroed);
+    assert!(
+        cautions.iter().any(|c| c.contains(
+            "every one of the 5 runs starts on exactly 0 while the preamble does not say"
+        )),
+        "{cautions:#?}"
+    );
+}
+
+#[test]
+fn a_drift_glitch_a_re_zeroed_sensor_and_a_dead_thermometer_are_named() {
+    // z +15 µm at 150 min alone.
+    let edit = |column: usize, from: f64, to: f64, by: f64| -> String {
+        nest_text(100.0, 1.0, 1.0)
+            .lines()
+            .map(|line| {
+                let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+                if let Ok(t) = fields[0].parse::<f64>()
+                    && (from..=to).contains(&t)
+                {
+                    fields[column] = format!("{:.7}", fields[column].parse::<f64>().unwrap() + by);
+                }
+                fields.join(",") + "\n"
+            })
+            .collect()
+    };
+    let cautions = drift_cautions(&edit(3, 150.0, 150.0, 15.0));
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("`z_um`: the reading at 150 min stands 14.9")
+                && c.contains("glitch")),
+        "{cautions:#?}"
+    );
+    // x2 re-zeroed at 240 min: 4.4 µm lower from there, x1 goes on.
+    let cautions = drift_cautions(&edit(2, 240.0, 300.0, -4.4));
+    assert!(
+        cautions.iter().any(
+            |c| c.contains("`x1_um` and `x2_um`: their difference steps by -4.4")
+                && c.contains("between 239 and 240 min")
+        ),
+        "{cautions:#?}"
+    );
+    // The air sensor reading 20.01 °C through the whole 300 min.
+    let dead: String = spindle_test_text(240.0, 60.0, "air")
+        .lines()
+        .map(|line| {
+            let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+            if fields[0].parse::<f64>().is_ok() {
+                fields[3] = "20.010".into();
+            }
+            fields.join(",") + "\n"
+        })
+        .collect();
+    the_caution(
+        &drift_cautions(&dead),
+        &["`temp_air_degc` holds 20.01 °C through the whole 300 min record"],
+    );
+}
+
+#[test]
+fn a_one_sample_spike_is_named_on_a_spindle_and_a_ball_bar_and_a_sphere_touch_by_its_form() {
+    let cautions = spindle_cautions(|name, row, v| {
+        if name == "y1_um" && row == 50 {
+            v + 3.0
+        } else {
+            v
+        }
+    });
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("`y1_um`: sample 51") && c.contains("stands 2.98")),
+        "{cautions:#?}"
+    );
+    // One ball-bar reading +40 µm; the reversal spikes of a real trace rise over several.
+    let test = mtwin::kinds::ballbar::iso230_4::CircularTest {
+        plane: mtwin::machine::Plane::XY,
+        radius: 0.150,
+        feed: 1.0 / 60.0,
+    };
+    let mut rows = ballbar_rows();
+    rows[300].2 += 40.0;
+    let table = ballbar_read(&ballbar_text(BALLBAR_PREAMBLE, &rows)).expect("reads");
+    let cautions = mtwin::kinds::ballbar::plausible::cautions(&table, &test);
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("reading 301 stands 40.") || c.contains("reading 301 stands 39.")),
+        "{cautions:#?}"
+    );
+    // One touch of plate ball 3 20 µm off along X: its five-touch fit spreads it, the form
+    // grows to µm where the other balls' is their 0.3 µm noise.
+    let plate: String = plate_text(0.0)
+        .lines()
+        .map(|line| {
+            let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+            if fields.len() > 3 && fields[2] == "3" && fields[3] == "1" {
+                fields[4] = format!("{:.6}", fields[4].parse::<f64>().unwrap() + 0.020);
+            }
+            fields.join(",") + "\n"
+        })
+        .collect();
+    let table = mtwin::kinds::probe::table::ProbeTable::parse(plate.as_bytes(), "plate.csv")
+        .expect("reads");
+    let cautions = mtwin::kinds::probe::analysis::evaluate(&table, 2e-3)
+        .expect("evaluates")
+        .cautions;
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("cycle 1 feature 3: the touches' radii span")
+                && c.contains("one touch off")),
+        "{cautions:#?}"
+    );
+}
+
+#[test]
+fn an_r_test_probe_stuck_through_poses_is_named() {
+    // dy of the C circle held from pose 21 to the end (17 poses).
+    let mut held = String::new();
+    let stuck: String = rtest_text(|v| v, false)
+        .lines()
+        .enumerate()
+        .map(|(row, line)| {
+            let mut fields: Vec<String> = line.split(',').map(str::to_string).collect();
+            if fields[0] == "C circle" {
+                if row == 21 {
+                    held = fields[4].clone();
+                } else if row > 21 {
+                    fields[4] = held.clone();
+                }
+            }
+            fields.join(",") + "\n"
+        })
+        .collect();
+    let cautions = rtest_cautions(&stuck);
+    assert!(
+        cautions
+            .iter()
+            .any(|c| c.contains("test \"C circle\": `dy_um` holds")
+                && c.contains("from pose 21 to 37 (17 poses)")),
+        "{cautions:#?}"
     );
 }

@@ -29,6 +29,11 @@ pub const SMALLEST_SPREAD: Real = 0.1e-6;
 /// machine keeps within a factor of two or so.
 pub const ODD_SENSE: Real = 5.0;
 
+/// The smallest single-reading spike (m) of a ball-bar trace that is named: 5 µm, above the
+/// reversal spikes a sweep shows between two readings (they rise and decay over several) and
+/// a hundred times the bar's noise.
+pub const SMALLEST_SPIKE: Real = 5e-6;
+
 /// Every caution for the ISO 230-4 report of `table` measured under `test`, each a sentence.
 pub fn cautions(table: &BallbarTable, test: &CircularTest) -> Vec<String> {
     let mut found: Vec<String> = unchecked_conditions(table).into_iter().collect();
@@ -42,6 +47,19 @@ pub fn cautions(table: &BallbarTable, test: &CircularTest) -> Vec<String> {
         crate::io::plausible::odd_block(&blocks, ODD_SENSE)
             .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
     );
+    for block in &blocks {
+        if let Some((k, size, scale)) = crate::io::plausible::spike(&block.readings, SMALLEST_SPIKE)
+        {
+            found.push(format!(
+                "column `deviation_um`: {} reading {} stands {} µm from both its neighbours, more than {} times the trace's typical {} µm: a glitch or a typo (a reversal spike rises and decays over several readings)? It sets the circular deviation",
+                block.label,
+                k + 1,
+                trimmed(size / M_PER_UM, 4),
+                crate::io::plausible::LONE_READING,
+                trimmed(scale / M_PER_UM, 3)
+            ));
+        }
+    }
     let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
     if let Some(step) = crate::io::plausible::rounded_to(&values) {
         found.push(crate::io::plausible::rounding_sentence(

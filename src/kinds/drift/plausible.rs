@@ -7,7 +7,11 @@
 //!   ([`crate::io::plausible::unit_ratio`]: one channel's gain or unit set apart);
 //! - sensors of a pair closer than [`SMALLEST_SPACING`] (inches in `spacing_mm`);
 //! - a channel holding one value through [`STUCK_READINGS`] readings or a tenth of the record
-//!   ([`crate::io::plausible::stuck`]: a sensor out of range, a logger repeating itself);
+//!   ([`crate::io::plausible::stuck`]: a sensor out of range, a logger repeating itself), a
+//!   thermometer holding one value through an hour or more, a reading standing apart from
+//!   both its neighbours ([`crate::io::plausible::spike`]) and a pair whose difference steps
+//!   once ([`crate::io::plausible::lone_step`]: a sensor re-zeroed), both beyond
+//!   [`SMALLEST_GLITCH`];
 //! - a spindle test whose structure is hottest long after its stated running period
 //!   (`run_min` and `stop_min` exchanged);
 //! - readings more than [`LONGEST_STEP`] apart at the median (seconds in `time_min`);
@@ -39,6 +43,10 @@ pub const SMALLEST_SPACING: Real = 10e-3;
 /// the record, if more): 20. A displacement sensor's noise changes its last digit from
 /// reading to reading (channels rounded to 1 µm, whose value may rest, are not judged).
 pub const STUCK_READINGS: usize = 20;
+
+/// The smallest spike or step (m) of a displacement channel that is named: 1 µm, above the
+/// resolution and noise of the sensors of a nest (0.01 µm) by a hundred.
+pub const SMALLEST_GLITCH: Real = 1e-6;
 
 /// The longest median time between a drift record's readings (s): 30 min. ISO 230-3 records
 /// are read every few minutes or continuously (§7.2.3 allows every five cycles when storage
@@ -97,6 +105,18 @@ pub fn cautions(table: &DriftTable, etve_duration: Real, spacing: Option<Real>) 
                 trimmed(channel.values[first] * 1e6, 4),
                 minute(first),
                 minute(first + count - 1)
+            ));
+        }
+        if let Some((k, size, scale)) =
+            crate::io::plausible::spike(&channel.values, SMALLEST_GLITCH)
+        {
+            found.push(format!(
+                "column `{}_um`: the reading at {} min stands {} µm from both its neighbours, more than {} times the channel's typical {} µm: a glitch or a typo? It sets the channel's range",
+                channel.name,
+                trimmed(table.times[k] / 60.0, 4),
+                trimmed(size * 1e6, 4),
+                crate::io::plausible::LONE_READING,
+                trimmed(scale * 1e6, 3)
             ));
         }
         let span = spread(channel.values.iter().copied());
@@ -162,6 +182,25 @@ pub fn cautions(table: &DriftTable, etve_duration: Real, spacing: Option<Real>) 
     }
     for (name, values) in &table.temperatures {
         let column = format!("temp_{name}_degc");
+        if values.len() >= STUCK_READINGS
+            && span >= 3600.0
+            && values.iter().all(|v| v.to_bits() == values[0].to_bits())
+        {
+            found.push(format!(
+                "column `{column}` holds {} °C through the whole {} min record: no thermometer in a shop reads one value for an hour (disconnected, or a constant filled in)? Every ΔT from it reads 0",
+                trimmed(values[0], 4),
+                trimmed(span / 60.0, 4)
+            ));
+        } else if let Some((first, count)) =
+            crate::io::plausible::stuck(values, STUCK_READINGS.max(values.len() / 10))
+        {
+            found.push(format!(
+                "column `{column}` holds {} °C unchanged from {} to {} min ({count} readings) while it otherwise changes: a thermometer disconnected or a logger repeating its last value?",
+                trimmed(values[first], 4),
+                trimmed(table.times[first] / 60.0, 4),
+                trimmed(table.times[first + count - 1] / 60.0, 4)
+            ));
+        }
         if Some(name.as_str()) == stated || airy(name) {
             found.extend(air_caution(&column, values));
         } else {
@@ -228,6 +267,18 @@ fn pair_units(table: &DriftTable, spacing: Option<Real>) -> Vec<String> {
         let (Some(a), Some(b)) = (linear(first), linear(second)) else {
             continue;
         };
+        let difference: Vec<Real> = a.iter().zip(b).map(|(p, q)| q - p).collect();
+        if let Some((k, step, scale)) =
+            crate::io::plausible::lone_step(&difference, SMALLEST_GLITCH)
+        {
+            found.push(format!(
+                "columns `{first}_um` and `{second}_um`: their difference steps by {} µm between {} and {} min while it otherwise changes by {} µm a reading: one sensor re-zeroed or knocked? The tilt from the pair carries the step",
+                trimmed(step * 1e6, 4),
+                trimmed(table.times[k - 1] / 60.0, 4),
+                trimmed(table.times[k] / 60.0, 4),
+                trimmed(scale * 1e6, 3)
+            ));
+        }
         let Some(factor) = crate::io::plausible::unit_ratio(a, b) else {
             continue;
         };

@@ -84,6 +84,7 @@ pub fn cautions(table: &PositioningTable) -> Vec<String> {
             .map(|odd| crate::io::plausible::odd_sentence("deviation_um", &blocks, odd)),
     );
     found.extend(lone_reading(table));
+    found.extend(zeroed_runs(table));
     found.extend(overlapping_runs(table));
     found.extend(changing_reversal(table));
     found.extend(units(table, rounded));
@@ -124,6 +125,43 @@ pub fn copied_run(table: &PositioningTable) -> Option<String> {
     let blocks = run_blocks(table);
     copied_block(&blocks)
         .map(|pair| format!("column `deviation_um`: {}", copy_sentence(&blocks, pair)))
+}
+
+/// Every run (of three or more) starting on a reading of exactly 0 while the preamble says the
+/// laser was zeroed once, or says nothing: the laser re-zeroed at each run (or pass), so the
+/// runs share no reference and the spread between them, R and A, is the zeroing's.
+fn zeroed_runs(table: &PositioningTable) -> Option<String> {
+    use crate::kinds::positioning::laser::Zeroing;
+    if table.runs.len() < 3 || table.conditions.zero.is_some_and(|z| z != Zeroing::Once) {
+        return None;
+    }
+    let timed = table.readings.iter().all(|r| r.time.is_some());
+    let starts: Vec<Real> = by_run(table)
+        .iter()
+        .filter_map(|indices| {
+            let first = if timed {
+                indices.iter().copied().min_by(|&a, &b| {
+                    let t = |k: usize| table.readings[k].time.unwrap_or(0.0);
+                    t(a).total_cmp(&t(b))
+                })
+            } else {
+                indices.first().copied()
+            }?;
+            Some(table.readings[first].deviation)
+        })
+        .collect();
+    let zeros = table.readings.iter().filter(|r| r.deviation == 0.0).count();
+    (starts.iter().all(|&d| d == 0.0) && zeros < table.readings.len() / 2).then(|| {
+        format!(
+            "column `deviation_um`: every one of the {} runs starts on exactly 0 while the preamble {}: the laser re-zeroed at each run (or pass)? The runs then share no reference, and R, A and B carry the zeroing (state `zero = each_run` if so)",
+            starts.len(),
+            if table.conditions.zero.is_some() {
+                "says it was zeroed once"
+            } else {
+                "does not say how the laser was zeroed"
+            }
+        )
+    })
 }
 
 /// A reading far from the other runs at its target and direction.
@@ -208,14 +246,21 @@ fn overlapping_runs(table: &PositioningTable) -> Option<String> {
         let last = times.iter().copied().fold(Real::NEG_INFINITY, Real::max);
         (first <= last).then_some((first, last))
     };
-    (1..table.runs.len()).find_map(|run| {
-        let ((_, ended), (started, _)) = (span(run - 1)?, span(run)?);
+    // The runs in the order they were read (by their first time: an export may list its rows,
+    // and so its runs, in another order).
+    let spans: Vec<(usize, (Real, Real))> = (0..table.runs.len())
+        .map(|run| Some((run, span(run)?)))
+        .collect::<Option<_>>()?;
+    let mut spans = spans;
+    spans.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
+    spans.windows(2).find_map(|w| {
+        let ((before, (_, ended)), (run, (started, _))) = (w[0], w[1]);
         (started < ended).then(|| {
             format!(
                 "column `time_min`: run \"{}\" starts at {} min, before run \"{}\" ended at {} min: runs are read one after the other, so these come from different records (or one was pasted again), and their spread is not the axis's repeatability",
                 table.runs[run],
                 trimmed(started / 60.0, 4),
-                table.runs[run - 1],
+                table.runs[before],
                 trimmed(ended / 60.0, 4)
             )
         })

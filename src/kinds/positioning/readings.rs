@@ -268,8 +268,21 @@ pub fn readings(
     let mut targets = Vec::with_capacity(table.readings.len());
     let mut zero_of = Vec::with_capacity(table.readings.len());
     let mut measured = Vec::with_capacity(table.readings.len());
-    // The first reading of each run, in file order.
+    // The reading the laser was zeroed on: the first of the test (Zeroing::Once) or of each run,
+    // by `time_min` when every reading has one (an export may list the rows in another order),
+    // else in file order.
+    let timed = table.readings.iter().all(|r| r.time.is_some());
+    let earlier = |a: usize, b: usize| {
+        let t = |i: usize| table.readings[i].time.unwrap_or(0.0);
+        if timed && t(b) < t(a) { b } else { a }
+    };
     let mut first_of_run: Vec<Option<usize>> = vec![None; table.runs.len().max(1)];
+    for (i, reading) in table.readings.iter().enumerate() {
+        if let Some(first) = first_of_run.get_mut(reading.run) {
+            *first = Some(first.map_or(i, |f| earlier(f, i)));
+        }
+    }
+    let first_of_test = (0..table.readings.len()).reduce(earlier).unwrap_or(0);
     for (i, reading) in table.readings.iter().enumerate() {
         let mut state = MachineState::at(line);
         state.position[axis] = reading.target;
@@ -277,13 +290,17 @@ pub fn readings(
             Approach::Up => Direction::Positive,
             Approach::Down => Direction::Negative,
         };
-        let first = first_of_run.get_mut(reading.run).ok_or_else(|| {
-            fail(format!(
-                "reading {}: run index {} beyond the table's runs",
-                i + 1,
-                reading.run
-            ))
-        })?;
+        let run_zero = first_of_run
+            .get(reading.run)
+            .copied()
+            .flatten()
+            .ok_or_else(|| {
+                fail(format!(
+                    "reading {}: run index {} beyond the table's runs",
+                    i + 1,
+                    reading.run
+                ))
+            })?;
         // A commanded position outside the machine's travel is a table of another machine or
         // in another unit: no reading of this machine was taken there.
         if let Some(outside) = machine.outside_travel(&state.position) {
@@ -292,9 +309,8 @@ pub fn readings(
                 i + 1
             )));
         }
-        let run_zero = *first.get_or_insert(i);
         zero_of.push(match zero {
-            Zeroing::Once => 0,
+            Zeroing::Once => first_of_test,
             Zeroing::EachRun => run_zero,
         });
         states.push(state);

@@ -331,6 +331,9 @@ pub fn evaluate(
     evaluation
         .cautions
         .extend(results.iter().filter_map(super::plausible::odd_plate_ball));
+    evaluation
+        .cautions
+        .extend(super::plausible::odd_sphere_form(&evaluation.spheres));
     evaluation.plates = results;
     Ok(evaluation)
 }

@@ -12,6 +12,7 @@
 //! - **One touch far off the fit** ([`OUTLIER`]): a mistyped or dirty touch.
 //! - **One ball of a plate off the others** ([`odd_plate_ball`]): a calibrated centre
 //!   mistyped.
+//! - **One sphere's form far above the others'** ([`odd_sphere_form`]): one touch off.
 //! - **A short arc.** A ring probed over less than [`SHORTEST_ARC`] gives its diameter from an
 //!   arc too short to fix it.
 
@@ -36,6 +37,41 @@ pub const SHORTEST_ARC: Real = PI;
 /// The smallest residual (m) a single touch must have to stand out: 10 µm, beyond the lobing
 /// and form a probing cycle sees on a calibrated artefact.
 pub const OUTLIER: Real = 10e-6;
+
+/// The smallest form (m) of one sphere that stands out from the others': 5 µm, beyond a
+/// calibrated sphere's form and a probing system's lobing (a few µm at most).
+pub const ODD_FORM: Real = 5e-6;
+
+/// The sphere (or plate ball) whose form (range of the fit's radii) is more than [`ODD_FORM`]
+/// and ten times the median form of the table's other spheres: one touch off (dirt, a typo),
+/// which a fit of a few points spreads over all its touches rather than leaving on one, so
+/// the centre and the size move with it. At least three spheres.
+pub fn odd_sphere_form(spheres: &[super::analysis::SphereResult]) -> Option<String> {
+    if spheres.len() < 3 {
+        return None;
+    }
+    let forms: Vec<Real> = spheres.iter().map(|s| s.fit.form()).collect();
+    let (k, worst) = forms
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let others: Vec<Real> = (forms.iter().enumerate())
+        .filter(|&(j, _)| j != k)
+        .map(|(_, f)| *f)
+        .collect();
+    let middle = crate::io::plausible::median(others)?;
+    (worst > ODD_FORM && worst > 10.0 * middle).then(|| {
+        let key = &spheres[k].key;
+        format!(
+            "cycle {} feature {}: the touches' radii span {} µm where the other spheres' span {} µm (median): one touch off (dirt, a typo)? A fit of a few touches spreads it, so the centre and the size move with it",
+            key.cycle,
+            key.feature,
+            trimmed(worst * 1e6, 4),
+            trimmed(middle * 1e6, 3)
+        )
+    })
+}
 
 /// The ball of a plate placement whose distances to the others are off by more than
 /// [`OUTLIER`] and ten times the other pairs' errors (medians): its calibrated centre

@@ -67,6 +67,32 @@ pub fn cautions(table: &RtestTable) -> Vec<String> {
     found.extend(radians_without_positions(table));
     found.extend(lone_pose(table));
     found.extend(misnamed_tests(table));
+    found.extend(stuck_probes(table));
+    found
+}
+
+/// The fewest poses of a test reading one deviation component bit for bit that read as a
+/// stuck probe of the nest: 8 (and ten times the component's longest other rest). The
+/// nest's probes read to 0.1 µm or better and the sphere moves between poses.
+pub const STUCK_POSES: usize = 8;
+
+/// A deviation component that holds one value through [`STUCK_POSES`] poses of a test: a
+/// probe of the nest stuck, out of its range or disconnected.
+fn stuck_probes(table: &RtestTable) -> Vec<String> {
+    let mut found = Vec::new();
+    for (name, rows) in table.tests() {
+        for (c, column) in ["dx_um", "dy_um", "dz_um"].iter().enumerate() {
+            let values: Vec<Real> = rows.iter().map(|r| r.deviation[c]).collect();
+            if let Some((first, count)) = crate::io::plausible::stuck(&values, STUCK_POSES) {
+                found.push(format!(
+                    "test \"{name}\": `{column}` holds {} µm unchanged from pose {} to {} ({count} poses): a probe of the nest stuck, out of its range or disconnected? The test's path and fitted circle carry it",
+                    trimmed(values[first] * 1e6, 4),
+                    first + 1,
+                    first + count
+                ));
+            }
+        }
+    }
     found
 }
 

@@ -33,6 +33,14 @@ pub const SMALLEST_MOTION: Real = 5e-9;
 /// artefact is centred to.
 pub const SMALLEST_COUNTER_ROTATION: Real = 0.2e-6;
 
+/// The fewest samples of one value that read as a stuck probe: 50, a twentieth of a revolution
+/// at 1024 samples (a capacitive probe's noise changes its reading every sample).
+pub const STUCK_SAMPLES: usize = 50;
+
+/// The smallest spike (m) of a probe's record that is named: 0.5 µm, beyond the asynchronous
+/// error motion of a rolling-bearing spindle between two samples.
+pub const SMALLEST_SPIKE: Real = 0.5e-6;
+
 /// Every caution for the report of `evaluation` of `record`.
 pub fn cautions(record: &SpindleRecord, evaluation: &Evaluation) -> Vec<String> {
     let mut found = Vec::new();
@@ -67,13 +75,15 @@ pub fn cautions(record: &SpindleRecord, evaluation: &Evaluation) -> Vec<String> 
     found
 }
 
-/// Probes that hold one value through a revolution or more: a probe's noise and the
-/// artefact's form change every sample, so a held value is a probe saturated at its range's
-/// end, or disconnected. Its error motions read as none there.
+/// Probes that hold one value through [`STUCK_SAMPLES`] samples or more (and ten times their
+/// longest other rest): a probe's noise and the artefact's form change every sample, so a held
+/// value is a probe saturated at its range's end, disconnected, or a dropout filled with
+/// zeros. Its error motions read as none there. Then a sample standing apart from both its
+/// neighbours by more than [`SMALLEST_SPIKE`] ([`crate::io::plausible::spike`]).
 fn stuck_probes(record: &SpindleRecord, per_revolution: usize) -> Vec<String> {
     let mut found = Vec::new();
     for (probe, values) in record.probes.iter().zip(&record.readings) {
-        if let Some((first, count)) = crate::io::plausible::stuck(values, per_revolution.max(20)) {
+        if let Some((first, count)) = crate::io::plausible::stuck(values, STUCK_SAMPLES) {
             let rpm = record
                 .speed
                 .get(first)
@@ -85,6 +95,16 @@ fn stuck_probes(record: &SpindleRecord, per_revolution: usize) -> Vec<String> {
                 trimmed(count as Real / per_revolution.max(1) as Real, 3),
                 record.revolution.get(first).copied().unwrap_or(0),
                 trimmed(rpm, 5)
+            ));
+        } else if let Some((k, size, scale)) = crate::io::plausible::spike(values, SMALLEST_SPIKE) {
+            found.push(format!(
+                "column `{}_um`: sample {} (revolution {}) stands {} µm from both its neighbours, more than {} times the probe's typical {} µm: an electrical glitch or a typo? It sets the asynchronous error motion",
+                probe.name,
+                k + 1,
+                record.revolution.get(k).copied().unwrap_or(0),
+                trimmed(size * 1e6, 4),
+                crate::io::plausible::LONE_READING,
+                trimmed(scale * 1e6, 3)
             ));
         }
     }
