@@ -510,6 +510,25 @@ fn a_ball_bar_calibration_beyond_the_transducer_range_is_refused_not_run_to_inf(
         assert!(!out_dir.exists(), "nothing is written");
     }
     accepted(&set("-999.0"));
+    // 100 nm written in the µm key: a 0.1 mm step would quantise every ISO 230-4 figure away,
+    // and `check` refuses it where it stands (the ball-bar resolves 0.1 µm).
+    let at = text
+        .lines()
+        .position(|l| l.starts_with("resolution_um"))
+        .expect("the scenario sets resolution_um")
+        + 1;
+    let coarse: Vec<String> = (text.lines())
+        .map(|l| match l.starts_with("resolution_um") {
+            true => "resolution_um = 100".to_string(),
+            false => l.to_string(),
+        })
+        .collect();
+    let file = scenario_file(dir.path(), "coarse.toml", &(coarse.join("\n") + "\n"));
+    let message = refused_at(&["check", &file], &file, at);
+    assert!(
+        message.contains("ballbar.resolution_um") && message.contains("up to 1 ("),
+        "{message}"
+    );
 }
 
 #[test]

@@ -327,6 +327,14 @@ fn an_etve_scenario_is_refused_where_it_cannot_run() {
             "iso230_3_etve.sample_min: 6 min; ISO 230-3 §5.2 asks for a reading at least every 5 min",
         ),
         (
+            // 8 h written as 8: shorter than the first hour the report's range covers.
+            format!(
+                "{base}[thermal]\n{}",
+                etve.replace("duration_min = 120.0", "duration_min = 8.0")
+            ),
+            "iso230_3_etve.duration_min: 8 min; expected at least 60 (the first-hour range; hours written as minutes?)",
+        ),
+        (
             format!(
                 "{base}[thermal]\n{}",
                 etve.replace("x = 380.0", "x = 900.0")

@@ -458,9 +458,9 @@ fn bad_r_test_sections_are_refused_with_the_line_and_the_reason() {
         (
             base(
                 "sphere_mm = [100.0, 0.0, 250.0]",
-                "name = \"t\"\npoints = 1",
+                "name = \"t\"\npoints = 2",
             ),
-            "expected 2 … 100000 poses",
+            "expected 3 … 100000 poses (a test's circle or line needs three), got 2",
         ),
     ];
     let swing = |to: &str| {

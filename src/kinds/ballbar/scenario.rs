@@ -148,8 +148,9 @@ pub const LIMITS: [(&str, Real, &str); 9] = [
     ),
     (
         "resolution_um",
-        1000.0,
-        "the transducer's ±1 mm range: more is no ball-bar reading",
+        1.0,
+        "a ball-bar resolves 0.1 µm (Renishaw QC20) and the ISO 230-4 figures are a few µm: a \
+         coarser step quantises them away",
     ),
 ];
 

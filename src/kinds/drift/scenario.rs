@@ -212,10 +212,14 @@ fn etve_test(
         )
     };
     let hold = hold_position(machine, &e.hold_mm, &fail)?;
-    if !(e.duration_min.is_finite() && e.duration_min > 0.0 && e.duration_min <= 7.0 * 24.0 * 60.0)
+    // An hour at least: the report's first-hour range and an ETVE value need it (the analysis
+    // cautions a shorter record); "as long as possible" (ISO 230-3 §5.2), at most a week here.
+    if !(e.duration_min.is_finite()
+        && e.duration_min >= 60.0
+        && e.duration_min <= 7.0 * 24.0 * 60.0)
     {
         return Err(fail(format!(
-            "duration_min: {} min; expected more than 0 and at most a week",
+            "duration_min: {} min; expected at least 60 (the first-hour range; hours written as minutes?) and at most a week",
             e.duration_min
         )));
     }

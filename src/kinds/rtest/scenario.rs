@@ -546,12 +546,17 @@ pub(crate) fn rtest(
         let to = angles(&raw_test.to_deg, from, "to_deg")?;
         let points = match &raw_test.points {
             None => 25,
-            Some(p) if (2..=100_000).contains(p.get_ref()) => *p.get_ref() as usize,
+            // Three poses at least: the analysis fits a circle or a line through each test and
+            // refuses fewer.
+            Some(p) if (3..=100_000).contains(p.get_ref()) => *p.get_ref() as usize,
             Some(p) => {
                 return Err(fail(
                     p.span(),
                     "test.points",
-                    format!("{key}: expected 2 … 100000 poses, got {}", p.get_ref()),
+                    format!(
+                        "{key}: expected 3 … 100000 poses (a test's circle or line needs three), got {}",
+                        p.get_ref()
+                    ),
                 ));
             }
         };
