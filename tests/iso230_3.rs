@@ -109,7 +109,7 @@ fn drift_tables_name_their_bad_input() {
         ("x_um\n1\n2\n", "time_min"),
         ("time_min,x\n0,1\n1,2\n", "unknown column `x`"),
         ("time_min\n0\n1\n", "no displacement column"),
-        ("time_min,x_um\n0,1\n0,2\n", "increase"),
+        ("time_min,x_um\n0,1\n0,2\n", "a second reading at 0 min"),
         ("time_min,x_um\n0,1\n1,nan\n", "finite"),
         ("time_min,x_um\n0,1\n", "two rows"),
     ] {

@@ -409,3 +409,29 @@ fn an_r_test_probe_stuck_through_poses_is_named() {
         "{cautions:#?}"
     );
 }
+
+#[test]
+fn a_drift_record_listed_newest_first_reads_as_measured_and_a_time_given_twice_is_refused() {
+    use mtwin::kinds::drift::table::DriftTable;
+    let text = nest_text(100.0, 1.0, 1.0);
+    let mut lines: Vec<&str> = text.lines().collect();
+    let header = lines
+        .iter()
+        .position(|l| l.starts_with("time_min"))
+        .unwrap();
+    lines[header + 1..].reverse();
+    let reversed = lines.join("\n") + "\n";
+    let read = |t: &str| DriftTable::parse(t.as_bytes(), "nest.csv");
+    assert_eq!(read(&reversed).unwrap(), read(&text).unwrap());
+    // The row of 150 min given again after the others.
+    let again = lines
+        .iter()
+        .find(|l| l.starts_with("150,"))
+        .unwrap()
+        .to_string();
+    let error = read(&(reversed + &again + "\n")).unwrap_err().to_string();
+    assert!(
+        error.contains("a second reading at 150 min") && error.contains("pasted again"),
+        "{error}"
+    );
+}

@@ -41,6 +41,9 @@ pub const SENSOR: Range = Range {
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_URAD, Real, fixed, trimmed};
 use std::path::Path;
 
+/// A data row as read: its time (s), line, displacements (SI) and temperatures (°C).
+type ReadRow = (Real, Option<u64>, Vec<Real>, Vec<Real>);
+
 /// One displacement channel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DriftChannel {
@@ -311,6 +314,10 @@ impl DriftTable {
                 format!("ambient_sensor = {sensor}, but there is no column temp_{sensor}_degc"),
             ));
         }
+        // Each row: its time, line, displacements and temperatures. An export may list the rows
+        // in another order (newest first, sorted by a column): they are read in time order, and
+        // two rows at one time are refused (a record pasted again, or two records mixed).
+        let mut rows: Vec<ReadRow> = Vec::new();
         for record in reader.records() {
             let record = row(record, bytes, file)?;
             let line = record.position().map(|p| p.line());
@@ -318,17 +325,37 @@ impl DriftTable {
                 number_within(&record, index, &header[index], file, range)
             };
             let time = within(time_column, crate::io::CLOCK_MIN)? * 60.0;
-            if table.times.last().is_some_and(|last| time <= *last) {
-                return Err(fail(line, "column `time_min`: times must increase".into()));
-            }
+            let displacements = channels
+                .iter()
+                .map(|(index, _, angular)| {
+                    Ok(within(*index, SENSOR)? * if *angular { RAD_PER_URAD } else { M_PER_UM })
+                })
+                .collect::<Result<Vec<Real>, TableError>>()?;
+            let temperatures = sensors
+                .iter()
+                .map(|(index, _)| within(*index, crate::io::THERMOMETER))
+                .collect::<Result<Vec<Real>, TableError>>()?;
+            rows.push((time, line, displacements, temperatures));
+        }
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some(pair) = rows.windows(2).find(|w| w[1].0 <= w[0].0) {
+            let at = |l: Option<u64>| l.map_or("?".to_string(), |l| l.to_string());
+            return Err(fail(
+                pair[1].1,
+                format!(
+                    "column `time_min`: a second reading at {} min (the other at line {}): one nest is read once at each instant; a record pasted again, or two mixed?",
+                    crate::math::trimmed(pair[1].0 / 60.0, 6),
+                    at(pair[0].1)
+                ),
+            ));
+        }
+        for (time, _, displacements, temperatures) in rows {
             table.times.push(time);
-            for ((index, _, angular), channel) in channels.iter().zip(&mut table.channels) {
-                channel
-                    .values
-                    .push(within(*index, SENSOR)? * if *angular { RAD_PER_URAD } else { M_PER_UM });
+            for (channel, value) in table.channels.iter_mut().zip(displacements) {
+                channel.values.push(value);
             }
-            for ((index, _), (_, values)) in sensors.iter().zip(&mut table.temperatures) {
-                values.push(within(*index, crate::io::THERMOMETER)?);
+            for ((_, values), value) in table.temperatures.iter_mut().zip(temperatures) {
+                values.push(value);
             }
         }
         if table.times.len() < 2 {
