@@ -443,13 +443,15 @@ fn a_header_of_a_hundred_thousand_columns_is_read_through() {
     };
     let file = dir.path().join("wide.csv");
     let file_name = file.display().to_string();
+    // 100 000 names the reader does not know are read past (listed as not read); the first
+    // row, 100 000 cells short, is then refused at its line.
     std::fs::write(&file, wide("")).unwrap();
     let message = refused_at(
         &["analyze", "rtest", &file_name],
         &file_name,
-        header_line + 1,
+        header_line + 2,
     );
-    assert!(message.contains("unknown column `c0`"), "{message}");
+    assert!(message.contains("found record with"), "{message}");
     let first = text
         .lines()
         .nth(header_line)

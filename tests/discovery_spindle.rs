@@ -489,6 +489,7 @@ fn base_harmonics_beyond_the_record_or_the_ceiling_are_refused() {
         record: r,
         conditions: mtwin::io::Conditions::default(),
         samples_per_revolution: 16,
+        columns_not_read: Vec::new(),
     };
     std::fs::write(&file, table::write_csv(&t)).unwrap();
     for (k, words) in [("7", "at most 6"), ("1000000", "at most 64")] {
@@ -533,6 +534,7 @@ fn a_flat_probe_column_is_refused_in_words_not_scored() {
             record,
             conditions: mtwin::io::Conditions::default(),
             samples_per_revolution: 64,
+            columns_not_read: Vec::new(),
         };
         std::fs::write(&file, table::write_csv(&t)).unwrap();
         for json in [false, true] {

@@ -170,6 +170,7 @@ fn tilts_are_the_right_handed_rotations_of_the_mandrel() {
         ],
         temperatures: Vec::new(),
         conditions: DriftConditions::default(),
+        columns_not_read: Vec::new(),
     };
     let found = tilts(&table, l);
     assert_eq!(

@@ -107,7 +107,9 @@ fn drift_tables_name_their_bad_input() {
     use mtwin::kinds::drift::DriftTable;
     for (text, words) in [
         ("x_um\n1\n2\n", "time_min"),
-        ("time_min,x\n0,1\n1,2\n", "unknown column `x`"),
+        ("time_min,x\n0,1\n1,2\n", "column `x` has no unit"),
+        ("time_min,x_nm\n0,1\n1,2\n", "column `x_nm` is in nm"),
+        ("time_min,time_s,x_um\n0,0,1\n1,60,2\n", "two clocks"),
         ("time_min\n0\n1\n", "no displacement column"),
         ("time_min,x_um\n0,1\n0,2\n", "a second reading at 0 min"),
         ("time_min,x_um\n0,1\n1,nan\n", "finite"),

@@ -20,6 +20,9 @@ mod plausible;
 #[path = "malformed_inputs/glitches.rs"]
 mod glitches;
 
+#[path = "malformed_inputs/columns.rs"]
+mod columns;
+
 const VMC3: &str = include_str!("../models/vmc3.urdf");
 
 /// `text` with the single occurrence of `from` replaced by `to`.
@@ -1488,8 +1491,22 @@ fn ballbar_table_missing_or_unknown_columns() {
         message.starts_with("bb.csv:1: ") && message.contains("deviation_um"),
         "{message}"
     );
-    let message = ballbar_table_error("direction,angle_deg,deviation_um,radius_mm\nccw,0,1,150\n");
-    assert!(message.contains("unknown column `radius_mm`"), "{message}");
+    // A column the reader does not read is read past and listed; one like a column it reads,
+    // in another unit, is refused by name.
+    let table = mtwin::kinds::ballbar::BallbarTable::parse(
+        b"direction,angle_deg,deviation_um,radius_mm\nccw,0,1,150\n",
+        "bb.csv",
+    )
+    .unwrap();
+    assert_eq!(table.columns_not_read, ["radius_mm"]);
+    assert_eq!(table.readings.len(), 1);
+    let message = ballbar_table_error("direction,angle_deg,deviation_nm\nccw,0,1000\n");
+    assert!(
+        message.starts_with(
+            "bb.csv:1: column `deviation_nm` is in nm, but this reader reads it as `deviation_um`"
+        ),
+        "{message}"
+    );
     let message = ballbar_table_error("direction,angle_deg,deviation_um\n");
     assert!(message.contains("no readings"), "{message}");
 }

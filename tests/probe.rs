@@ -578,15 +578,20 @@ fn the_tables_read_back_and_bad_rows_name_their_line() {
     assert!(bad("1,sphere,0,1,0,0,0,0,0,1\n").contains("column `feature`"));
     assert!(bad("1,sphere,1,1,0,x,0,0,0,1\n").contains("column `y_mm`"));
     let unknown = ProbeTable::parse(
-        b"cycle,kind,feature,point,x_mm,y_mm,z_mm,i,j,k,q\n",
+        b"cycle,kind,feature,point,x_mm,y_mm,z_mm,i,j,k,Q\n1,sphere,1,1,0,0,0,0,0,1,\n",
+        "t.csv",
+    )
+    .unwrap();
+    assert_eq!(unknown.conditions.columns_not_read, ["Q"]);
+    let slip = ProbeTable::parse(
+        b"cycle,kind,feature,point,X (mm),y_mm,z_mm,i,j,k\n",
         "t.csv",
     )
     .unwrap_err();
     assert!(
-        unknown
-            .to_string()
-            .starts_with("t.csv:1: unknown column `q`"),
-        "{unknown}"
+        slip.to_string()
+            .starts_with("t.csv:1: column `X (mm)`: this reader reads `x_mm`"),
+        "{slip}"
     );
     let missing = ProbeTable::parse(
         b"cycle,kind,feature,point,x_mm,y_mm,i,j,k\n1,sphere,1,1,0,0,0,0,1\n",

@@ -442,6 +442,7 @@ fn hand_circle(radius: Real) -> (BallbarTable, ballbar::Setup) {
             ..Default::default()
         },
         machine: None,
+        columns_not_read: Vec::new(),
     };
     let setup = ballbar::Setup {
         centre: Some(AxisValues::from_file_units(&[

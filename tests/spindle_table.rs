@@ -353,9 +353,10 @@ fn the_header_needs_its_columns() {
         "t.csv:2: missing column `time_s` or `speed_rpm` (at least one is required)"
     );
     assert_eq!(
-        refused("x_um,revolution,angle_deg,speed_rpm,temp_c\n0,0,0,60,20\n"),
-        "t.csv:1: unknown column `temp_c`: expected setup, revolution, angle_deg, time_s, \
-         speed_rpm and one NAME_um per probe"
+        refused("x_um,revolution,angle_deg,speed_rpm,y_mm\n0,0,0,60,20\n"),
+        "t.csv:1: column `y_mm` is in mm, but this reader reads channels as `<channel>_um`; \
+         convert the values and rename the column (this reader reads setup, revolution, \
+         angle_deg, time_s, speed_rpm and one NAME_um per probe)"
     );
     assert_eq!(
         refused("X1_um,revolution,angle_deg,speed_rpm\n0,0,0,60\n"),
@@ -547,6 +548,7 @@ fn the_writer_keeps_angles_below_a_turn() {
         },
         conditions: Default::default(),
         samples_per_revolution: 2,
+        columns_not_read: Vec::new(),
     };
     let text = write_csv(&table);
     assert!(

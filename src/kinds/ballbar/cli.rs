@@ -212,13 +212,14 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     Ok(if args.json {
         let mut report = evaluation.to_json();
         report["cautions"] = serde_json::json!(cautions);
+        report["columns_not_read"] = serde_json::json!(table.columns_not_read);
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
         let mut text = evaluation.to_text();
         for caution in &cautions {
             text += &format!("CAUTION: {caution}\n");
         }
-        text
+        text + &crate::io::not_read_line(&table.columns_not_read)
     })
 }
 

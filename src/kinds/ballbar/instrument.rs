@@ -116,6 +116,7 @@ impl Ballbar {
                 centre: Some(circle.centre),
             },
             machine: Some(machine.name().to_string()),
+            columns_not_read: Vec::new(),
         }
     }
 }

@@ -9,6 +9,10 @@
 //! | `deviation_um` | yes | measured distance − nominal radius (µm) |
 //! | `time_s` | no | time since the start of the test (s) |
 //!
+//! Any other column (the carriage's `x_mm`, a feed, a flag) is read past and listed in the
+//! report as not read, unless it looks like one of these written another way
+//! (`Deviation (µm)`, `deviation_nm`, `angle_rad`, `time_ms`), which is refused by name.
+//!
 //! The test conditions travel in the file's preamble (`# key = value` lines before the header,
 //! see [`crate::io::Conditions`]), as `mtwin run` writes them and a real export can carry them:
 //!
@@ -203,6 +207,8 @@ pub struct BallbarTable {
     pub conditions: TestConditions,
     /// The machine's name, from the preamble's `machine`.
     pub machine: Option<String>,
+    /// Columns of the file this reader read past, in header order (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
 
 /// The ball-bar transducer's range (µm): ±1 mm, the QC20-W's (Renishaw's specification); a
@@ -217,6 +223,24 @@ const KNOWN: [&str; 4] = ["direction", "angle_deg", "deviation_um", "time_s"];
 /// The fewest timed readings of a sense from which its angles' turn in time is judged against
 /// its label (a trace has thousands; a handful of hand-typed rows is not judged).
 const MIN_TIMED_FOR_SENSE: usize = 10;
+
+/// Whether each sense's readings were timed on a clock of its own: both senses timed, and
+/// their time spans overlap (a single capture's clock runs on from one sense to the next).
+fn own_clocks(readings: &[BallbarReading]) -> bool {
+    let span = |sense: Sense| {
+        readings
+            .iter()
+            .filter(|r| r.sense == sense)
+            .filter_map(|r| r.time)
+            .fold(None, |span: Option<(Real, Real)>, t| {
+                Some(span.map_or((t, t), |(lo, hi)| (lo.min(t), hi.max(t))))
+            })
+    };
+    match (span(Sense::Ccw), span(Sense::Cw)) {
+        (Some((a0, a1)), Some((b0, b1))) => a0 < b1 && b0 < a1,
+        _ => false,
+    }
+}
 
 impl BallbarTable {
     /// Reads a ball-bar table file.
@@ -233,15 +257,17 @@ impl BallbarTable {
         let machine = stated.get("machine").map(|(m, _)| m.to_string());
         let mut reader = csv_reader(bytes);
         let (header, header_line) = read_header(&mut reader, file)?;
-        for name in &header {
-            if !KNOWN.contains(&name) {
+        let mut columns_not_read = Vec::new();
+        for name in header.iter().filter(|name| !KNOWN.contains(name)) {
+            if let Some(message) = crate::io::looks_like(name, &KNOWN) {
                 return Err(fail(
                     Some(header_line),
                     format!(
-                        "unknown column `{name}`: expected direction, angle_deg, deviation_um or time_s"
+                        "{message} (this reader reads direction, angle_deg, deviation_um and time_s)"
                     ),
                 ));
             }
+            columns_not_read.push(name.to_string());
         }
         let column = |name: &str| header.iter().position(|h| h == name);
         let required = |name: &str| {
@@ -320,14 +346,18 @@ impl BallbarTable {
             ));
         }
         // `first_direction` against the rows: the sense of the first reading (the earliest
-        // when every reading has a time).
+        // when every reading has a time on one clock; in file order when each sense's capture
+        // kept its own clock, both starting near 0, as an instrument that saves each run as
+        // its own file and a user who joins them write it).
         if let (Some(first), Some((text, line))) = (conditions.first, stated.get("first_direction"))
         {
+            let one_clock = !own_clocks(&readings);
             let earliest = readings
                 .iter()
                 .enumerate()
                 .map(|(i, r)| r.time.map(|t| (i, t)))
                 .collect::<Option<Vec<_>>>()
+                .filter(|_| one_clock)
                 .and_then(|timed| timed.into_iter().min_by(|a, b| a.1.total_cmp(&b.1)))
                 .map_or(0, |(i, _)| i);
             let sense = readings[earliest].sense;
@@ -351,6 +381,7 @@ impl BallbarTable {
             readings,
             conditions,
             machine,
+            columns_not_read,
         };
         if let Some(message) =
             table.timing_contradiction(stated.get("sample_rate_hz").map(|(_, l)| l))

@@ -248,5 +248,12 @@ fn drift_text(report: &serde_json::Value) -> String {
             .flatten()
             .filter_map(|k| k.as_str()),
     );
+    let not_read: Vec<&str> = report["columns_not_read"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|k| k.as_str())
+        .collect();
+    out += &crate::io::not_read_line(&not_read);
     out
 }

@@ -183,7 +183,8 @@ pub fn tilts(table: &DriftTable, spacing: Real) -> Vec<DriftChannel> {
 /// ([`DriftTable::ambient`]). JSON keys: `kind` ("drift"), `test`, `etve_duration_min`,
 /// `ambient_sensor`, `spacing_mm`, `conditions` (what the preamble said: `control`,
 /// `hold_mm`, `first_mm`, `programme`, `speed_rpm`, `spectrum`, `run_min`, `stop_min`, each
-/// null when not said), `preamble_not_used` (keys the reader does not know), `cautions`,
+/// null when not said), `preamble_not_used` (keys the reader does not know),
+/// `columns_not_read` (columns it read past), `cautions`,
 /// `channels` (each `name`, `unit` ("um" or "urad"), `derived` (a tilt), `range_60_<unit>`,
 /// `range_run_<unit>` (null without `run_min`), `range_<unit>`, `stop_min`, `etve_<unit>`,
 /// `etve_window_min` [start, end], `etve_ambient_range_degc`, `note`).
@@ -269,6 +270,7 @@ pub fn drift_report(
             "stop_min": c.stop.map(|s| s / 60.0),
         },
         "preamble_not_used": c.other.iter().map(|(k, _)| k.clone()).collect::<Vec<_>>(),
+        "columns_not_read": table.columns_not_read,
         "cautions": cautions,
         "channels": channels,
     })

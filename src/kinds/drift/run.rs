@@ -169,6 +169,7 @@ pub fn simulate(twin: &Twin, test: &EtveTest, setup: &ThermalSetup, seed: u64) -
             first: Some(test.nest.first),
             ..DriftConditions::default()
         },
+        columns_not_read: Vec::new(),
     };
     EtveRun {
         table,

@@ -549,6 +549,7 @@ pub fn simulate(
         times: times.clone(),
         channels: readings.channels,
         temperatures: readings.temperatures,
+        columns_not_read: Vec::new(),
     };
     SpindleThermalRun {
         table,
@@ -604,6 +605,7 @@ pub fn truth(test: &SpindleThermalTest, run: &SpindleThermalRun) -> Value {
         channels: run.true_channels.clone(),
         temperatures: Vec::new(),
         conditions: DriftConditions::default(),
+        columns_not_read: Vec::new(),
     };
     let derived = tilts(&noise_free, test.nest.spacing);
     let channels: Vec<Value> = run

@@ -3,10 +3,14 @@
 //!
 //! | column | required | meaning |
 //! |---|---|---|
-//! | `time_min` | yes | time since the start (min), increasing |
+//! | `time_min` | yes | time since the start (min); or `time_s` (s), `time_h` (h) |
 //! | `<channel>_um` | at least one channel | a linear displacement (µm) |
 //! | `<channel>_urad` | | an angular displacement (µrad) |
 //! | `temp_<sensor>_degc` | no | temperatures (°C); the ambient is the preamble's `ambient_sensor`, else the first |
+//!
+//! Any other column (the date, the humidity, a pressure) is read past and listed in the report
+//! as not read, unless it looks like a channel, a clock or a thermometer written another way
+//! (`x` without its unit, `x_nm`, `a_arcsec`, `temp_c`, `Time (min)`), which is refused by name.
 //!
 //! The test's conditions travel in the file's preamble (`# key = value` lines before the
 //! header, see [`crate::io::Conditions`]), as `mtwin run` writes them and a real export can
@@ -240,7 +244,12 @@ pub struct DriftTable {
     pub temperatures: Vec<(String, Vec<Real>)>,
     /// The test conditions from the file's preamble (none for a file without one).
     pub conditions: DriftConditions,
+    /// Columns of the file this reader read past, in header order (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
+
+/// The clock columns a drift table may carry, with their unit in seconds.
+const CLOCKS: [(&str, f64); 3] = [("time_min", 60.0), ("time_s", 1.0), ("time_h", 3600.0)];
 
 impl DriftTable {
     /// Reads a drift table file.
@@ -256,12 +265,13 @@ impl DriftTable {
         let conditions = DriftConditions::from_preamble(&stated, file)?;
         let mut reader = csv_reader(bytes);
         let (header, header_line) = read_header(&mut reader, file)?;
-        let mut time_column = None;
+        let clock = crate::io::clock(&header, &CLOCKS, header_line, file)?;
         let mut channels = Vec::new(); // (column, name, angular)
         let mut sensors = Vec::new(); // (column, name)
+        let mut columns_not_read = Vec::new();
         for (index, name) in header.iter().enumerate() {
-            if name == "time_min" {
-                time_column = Some(index);
+            if CLOCKS.iter().any(|(clock, _)| *clock == name) {
+                continue;
             } else if let Some(sensor) = name
                 .strip_prefix("temp_")
                 .and_then(|r| r.strip_suffix("_degc"))
@@ -272,17 +282,29 @@ impl DriftTable {
                 channels.push((index, channel.to_string(), true));
             } else if let Some(channel) = name.strip_suffix("_um").filter(|c| !c.is_empty()) {
                 channels.push((index, channel.to_string(), false));
-            } else {
+            } else if let Some(message) = crate::io::looks_like(name, &["time_min"])
+                .or_else(|| crate::io::thermometer_slip(name))
+                .or_else(|| {
+                    use crate::io::Quantity::{Angle, Length};
+                    crate::io::channel_slip(name, &["um", "urad"], &[Length, Angle])
+                })
+            {
                 return Err(fail(
                     Some(header_line),
                     format!(
-                        "unknown column `{name}`: expected time_min, <channel>_um, <channel>_urad or temp_<sensor>_degc"
+                        "{message} (this reader reads time_min, <channel>_um, <channel>_urad and temp_<sensor>_degc)"
                     ),
                 ));
+            } else {
+                columns_not_read.push(name.to_string());
             }
         }
-        let time_column = time_column
-            .ok_or_else(|| fail(Some(header_line), "missing column `time_min`".into()))?;
+        let clock = clock.ok_or_else(|| {
+            fail(
+                Some(header_line),
+                "missing column `time_min` (or `time_s`, `time_h`)".into(),
+            )
+        })?;
         if channels.is_empty() {
             return Err(fail(
                 Some(header_line),
@@ -305,6 +327,7 @@ impl DriftTable {
                 .map(|(_, name)| (name.clone(), Vec::new()))
                 .collect(),
             conditions,
+            columns_not_read,
         };
         if let Some(sensor) = &table.conditions.ambient_sensor
             && !table.temperatures.iter().any(|(name, _)| name == sensor)
@@ -324,7 +347,7 @@ impl DriftTable {
             let within = |index: usize, range: Range| {
                 number_within(&record, index, &header[index], file, range)
             };
-            let time = within(time_column, crate::io::CLOCK_MIN)? * 60.0;
+            let time = clock.seconds(&record, file)?;
             let displacements = channels
                 .iter()
                 .map(|(index, _, angular)| {
@@ -343,7 +366,7 @@ impl DriftTable {
             return Err(fail(
                 pair[1].1,
                 format!(
-                    "column `time_min`: a second reading at {} min (the other at line {}): one nest is read once at each instant; a record pasted again, or two mixed?",
+                    "a second reading at {} min (the other at line {}): one nest is read once at each instant; a record pasted again, or two mixed?",
                     crate::math::trimmed(pair[1].0 / 60.0, 6),
                     at(pair[0].1)
                 ),

@@ -131,12 +131,14 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
                 table.conditions.report().1,
                 series.to_text_with(verbose),
                 crate::io::not_used_line(&table.conditions.not_used)
+                    + &crate::io::not_read_line(&table.columns_not_read)
             ),
             Some(series) => format!(
                 "ISO 230-3 drift record, axis {axis}: no ISO 230-2 figures ({why}).\n{}{}{}",
                 table.conditions.report().1,
                 series.to_text_with(verbose),
                 crate::io::not_used_line(&table.conditions.not_used)
+                    + &crate::io::not_read_line(&table.columns_not_read)
             ),
             None => bail!("{}: {why}", file.display()),
         },

@@ -304,7 +304,7 @@ impl Iso230_2 {
     /// direction they need), `targets` (per target: `target_mm, n_up, n_down, mean_up_um,
     /// mean_down_um, s_up_um, s_down_um, R_up_um, R_down_um, mean_um, B_um, R_um`), and `kind`,
     /// `standard`, `axis`, `n_targets`, `n_runs`, `bidirectional`, `note`, `conditions` (what the
-    /// preamble said: [`super::conditions::PositioningConditions::report`]), `preamble_not_used`,
+    /// preamble said: [`super::conditions::PositioningConditions::report`]), `preamble_not_used`, `columns_not_read`,
     /// `cautions` ([`super::plausible::cautions`]); for a thermal series
     /// (see [`super::thermal_series`]) also `runs` and `drift`.
     pub fn to_json(&self, table: &PositioningTable) -> serde_json::Value {
@@ -353,6 +353,7 @@ impl Iso230_2 {
             "targets": targets,
             "conditions": table.conditions.report().0,
             "preamble_not_used": table.conditions.not_used,
+            "columns_not_read": table.columns_not_read,
             "cautions": super::plausible::cautions(table),
         });
         if let Some(series) = super::thermal_series::thermal_series(table) {
@@ -460,6 +461,7 @@ impl Iso230_2 {
             let _ = writeln!(out, "\nNote: {note}.");
         }
         out += &crate::io::not_used_line(&table.conditions.not_used);
+        out += &crate::io::not_read_line(&table.columns_not_read);
         out
     }
 }

@@ -263,6 +263,7 @@ impl Laser {
             has_direction: true,
             readings,
             conditions: PositioningConditions::default(),
+            columns_not_read: Vec::new(),
         }
     }
 }

@@ -9,8 +9,12 @@
 //! | `axis` | no | `X`, `Y` or `Z` |
 //! | `run` | no | run label; runs are ordered by first appearance |
 //! | `direction` | no | `+` reached while travelling positive, `-` negative |
-//! | `time_min` | no | time since the start of the test (min) |
+//! | `time_min` | no | time since the start of the test (min); or `time_s` (s), `time_h` (h) |
 //! | `temp_<sensor>_degc` | no, any number | temperatures (°C) |
+//!
+//! Any other column (a status flag, a comment, the operator) is read past and listed in the
+//! report as not read, unless it looks like one of these written another way (`Deviation (µm)`,
+//! `deviation_nm`, `temp_c`), which is refused by name ([`crate::io`]'s column checks).
 //!
 //! Without `direction`, every reading counts as one direction (`+`). Without `run`, the k-th
 //! reading at a target in a direction belongs to run k. The test's conditions (test, axis,
@@ -58,6 +62,8 @@ pub struct PositioningTable {
     pub readings: Vec<PositioningReading>,
     /// The test conditions from the file's preamble (none for a file without one).
     pub conditions: PositioningConditions,
+    /// Columns of the file this reader read past, in header order (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
 
 /// The largest deviation a positioning reading may have (m): the scenarios' own limit on any
@@ -70,14 +76,19 @@ pub const LARGEST_DEVIATION: Real = crate::scenario::errors::LARGEST_ERROR;
 /// (Renishaw XL-80, Keysight 5530); a target beyond it is not a laser measurement.
 pub const LARGEST_TARGET: Real = 80.0;
 
-const KNOWN: [&str; 6] = [
+const KNOWN: [&str; 8] = [
     "target_mm",
     "deviation_um",
     "axis",
     "run",
     "direction",
     "time_min",
+    "time_s",
+    "time_h",
 ];
+
+/// The clock columns a positioning table may carry, with their unit in seconds.
+const CLOCKS: [(&str, Real); 3] = [("time_min", 60.0), ("time_s", 1.0), ("time_h", 3600.0)];
 
 impl PositioningTable {
     /// Reads a positioning table file.
@@ -96,6 +107,7 @@ impl PositioningTable {
         let column = |name: &str| header.iter().position(|h| h == name);
         let mut sensors = Vec::new();
         let mut sensor_columns = Vec::new();
+        let mut columns_not_read = Vec::new();
         for (index, name) in header.iter().enumerate() {
             if KNOWN.contains(&name) {
                 continue;
@@ -109,13 +121,18 @@ impl PositioningTable {
                     sensor_columns.push(index);
                 }
                 _ => {
-                    return Err(fail(
-                        Some(header_line),
-                        format!(
-                            "unknown column `{name}`: expected target_mm, deviation_um, axis, run, direction, \
-                             time_min or temp_<sensor>_degc"
-                        ),
-                    ));
+                    if let Some(message) = crate::io::looks_like(name, &KNOWN)
+                        .or_else(|| crate::io::thermometer_slip(name))
+                    {
+                        return Err(fail(
+                            Some(header_line),
+                            format!(
+                                "{message} (this reader reads target_mm, deviation_um, axis, run, direction, \
+                                 time_min and temp_<sensor>_degc)"
+                            ),
+                        ));
+                    }
+                    columns_not_read.push(name.to_string());
                 }
             }
         }
@@ -128,12 +145,9 @@ impl PositioningTable {
             })
         };
         let (target_column, deviation_column) = (required("target_mm")?, required("deviation_um")?);
-        let (axis_column, run_column, direction_column, time_column) = (
-            column("axis"),
-            column("run"),
-            column("direction"),
-            column("time_min"),
-        );
+        let (axis_column, run_column, direction_column) =
+            (column("axis"), column("run"), column("direction"));
+        let clock = crate::io::clock(&header, &CLOCKS, header_line, file)?;
 
         let mut axis: Option<Axis> = None;
         let mut runs: Vec<String> = Vec::new();
@@ -230,11 +244,9 @@ impl PositioningTable {
                     count - 1
                 }
             };
-            let time = time_column
-                .map(|index| {
-                    crate::io::number_within(&record, index, "time_min", file, crate::io::CLOCK_MIN)
-                        .map(|t| t * 60.0)
-                })
+            let time = clock
+                .as_ref()
+                .map(|clock| clock.seconds(&record, file))
                 .transpose()?;
             let temperatures = sensor_columns
                 .iter()
@@ -272,6 +284,7 @@ impl PositioningTable {
             has_direction: direction_column.is_some(),
             readings,
             conditions,
+            columns_not_read,
         };
         table
             .conditions

@@ -305,6 +305,7 @@ impl ThermalSeries {
             "drift": drift,
             "conditions": table.conditions.report().0,
             "preamble_not_used": table.conditions.not_used,
+            "columns_not_read": table.columns_not_read,
             "cautions": [],
         });
         for key in [

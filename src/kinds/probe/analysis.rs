@@ -186,6 +186,8 @@ pub struct ProbeEvaluation {
     pub mesh_points: Vec<SurfacePoint>,
     /// What the touches say against the set-up ([`super::plausible`]), a sentence each.
     pub cautions: Vec<String>,
+    /// Columns of the table its reader read past (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
 
 /// The rows of each (cycle, feature), in order of first appearance: one hash look-up per row,
@@ -238,6 +240,7 @@ pub fn evaluate(
         plates: Vec::new(),
         mesh_points: Vec::new(),
         cautions: Vec::new(),
+        columns_not_read: table.conditions.columns_not_read.clone(),
     };
     for group in features(table)? {
         let key = group[0].key;
@@ -492,6 +495,7 @@ impl ProbeEvaluation {
             "plates": plates,
             "mesh_points": mesh_points,
             "cautions": self.cautions,
+            "columns_not_read": self.columns_not_read,
         })
     }
 
@@ -567,6 +571,7 @@ impl ProbeEvaluation {
         for caution in &self.cautions {
             let _ = writeln!(out, "\nCAUTION: {caution}.");
         }
+        out += &crate::io::not_read_line(&self.columns_not_read);
         out
     }
 }

@@ -92,6 +92,7 @@ pub fn simulate(twin: &Twin, test: &ProbeTest, seed: u64) -> Result<ProbeRun, Pr
         stylus_radius: Some(test.probe.stylus_radius),
         feed: Some(test.probe.feed),
         machine: Some(test.machine.clone()),
+        columns_not_read: Vec::new(),
     };
     let probe = ProbeTable {
         touches,

@@ -30,15 +30,19 @@ use crate::io::{Conditions, TableError, csv_reader, finite_number, read_file, re
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Vector, fixed, trimmed};
 use std::path::Path;
 
-/// What a table's preamble says (SI; each absent when the file does not say).
+/// What a table's preamble says (SI; each absent when the file does not say), and the columns
+/// its reader read past.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ProbeConditions {
-    /// The stylus radius the controller used (m).
+    /// The stylus radius the controller used (m); 0 for points already compensated to the
+    /// surface.
     pub stylus_radius: Option<Real>,
     /// The approach feed (m/s).
     pub feed: Option<Real>,
     /// The machine's name.
     pub machine: Option<String>,
+    /// Columns of the file the reader read past, in header order (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
 
 impl ProbeConditions {
@@ -53,10 +57,24 @@ impl ProbeConditions {
                 other => Ok(other),
             }
         };
+        // A stylus radius of 0 says the points are already compensated to the surface.
+        let stylus_radius = match c.number("stylus_radius_mm", file)? {
+            Some(r) if r < 0.0 => {
+                return Err(TableError::new(
+                    file,
+                    c.get("stylus_radius_mm").map(|(_, l)| l),
+                    format!(
+                        "stylus_radius_mm = {r}: expected a radius ≥ 0 (0 for points already compensated)"
+                    ),
+                ));
+            }
+            r => r,
+        };
         Ok(ProbeConditions {
-            stylus_radius: positive("stylus_radius_mm")?.map(|r| r * M_PER_MM),
+            stylus_radius: stylus_radius.map(|r| r * M_PER_MM),
             feed: positive("feed_mm_per_min")?.map(|f| f * M_PER_MM / 60.0),
             machine: c.get("machine").map(|(m, _)| m.to_string()),
+            columns_not_read: Vec::new(),
         })
     }
 
@@ -159,6 +177,7 @@ const SPHERES_REQUIRED: [&str; 9] = [
 /// The columns of a header, checked against the required and optional names.
 struct Columns {
     header: csv::StringRecord,
+    not_read: Vec<String>,
 }
 
 impl Columns {
@@ -168,20 +187,27 @@ impl Columns {
         required: &[&str],
         file: &str,
     ) -> Result<Columns, TableError> {
-        for name in &header {
-            if !required.contains(&name) && !ROTARY.contains(&name) && !CALIBRATION.contains(&name)
-            {
+        let known: Vec<&str> = required
+            .iter()
+            .copied()
+            .chain(ROTARY)
+            .chain(CALIBRATION)
+            .collect();
+        let mut not_read = Vec::new();
+        for name in header.iter().filter(|name| !known.contains(name)) {
+            if let Some(message) = crate::io::looks_like(name, &known) {
                 return Err(TableError::new(
                     file,
                     Some(line),
                     format!(
-                        "unknown column `{name}`: expected {}, and optionally {} and {}",
+                        "{message} (this reader reads {}, and optionally {} and {})",
                         required.join(", "),
                         ROTARY.join(", "),
                         CALIBRATION.join(", ")
                     ),
                 ));
             }
+            not_read.push(name.to_string());
         }
         for name in required {
             if !header.iter().any(|h| h == *name) {
@@ -205,7 +231,7 @@ impl Columns {
                 "cal_x_mm, cal_y_mm and cal_z_mm come together: give all three or none".into(),
             ));
         }
-        Ok(Columns { header })
+        Ok(Columns { header, not_read })
     }
 
     fn index(&self, name: &str) -> Option<usize> {
@@ -320,10 +346,11 @@ fn read_rows(
     required: &[&str],
     mut each: impl FnMut(&Cells<'_>) -> Result<(), TableError>,
 ) -> Result<ProbeConditions, TableError> {
-    let conditions = ProbeConditions::from_preamble(&Conditions::parse(bytes, file)?, file)?;
+    let mut conditions = ProbeConditions::from_preamble(&Conditions::parse(bytes, file)?, file)?;
     let mut reader = csv_reader(bytes);
     let (header, line) = read_header(&mut reader, file)?;
     let columns = Columns::check(header, line, required, file)?;
+    conditions.columns_not_read.clone_from(&columns.not_read);
     let mut rows = 0;
     for record in reader.records() {
         let record = row(record, bytes, file)?;

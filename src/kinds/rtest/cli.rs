@@ -68,12 +68,14 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
         let mut report = serde_json::to_value(&evaluation)?;
         report["setup"] = setup;
         report["cautions"] = serde_json::json!(cautions);
+        report["columns_not_read"] = serde_json::json!(table.columns_not_read);
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
         let mut text = to_text(&evaluation);
         for caution in &cautions {
             text += &format!("CAUTION: {caution}\n");
         }
+        text += &crate::io::not_read_line(&table.columns_not_read);
         // The set-up after the title line.
         match text.split_once('\n') {
             Some((title, rest)) => format!("{title}\n{said}{rest}"),

@@ -343,6 +343,7 @@ pub fn planned(
             ),
             ("zero", zero.name().to_string()),
         ]),
+        columns_not_read: Vec::new(),
     };
     for test in tests {
         let poses = super::program::static_poses(machine, &mut workspace, test, sphere, 0.0)

@@ -116,6 +116,7 @@ pub fn simulate(twin: &Twin, test: &RTest, seed: u64) -> Result<RtestTable, Rtes
     Ok(RtestTable {
         rows,
         conditions: conditions(twin, test),
+        columns_not_read: Vec::new(),
     })
 }
 

@@ -74,6 +74,8 @@ pub struct RtestTable {
     pub rows: Vec<RtestRow>,
     /// The preamble (empty for a file without one).
     pub conditions: Conditions,
+    /// Columns of the file this reader read past, in header order (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
 
 /// The frames a table's deviations may be stated in (`# frame = …`): `machine`, the machine's
@@ -198,21 +200,25 @@ impl RtestTable {
         }
         let mut reader = csv_reader(bytes);
         let (header, header_line) = read_header(&mut reader, file)?;
-        let known = |name: &str| {
-            ["test", "point", "time_s"].contains(&name)
-                || ANGLES.contains(&name)
-                || LINEAR.contains(&name)
-                || DEVIATION.contains(&name)
-                || PROBES.contains(&name)
-        };
-        if let Some(name) = header.iter().find(|n| !known(n)) {
-            return Err(fail(
-                Some(header_line),
-                format!(
-                    "unknown column `{name}`: expected test, point, time_s, a_deg/b_deg/c_deg, \
-                     x_mm/y_mm/z_mm, dx_um, dy_um, dz_um, probe1_um … probe4_um"
-                ),
-            ));
+        let known: Vec<&str> = ["test", "point", "time_s"]
+            .into_iter()
+            .chain(ANGLES)
+            .chain(LINEAR)
+            .chain(DEVIATION)
+            .chain(PROBES)
+            .collect();
+        let mut columns_not_read = Vec::new();
+        for name in header.iter().filter(|name| !known.contains(name)) {
+            if let Some(message) = crate::io::looks_like(name, &known) {
+                return Err(fail(
+                    Some(header_line),
+                    format!(
+                        "{message} (this reader reads test, point, time_s, a_deg/b_deg/c_deg, \
+                         x_mm/y_mm/z_mm, dx_um, dy_um, dz_um, probe1_um … probe4_um)"
+                    ),
+                ));
+            }
+            columns_not_read.push(name.to_string());
         }
         let column = |name: &str| header.iter().position(|h| h == name);
         let required = |name: &str| {
@@ -314,7 +320,11 @@ impl RtestTable {
             return Err(fail(None, "no data rows".into()));
         }
         super::angles::check(&rows, &lines, file)?;
-        Ok(RtestTable { rows, conditions })
+        Ok(RtestTable {
+            rows,
+            conditions,
+            columns_not_read,
+        })
     }
 
     /// The table as CSV: the preamble, then the columns the rows have (angles of the axes

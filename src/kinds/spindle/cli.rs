@@ -221,13 +221,14 @@ fn analyze(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Strin
         let (described, _) = super::stated::described(&table.conditions);
         report["setup"] = described;
         report["cautions"] = json!(cautions);
+        report["columns_not_read"] = json!(table.columns_not_read);
         format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
         let mut text = to_text(&table, &evaluation);
         for caution in &cautions {
             text += &format!("CAUTION: {caution}\n");
         }
-        text
+        text + &crate::io::not_read_line(&table.columns_not_read)
     })
 }
 

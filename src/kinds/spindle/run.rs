@@ -127,6 +127,7 @@ pub fn simulate(
         record: out,
         conditions: conditions(test, &chain, &twin.machine),
         samples_per_revolution: test.samples_per_revolution,
+        columns_not_read: Vec::new(),
     })
 }
 

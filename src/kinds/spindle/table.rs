@@ -12,6 +12,10 @@
 //! | `speed_rpm` | one of the two | commanded speed, signed (positive for positive rotation of the axis); constant within a run (stored in rad/s) |
 //! | `NAME_um` | at least one | the reading of probe `NAME` (µm; artefact motion along the probe's direction increases it); `NAME` is lower-case letters, digits and `_` |
 //!
+//! Any other column (a sample index, a thermometer) is read past and listed in the report as
+//! not read, unless it looks like one of these written another way (`Angle (deg)`, `x_mm`, a
+//! probe `x` without its unit), which is refused by name.
+//!
 //! A **run** is a stretch of consecutive rows with the same `setup` and `speed_rpm` whose
 //! revolution numbers do not go back: a change of set-up or speed, or a revolution number lower
 //! than the row before, starts the next run.
@@ -96,6 +100,8 @@ pub struct SpindleTable {
     pub conditions: Conditions,
     /// Samples in every revolution.
     pub samples_per_revolution: usize,
+    /// Columns of the file this reader read past, in header order (no figure depends on them).
+    pub columns_not_read: Vec<String>,
 }
 
 /// The fixed columns.
@@ -240,8 +246,10 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
     let mut reader = csv_reader(bytes);
     let (header, header_line) = read_header(&mut reader, file)?;
     let mut probe_columns: Vec<(usize, String)> = Vec::new();
+    let mut columns_not_read = Vec::new();
+    let fixed = [SETUP, REVOLUTION, ANGLE, TIME, SPEED];
     for (index, name) in header.iter().enumerate() {
-        if [SETUP, REVOLUTION, ANGLE, TIME, SPEED].contains(&name) {
+        if fixed.contains(&name) {
             continue;
         }
         match name.strip_suffix("_um") {
@@ -261,13 +269,19 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
                 probe_columns.push((index, probe.to_string()));
             }
             _ => {
-                return Err(fail(
-                    Some(header_line),
-                    format!(
-                        "unknown column `{name}`: expected setup, revolution, angle_deg, time_s, \
-                         speed_rpm and one NAME_um per probe"
-                    ),
-                ));
+                let slip = crate::io::looks_like(name, &fixed).or_else(|| {
+                    crate::io::channel_slip(name, &["um"], &[crate::io::Quantity::Length])
+                });
+                if let Some(message) = slip {
+                    return Err(fail(
+                        Some(header_line),
+                        format!(
+                            "{message} (this reader reads setup, revolution, angle_deg, time_s, \
+                             speed_rpm and one NAME_um per probe)"
+                        ),
+                    ));
+                }
+                columns_not_read.push(name.to_string());
             }
         }
     }
@@ -520,6 +534,7 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
         },
         conditions,
         samples_per_revolution,
+        columns_not_read,
     })
 }
 
