@@ -340,4 +340,41 @@ fn one_sphere_centre_off_is_named_and_laser_readings_below_their_noise_are_cauti
     )
     .unwrap();
     assert!(json["cautions"][0].as_str().unwrap().contains("2.54"));
+
+    // The table's own cautions travel into the estimate: the same readings with the air
+    // logged at 24.1 °C by a laser that compensated nothing (3.8 ppm of scale it read).
+    let preamble: String = text
+        .lines()
+        .take(header)
+        .filter(|l| !l.starts_with("# compensation"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let rows: String = text
+        .lines()
+        .skip(header)
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 => format!("{l},temp_air_degc\n"),
+            _ => format!("{l},24.1\n"),
+        })
+        .collect();
+    let warm = dir.path().join("warm.csv");
+    std::fs::write(&warm, format!("{preamble}# compensation = none\n{rows}")).unwrap();
+    let report = ok(&identify(&warm, "warm"));
+    assert!(
+        report.contains("warm.csv: compensation = none: the laser did not correct for the air"),
+        "{report}"
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("warm/estimate.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        json["cautions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|c| c.as_str().unwrap().contains("did not correct for the air")),
+        "{json}"
+    );
 }

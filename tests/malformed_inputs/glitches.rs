@@ -435,3 +435,150 @@ fn a_drift_record_listed_newest_first_reads_as_measured_and_a_time_given_twice_i
         "{error}"
     );
 }
+
+/// An R-test table with raw probe readings, built from the nest's geometry written out here:
+/// three probes at azimuths 0°, 120°, 240°, each axis (from the sphere centre out to the probe)
+/// asin(1/√3) above the plane normal to the tool, reading aᵢ·v + offset with v = −d the
+/// sphere's move relative to the nest. `dz_sign`, `d_sign` then rewrite the deviations as a
+/// file in another convention would hold them.
+fn rtest_with_probes(d_sign: f64, dz_sign: f64) -> String {
+    let elevation = (1.0 / 3f64.sqrt()).asin();
+    let axes: Vec<[f64; 3]> = (0..3)
+        .map(|i| {
+            let azimuth = (120.0 * i as f64).to_radians();
+            [
+                elevation.cos() * azimuth.cos(),
+                elevation.cos() * azimuth.sin(),
+                elevation.sin(),
+            ]
+        })
+        .collect();
+    let mut noise = super::plausible::Noise(17);
+    let mut text = String::from("test,c_deg,dx_um,dy_um,dz_um,probe1_um,probe2_um,probe3_um\n");
+    for (name, tilt) in [("C circle", 4.0), ("C circle B", -3.0)] {
+        for k in 0..=36 {
+            let c = (10.0 * k as f64).to_radians();
+            // A K4-like circle, and a sag twice a turn that dx, dy cannot mimic.
+            let d = [
+                10.0 * (c.cos() - 1.0),
+                10.0 * c.sin(),
+                tilt * (2.0 * c).sin(),
+            ];
+            let probes: Vec<String> = axes
+                .iter()
+                .enumerate()
+                .map(|(i, a)| {
+                    let along = -(a[0] * d[0] + a[1] * d[1] + a[2] * d[2]);
+                    format!("{:.3}", along - 9.0 + i as f64 + 0.02 * noise.next())
+                })
+                .collect();
+            text += &format!(
+                "{name},{},{:.4},{:.4},{:.4},{}\n",
+                10 * k,
+                d_sign * d[0],
+                d_sign * d[1],
+                d_sign * dz_sign * d[2],
+                probes.join(",")
+            );
+        }
+    }
+    text
+}
+
+#[test]
+fn deviations_in_the_other_sign_convention_than_the_probes_are_refused() {
+    use mtwin::kinds::rtest::RtestTable;
+    let clean = RtestTable::parse(rtest_with_probes(1.0, 1.0).as_bytes(), "r.csv");
+    assert!(clean.is_ok(), "{:?}", clean.err());
+    // The sphere relative to the tool (every deviation negated), or dz alone flipped: the
+    // probes' sum rises with dz by √3 (three probes each sin(35.26°) = 1/√3 along the tool).
+    for (d_sign, dz_sign) in [(-1.0, 1.0), (1.0, -1.0)] {
+        let error = RtestTable::parse(rtest_with_probes(d_sign, dz_sign).as_bytes(), "r.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.starts_with(
+                "r.csv: the probes' readings rise with dz_um (test \"C circle\": their sum 1.73"
+            ),
+            "{error}"
+        );
+    }
+}
+
+#[test]
+fn a_laser_without_air_compensation_in_warm_air_is_named_with_its_scale_error() {
+    use mtwin::kinds::positioning::{PositioningTable, plausible};
+    // The clean rows with the air logged at 24.1 °C, the laser compensating nothing.
+    let warm: Vec<_> = positioning_rows()
+        .into_iter()
+        .map(|(run, d, t, dev, time, _)| (run, d, t, dev, time, 24.1))
+        .collect();
+    let text = format!(
+        "# compensation = none\n{}",
+        super::plausible::positioning_text(&warm)
+    );
+    let table = PositioningTable::parse(text.as_bytes(), "laser.csv").unwrap();
+    let cautions = plausible::cautions(&table);
+    let caution = cautions
+        .iter()
+        .find(|c| c.starts_with("compensation = none"))
+        .unwrap_or_else(|| panic!("{cautions:#?}"));
+    // n − 1 = 2.71e-4 at 20 °C falls as 1/(1 + 0.003661 t) (an ideal gas at constant
+    // pressure): 2.71e-4 · (1 − 1.07322/1.08823) = 3.74 ppm; the wetter air at 50 %RH adds
+    // about 0.06 ppm. Over the 500 mm measured: 1.9 µm.
+    let ppm: f64 = caution
+        .split(" ppm short")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{caution}"));
+    assert!((3.7..3.95).contains(&ppm), "{caution}");
+    assert!(caution.contains("over the 500 mm measured"), "{caution}");
+    // Compensated, or at 20.2 °C (0.19 ppm, 0.09 µm over 500 mm), nothing is said.
+    let compensated = text.replace("compensation = none", "compensation = air");
+    let table = PositioningTable::parse(compensated.as_bytes(), "laser.csv").unwrap();
+    assert!(plausible::cautions(&table).is_empty());
+    let cool = format!(
+        "# compensation = none\n{}",
+        super::plausible::positioning_text(&positioning_rows())
+    );
+    let table = PositioningTable::parse(cool.as_bytes(), "laser.csv").unwrap();
+    assert!(plausible::cautions(&table).is_empty());
+}
+
+#[test]
+fn two_spindle_probes_on_one_signal_are_named() {
+    let clean = super::plausible::spindle_cautions(|_, _, v| v);
+    assert!(clean.is_empty(), "{clean:#?}");
+    // The foreign analyser's export with its second probe's readings replaced by the first's
+    // plus 3 µm (one probe on two inputs, the second with its own stand-off), then by the
+    // first's negated.
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/spindle/foreign_sea.csv");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let names: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let probes: Vec<usize> = (0..names.len())
+        .filter(|&i| names[i].ends_with("_um"))
+        .collect();
+    let (first, second) = (names[probes[0]], names[probes[1]]);
+    let readings: Vec<f64> = lines
+        .map(|l| l.split(',').nth(probes[0]).unwrap().parse().unwrap())
+        .collect();
+    for (sign, words) in [(1.0, "but for an offset"), (-1.0, "the other negated")] {
+        let cautions = super::plausible::spindle_cautions(|column, row, v| {
+            if column == second {
+                sign * readings[row] + 3.0
+            } else {
+                v
+            }
+        });
+        the_caution(
+            &cautions,
+            &[
+                &format!("columns `{first}` and `{second}` carry one signal"),
+                words,
+            ],
+        );
+    }
+}

@@ -51,7 +51,7 @@ pub(super) fn positioning_rows() -> Vec<(String, &'static str, f64, f64, f64, f6
     rows
 }
 
-fn positioning_text(rows: &[(String, &str, f64, f64, f64, f64)]) -> String {
+pub(super) fn positioning_text(rows: &[(String, &str, f64, f64, f64, f64)]) -> String {
     let mut text = String::from("run,direction,target_mm,deviation_um,time_min,temp_air_degc\n");
     for (run, direction, target, deviation, time, air) in rows {
         text += &format!("{run},{direction},{target:.3},{deviation:.4},{time:.4},{air:.2}\n");

@@ -152,6 +152,10 @@ pub struct Loaded {
     /// a table, a ball-bar of one sense, a laser table covering a sliver of its axis), each a
     /// sentence naming the file: `identify` compensates from none of them.
     pub problems: Vec<String>,
+    /// What each table's data say that `analyze` would print as a caution (a lone reading,
+    /// a laser without air compensation in warm air, direction labels swapped, a stuck
+    /// probe), each a sentence naming the file: the fit is made, and the estimate carries them.
+    pub cautions: Vec<String>,
 }
 
 /// Reads every table into readings for `machine` ([`Loaded`]).
@@ -159,6 +163,7 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
     let mut sets = Vec::new();
     let mut provenances = Vec::new();
     let mut problems = Vec::new();
+    let mut cautions = Vec::new();
     // The data rows of each table read so far, by their hash: a table given twice (or a
     // renamed copy) would count its readings twice and shrink every uncertainty by √2.
     let mut seen: BTreeMap<String, String> = BTreeMap::new();
@@ -204,6 +209,11 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                 setup.sphere = request.rtest_sphere;
                 problems
                     .extend(rtest::plausible::copied_test(&table).map(|c| format!("{file}: {c}")));
+                cautions.extend(
+                    rtest::plausible::cautions(&table)
+                        .into_iter()
+                        .map(|c| format!("{file}: {c}")),
+                );
                 sets.push(rtest::readings::readings(&table, &file, machine, setup)?);
             }
             "spheres" => {
@@ -222,6 +232,11 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                     positioning::plausible::copied_run(&table).map(|c| format!("{file}: {c}")),
                 );
                 problems.extend(short_coverage(&table, machine).map(|c| format!("{file}: {c}")));
+                cautions.extend(
+                    positioning::plausible::cautions(&table)
+                        .into_iter()
+                        .map(|c| format!("{file}: {c}")),
+                );
                 sets.push(positioning::readings::readings(
                     &table, &file, machine, &setup,
                 )?);
@@ -251,6 +266,11 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                         ballbar::plausible::one_sense(&table, &test)
                             .map(|c| format!("{file}: {c}")),
                     );
+                    cautions.extend(
+                        ballbar::plausible::cautions(&table, &test)
+                            .into_iter()
+                            .map(|c| format!("{file}: {c}")),
+                    );
                 }
                 sets.push(ballbar::readings::readings(&table, &file, machine, &setup)?);
             }
@@ -273,10 +293,12 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
             ));
         }
     }
+    cautions.retain(|c| !problems.contains(c));
     Ok(Loaded {
         sets,
         provenances,
         problems,
+        cautions,
     })
 }
 
@@ -319,6 +341,7 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         sets,
         provenances,
         problems: data_problems,
+        cautions: table_cautions,
     } = load_readings(request, &machine)?;
     // What the tables' own data contradict is refused before any fit (the fit would only
     // dress it in estimates), unless the user accepts it.
@@ -413,7 +436,8 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         json["warnings"] = serde_json::json!(findings.problems);
         json["warnings_cause"] = serde_json::json!(findings.cause);
     }
-    let cautions = checks::cautions(&fit);
+    let mut cautions = table_cautions;
+    cautions.extend(checks::cautions(&fit));
     if !cautions.is_empty() {
         let said: String = cautions.iter().map(|c| format!("CAUTION: {c}\n")).collect();
         text = said + "\n" + &text;

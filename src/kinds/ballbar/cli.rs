@@ -255,10 +255,19 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
         let fragment = discovery.to_scenario_fragment(&source, relative.as_deref(), servo);
         crate::io::write_atomically(path, fragment.as_bytes())?;
     }
+    // What the table's data say against its labels, as analyze says it.
+    let cautions = super::plausible::cautions(&table, &test);
     Ok(if args.json {
-        format!("{}\n", serde_json::to_string_pretty(&discovery.to_json())?)
+        let mut report = discovery.to_json();
+        report["cautions"] = serde_json::json!(cautions);
+        report["columns_not_read"] = serde_json::json!(table.columns_not_read);
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
         let mut text = discovery.to_text();
+        for caution in &cautions {
+            text += &format!("CAUTION: {caution}\n");
+        }
+        text += &crate::io::not_read_line(&table.columns_not_read);
         if let Some(path) = &write_model {
             text += &format!("\nExtended model written to {}\n", path.display());
         }

@@ -67,7 +67,15 @@ const SHORTEST_TRAVEL: Real = 10e-3;
 /// Every caution for the ISO 230-2 report of `table`, each a sentence.
 pub fn cautions(table: &PositioningTable) -> Vec<String> {
     let mut found: Vec<String> = super::stability::caution(table).into_iter().collect();
-    found.extend(swapped_directions(table));
+    found.extend(data_cautions(table));
+    found
+}
+
+/// The cautions on what the readings say against their labels and units, without the
+/// thermal-stability one (which concerns the ISO 230-2 figures alone): for `discover`, which
+/// models the drift rather than reporting A and R over it.
+pub fn data_cautions(table: &PositioningTable) -> Vec<String> {
+    let mut found: Vec<String> = swapped_directions(table).into_iter().collect();
     found.extend(incomplete_runs(table));
     let values: Vec<Real> = table.readings.iter().map(|r| r.deviation).collect();
     let rounded = crate::io::plausible::rounded_to(&values);
@@ -88,7 +96,59 @@ pub fn cautions(table: &PositioningTable) -> Vec<String> {
     found.extend(overlapping_runs(table));
     found.extend(changing_reversal(table));
     found.extend(units(table, rounded));
+    found.extend(uncompensated_air(table));
     found
+}
+
+/// The smallest length error over the measured travel (m) that an uncompensated laser's
+/// wavelength in the logged air is named for: 1 µm.
+pub const SMALLEST_AIR_ERROR: Real = 1e-6;
+
+/// A laser that did not correct for the air (`compensation = none` or `nde`) in air the table
+/// logs away from 20 °C: its wavelength is the standard air's, so every reading is short or
+/// long by n(air)/n(standard) − 1 (the modified Edlén equation, [`super::air`]: −0.93 ppm per
+/// °C, at standard pressure and humidity since the table logs neither), which the figures
+/// take as the axis's scale error. Named when that error over the measured travel exceeds
+/// [`SMALLEST_AIR_ERROR`].
+fn uncompensated_air(table: &PositioningTable) -> Option<String> {
+    let compensation = table.conditions.compensation.as_deref()?;
+    if compensation.contains("air") {
+        return None;
+    }
+    let index = table
+        .sensors
+        .iter()
+        .position(|s| s.contains("air") || s.contains("ambient"))?;
+    let values: Vec<Real> = table
+        .readings
+        .iter()
+        .map(|r| r.temperatures[index])
+        .collect();
+    let air = median(values)?;
+    let (lo, hi) = crate::io::plausible::SHOP_AIR_DEGC;
+    if !(lo..=hi).contains(&air) {
+        return None; // named as another unit by `units`
+    }
+    let n = |temperature: Real| {
+        super::air::Air {
+            temperature,
+            ..super::air::Air::STANDARD
+        }
+        .refractive_index(super::air::HENE_WAVELENGTH_UM)
+    };
+    let relative = n(air) / n(20.0) - 1.0;
+    let travel = spread(table.readings.iter().map(|r| r.target));
+    (relative.abs() * travel >= SMALLEST_AIR_ERROR).then(|| {
+        format!(
+            "compensation = {compensation}: the laser did not correct for the air, which column `temp_{}_degc` logs at {} °C (median): its wavelength then reads every length {} ppm {} (modified Edlén at standard pressure and humidity), {} µm over the {} mm measured, which the figures take as the axis's own scale error",
+            table.sensors[index],
+            trimmed(air, 3),
+            trimmed(relative.abs() * 1e6, 2),
+            if relative < 0.0 { "short" } else { "long" },
+            trimmed(relative.abs() * travel / M_PER_UM, 2),
+            trimmed(travel / M_PER_MM, 4)
+        )
+    })
 }
 
 /// The indices of each run's readings, in file order (one pass, so every check stays linear

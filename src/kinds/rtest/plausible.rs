@@ -199,3 +199,58 @@ fn radians_without_positions(table: &RtestTable) -> Option<String> {
         )
     })
 }
+
+/// How many standard errors the probes' response to `dz` must stand from zero in a test before
+/// its sign is judged: 5.
+pub const SIGN_EVIDENCE: Real = 5.0;
+
+/// `dx_um, dy_um, dz_um` against the raw probe readings of the same rows. The nest's probes
+/// all look at the sphere from the spindle side and read + when the sphere pushes them in, so
+/// the sum of their readings falls as the tool rises from the sphere (+`dz`, tool relative to
+/// the sphere): by Σ aᵢ·ẑ per µm, √3 for the three orthogonal probes of the usual nest, √3 + 1
+/// with a fourth looking down, less with the head tilted. In each test the sum is fitted
+/// against `dx, dy, dz` (least squares with an offset); when every test whose `dz` response
+/// stands [`SIGN_EVIDENCE`] standard errors from zero (at least one) shows it rising, the
+/// deviations and the probe readings are in opposite conventions: the deviations are the
+/// sphere relative to the tool (every location error would come out with the opposite sign,
+/// and a compensation from them would double the error), or the probes read + when they
+/// extend. A test with the head swung through wide angles, or too little `dz` to show it, is
+/// not judged; a table without probe columns cannot be.
+pub fn sign_contradiction(table: &RtestTable) -> Option<String> {
+    let mut judged = Vec::new();
+    for (name, rows) in table.tests() {
+        let rows: Vec<_> = rows.into_iter().filter(|r| !r.probes.is_empty()).collect();
+        if rows.len() < 8 {
+            continue;
+        }
+        let design = nalgebra::DMatrix::from_fn(rows.len(), 4, |i, k| match k {
+            0 => 1.0,
+            _ => rows[i].deviation[k - 1] * 1e6,
+        });
+        let sum = nalgebra::DVector::from_iterator(
+            rows.len(),
+            rows.iter().map(|r| r.probes.iter().sum::<Real>() * 1e6),
+        );
+        let normal = design.tr_mul(&design);
+        let Some(inverse) = normal.clone().try_inverse() else {
+            continue;
+        };
+        let fit = &inverse * design.tr_mul(&sum);
+        let residual = &sum - &design * &fit;
+        let variance = residual.norm_squared() / (rows.len() - 4) as Real;
+        let error = (variance * inverse[(3, 3)]).sqrt();
+        let slope = fit[3];
+        if slope.abs() >= SIGN_EVIDENCE * error && error.is_finite() {
+            judged.push((name, slope, error));
+        }
+    }
+    let rising = judged.iter().filter(|(_, slope, _)| *slope > 0.0).count();
+    (rising > 0 && rising == judged.len()).then(|| {
+        let (name, slope, error) = &judged[0];
+        format!(
+            "the probes' readings rise with dz_um (test \"{name}\": their sum {} ± {} µm per µm of dz; the nest's probes look at the sphere from the spindle, so it falls, by √3 for three orthogonal probes): dx_um, dy_um, dz_um are the sphere relative to the tool (this table's are the tool relative to the sphere: negate them), or probe1_um… read + as the probe extends (negate those); every location error would come out with the opposite sign",
+            trimmed(*slope, 3),
+            trimmed(*error, 2)
+        )
+    })
+}

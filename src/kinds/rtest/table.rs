@@ -320,11 +320,15 @@ impl RtestTable {
             return Err(fail(None, "no data rows".into()));
         }
         super::angles::check(&rows, &lines, file)?;
-        Ok(RtestTable {
+        let table = RtestTable {
             rows,
             conditions,
             columns_not_read,
-        })
+        };
+        if let Some(contradiction) = super::plausible::sign_contradiction(&table) {
+            return Err(fail(None, contradiction));
+        }
+        Ok(table)
     }
 
     /// The table as CSV: the preamble, then the columns the rows have (angles of the axes

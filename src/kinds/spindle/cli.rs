@@ -135,10 +135,19 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
         |what| progress(what),
     )
     .with_context(|| format!("{}", args.file.display()))?;
+    // What the record says against its labels, as analyze says it.
+    let cautions = super::plausible::record_cautions(&table.record, table.samples_per_revolution);
     Ok(if args.json {
-        format!("{}\n", serde_json::to_string_pretty(&discovery.to_json())?)
+        let mut report = discovery.to_json();
+        report["cautions"] = json!(cautions);
+        report["columns_not_read"] = json!(table.columns_not_read);
+        format!("{}\n", serde_json::to_string_pretty(&report)?)
     } else {
-        discovery.to_text()
+        let mut text = discovery.to_text();
+        for caution in &cautions {
+            text += &format!("CAUTION: {caution}\n");
+        }
+        text + &crate::io::not_read_line(&table.columns_not_read)
     })
 }
 

@@ -9,7 +9,12 @@
 //!   ([`crate::io::plausible::stuck`]: saturated at its range's end, disconnected);
 //! - an artefact's eccentricity that turns against the axis (more than twice as much as with
 //!   it, and by over [`SMALLEST_COUNTER_ROTATION`]): a probe direction's sign, swapped columns
-//!   or the angle's sense wrong.
+//!   or the angle's sense wrong;
+//! - two probes carrying one signal (the same readings but for an offset, or negated): one
+//!   probe on two inputs of the analyser.
+//!
+//! [`record_cautions`] are those the record shows without an evaluation (`discover` prints
+//! them).
 
 use super::analysis::motion::Direction;
 use super::evaluate::Evaluation;
@@ -70,8 +75,47 @@ pub fn cautions(record: &SpindleRecord, evaluation: &Evaluation) -> Vec<String> 
     } else {
         found.extend(flat_probes(record));
     }
-    found.extend(stuck_probes(record, evaluation.samples_per_revolution));
+    found.extend(record_cautions(record, evaluation.samples_per_revolution));
+    found
+}
+
+/// The cautions `record` shows by itself (`per_revolution` samples a revolution): stuck
+/// probes and spikes, an eccentricity turning against the axis, two probes on one signal.
+pub fn record_cautions(record: &SpindleRecord, per_revolution: usize) -> Vec<String> {
+    let mut found = stuck_probes(record, per_revolution);
     found.extend(counter_rotating(record));
+    found.extend(copied_probes(record));
+    found
+}
+
+/// Pairs of probes whose readings differ by one constant at every sample, or sum to one (to
+/// 1 pm), while they move by more than [`SMALLEST_MOTION`]: one signal on two inputs of the
+/// analyser (a cable on the wrong input, a channel duplicated in the export). Probes read
+/// their own noise and their own direction's motion, so no two real ones do that; the error
+/// motions of both directions would be computed from one.
+fn copied_probes(record: &SpindleRecord) -> Vec<String> {
+    let mut found = Vec::new();
+    let constant = |values: &mut dyn Iterator<Item = Real>| {
+        let values: Vec<Real> = values.collect();
+        spread(values.iter().copied()) < 1e-12
+    };
+    for (i, (a, ra)) in record.probes.iter().zip(&record.readings).enumerate() {
+        if spread(ra.iter().copied()) < SMALLEST_MOTION {
+            continue;
+        }
+        for (b, rb) in record.probes.iter().zip(&record.readings).skip(i + 1) {
+            let same = constant(&mut ra.iter().zip(rb).map(|(x, y)| x - y));
+            let negated = constant(&mut ra.iter().zip(rb).map(|(x, y)| x + y));
+            if same || negated {
+                found.push(format!(
+                    "columns `{}_um` and `{}_um` carry one signal ({} at every sample): one probe on two inputs of the analyser, or a channel duplicated in the export? The error motions along both directions come from one probe",
+                    a.name,
+                    b.name,
+                    if same { "the same readings but for an offset" } else { "one the other negated" }
+                ));
+            }
+        }
+    }
     found
 }
 
