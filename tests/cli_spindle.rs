@@ -316,6 +316,7 @@ fn run_then_analyze_reports_the_documented_keys_and_the_values_of_the_table() {
             "separations",
             "notes",
             "cautions",
+            "columns_not_read",
             "setup"
         ])
     );
@@ -1106,8 +1107,13 @@ fn discover_reports_the_documented_keys_on_a_foreign_export() {
             "rejected",
             "untestable",
             "final",
+            "cautions",
+            "columns_not_read",
         ])
     );
+    // A foreign export's extra columns and its own cautions: none here.
+    assert_eq!(json["cautions"], serde_json::json!([]));
+    assert_eq!(json["columns_not_read"], serde_json::json!([]));
     assert_eq!(keys(&json["validation"]), set(&["scheme", "folds", "rule"]));
     assert_eq!(
         keys(&json["baseline"]),

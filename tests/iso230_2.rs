@@ -155,10 +155,10 @@ fn reader_names_the_line_and_column_of_bad_input() {
     let cases = [
         ("deviation_um\n1.0\n", Some(1), "target_mm"), // missing required column
         (
-            "target_mm,deviation_um,colour\n0,1,red\n",
+            "target_mm,deviation_um,Time (min)\n0,1,2\n",
             Some(1),
-            "colour",
-        ), // unknown column
+            "column `Time (min)`: this reader reads `time_min`",
+        ), // a known column spelt another way (an unknown one is read past)
         (
             "target_mm,deviation_um\n0,1\n10,nan\n",
             Some(3),

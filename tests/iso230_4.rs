@@ -1095,3 +1095,92 @@ fn noise_rarely_makes_a_spike_or_a_cyclic_error_significant() {
     assert!(spikes <= 3, "{spikes} of 24");
     assert!(cyclic <= 3, "{cyclic} of 24");
 }
+
+#[test]
+fn a_centre_ball_set_a_third_of_a_millimetre_off_leaves_no_shape_in_the_figures() {
+    // A perfect machine's circle (radius R about the programmed centre) read by a bar whose
+    // centre ball sits at c = (0.3, −0.2) mm: D = |R·u − c| exactly, no noise. The trace is
+    // d = D − R ≈ −u·c + (u⊥·c)²/(2R), the second term 0.22 µm at 2θ; removed only to first
+    // order it read as 0.43 µm of G and as squareness. Exact removal leaves nothing: G, H and
+    // F_max − F_min below 1 nm (the square root's rounding is 1e-17 m).
+    let c = [0.3e-3, -0.2e-3];
+    let mut readings = Vec::new();
+    for (sense, sign) in [(Sense::Ccw, 1.0), (Sense::Cw, -1.0)] {
+        for k in 0..3600 {
+            let angle = (sign * k as f64 * 0.1_f64).to_radians().rem_euclid(TAU);
+            let (s, co) = angle.sin_cos();
+            let distance = (R * co - c[0]).hypot(R * s - c[1]);
+            readings.push(BallbarReading {
+                sense,
+                angle,
+                deviation: distance - R,
+                time: None,
+            });
+        }
+    }
+    let table = BallbarTable {
+        readings,
+        ..Default::default()
+    };
+    let evaluation = evaluate(&table, &xy()).unwrap();
+    let nm = 1e-9;
+    for g in evaluation.circular_deviation {
+        assert!(g.unwrap() < nm, "{evaluation:#?}");
+    }
+    assert!(evaluation.bidirectional_deviation.unwrap() < nm);
+    assert!(evaluation.radial_max - evaluation.radial_min < nm);
+    // The centre found is the ball's, to 1 nm: d ≈ r₀ + c_p cos θ + c_q sin θ with (c_p, c_q) = −c.
+    assert!(
+        (evaluation.centre_offset[0] + c[0]).abs() < nm,
+        "{:?}",
+        evaluation.centre_offset
+    );
+    assert!(
+        (evaluation.centre_offset[1] + c[1]).abs() < nm,
+        "{:?}",
+        evaluation.centre_offset
+    );
+}
+
+#[test]
+fn a_trace_run_at_ninety_percent_feed_override_is_named_as_unexplained() {
+    use mtwin::kinds::ballbar::plausible::unexplained;
+    // An out-of-round machine (12 µm of 2θ and 5 µm of 3θ) traced with 0.05 µm of noise; the
+    // software assigns angles at the programmed feed, the machine runs at `override_` of it, so
+    // the reading labelled θ was taken at override·θ. At 100 % the diagnostic fit's terms
+    // take the 2θ shape and leave the 3θ lobes (3.5 µm RMS, not a term) — so a clean machine
+    // here has only the 2θ; at 90 % the shape lands at the wrong angles and the fit leaves
+    // micrometres, dozens of times the noise.
+    let trace = |override_: f64, lobes: f64| {
+        let mut rng = seeded_rng(3, "feed override");
+        let mut readings = Vec::new();
+        for (sense, sign) in [(Sense::Ccw, 1.0), (Sense::Cw, -1.0)] {
+            for k in 0..3600 {
+                let labelled = (sign * k as f64 * 0.1_f64).to_radians();
+                let actual = override_ * labelled;
+                readings.push(BallbarReading {
+                    sense,
+                    angle: labelled.rem_euclid(TAU),
+                    deviation: 12.0 * UM * (2.0 * actual).cos()
+                        + lobes * UM * (3.0 * actual).cos()
+                        + 0.05 * UM * standard_normal(&mut rng),
+                    time: None,
+                });
+            }
+        }
+        BallbarTable {
+            readings,
+            ..Default::default()
+        }
+    };
+    let said = |table: &BallbarTable| {
+        let evaluation = evaluate(table, &xy()).unwrap();
+        let rms = evaluation.diagnostics.as_ref().unwrap().rms;
+        unexplained(table, rms, "the diagnostic fit")
+    };
+    let clean = trace(1.0, 0.0);
+    assert_eq!(said(&clean), None);
+    let overridden = trace(0.9, 0.0);
+    let caution = said(&overridden).expect("named");
+    assert!(caution.contains("feed override"), "{caution}");
+}

@@ -177,10 +177,25 @@ fn laser_readings_reproduce_the_simulated_tables_with_the_true_errors() {
         assert_eq!(readings.kind, "positioning");
         assert_eq!(readings.machine.as_deref(), Some(machine.name()));
         assert_eq!(readings.len(), table.readings.len());
-        assert!(readings.nuisance.is_empty());
+        // The laser's zero offset: one for the table, or one per run when re-zeroed each run.
+        assert!(
+            [1, table.runs.len()].contains(&readings.nuisance.len())
+                && readings
+                    .nuisance
+                    .iter()
+                    .all(|q| q.name.starts_with("laser.zero")),
+            "{:?}",
+            readings.nuisance
+        );
         assert_eq!(readings.setup.len(), 3);
         assert!(readings.sigma.iter().all(|s| *s == laser::DEFAULT_SIGMA));
-        let predicted = predict(&readings, machine, &scenario.twin.errors, &[], &[0.0; 3]);
+        let predicted = predict(
+            &readings,
+            machine,
+            &scenario.twin.errors,
+            &vec![0.0; readings.nuisance.len()],
+            &[0.0; 3],
+        );
         let worst = predicted
             .iter()
             .zip(&readings.measured)
@@ -206,7 +221,7 @@ fn laser_readings_reproduce_the_simulated_tables_with_the_true_errors() {
             &readings,
             machine,
             &scenario.twin.errors,
-            &[],
+            &vec![0.0; readings.nuisance.len()],
             &[1e-3, 1e-3, 1e-3],
         );
         assert!(
@@ -241,7 +256,13 @@ fn laser_readings_follow_a_positioning_error_by_hand() {
     let table = PositioningTable::parse(text.as_bytes(), "hand.csv").unwrap();
     let readings = laser::readings(&table, "hand.csv", &machine, &laser::Setup::default()).unwrap();
     assert_eq!(readings.machine, None, "the file does not say");
-    let predicted = predict(&readings, &machine, &model, &[], &[0.0; 3]);
+    let predicted = predict(
+        &readings,
+        &machine,
+        &model,
+        &vec![0.0; readings.nuisance.len()],
+        &[0.0; 3],
+    );
     let exx = |t: Real, sign: Real| a1 * t + a2 * t * t - sign * r / 2.0;
     for (reading, p) in table.readings.iter().zip(&predicted) {
         let sign = if reading.approach == mtwin::program::Approach::Up {

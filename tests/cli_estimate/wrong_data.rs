@@ -317,13 +317,35 @@ fn one_sphere_centre_off_is_named_and_laser_readings_below_their_noise_are_cauti
             .collect()
     };
     let (clean, reversed) = (coefficients("clean"), coefficients("reversed"));
-    assert_eq!(clean.len(), 2);
+    // EXX's two coefficients and the laser's zero offset (a nuisance).
+    assert_eq!(clean.len(), 3);
     for (a, b) in clean.iter().zip(&reversed) {
         assert!(
             (a - b).abs() <= 1e-9 * a.abs(),
             "{clean:?} against {reversed:?}"
         );
     }
+    // The laser datumed elsewhere than at the first reading (a test that starts with the minus
+    // pass, zeroed at the near end before it): every reading moves by one constant, 4.36 µm.
+    // The zero is fitted as an offset, so EXX comes back the same and the offset takes it all.
+    let datum = dir.path().join("datum.csv");
+    std::fs::write(
+        &datum,
+        super::with_column(&text, "deviation_um", |v| v + 4.36),
+    )
+    .unwrap();
+    ok(&identify(&datum, "datum"));
+    let moved = coefficients("datum");
+    for (a, b) in clean[..2].iter().zip(&moved) {
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs(),
+            "{clean:?} against {moved:?}"
+        );
+    }
+    assert!(
+        (moved[2] - clean[2] - 4.36e-6).abs() < 1e-12,
+        "{clean:?} against {moved:?}"
+    );
     let tenths = dir.path().join("tenths.csv");
     std::fs::write(
         &tenths,

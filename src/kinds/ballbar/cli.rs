@@ -208,7 +208,14 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     let test = args.test(&table)?;
     let evaluation =
         iso230_4::evaluate(&table, &test).with_context(|| format!("{}", args.file.display()))?;
-    let cautions = super::plausible::cautions(&table, &test);
+    let mut cautions = super::plausible::cautions(&table, &test);
+    if let Ok(diagnostics) = &evaluation.diagnostics {
+        cautions.extend(super::plausible::unexplained(
+            &table,
+            diagnostics.rms,
+            "the diagnostic fit",
+        ));
+    }
     Ok(if args.json {
         let mut report = evaluation.to_json();
         report["cautions"] = serde_json::json!(cautions);
@@ -255,8 +262,23 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
         let fragment = discovery.to_scenario_fragment(&source, relative.as_deref(), servo);
         crate::io::write_atomically(path, fragment.as_bytes())?;
     }
-    // What the table's data say against its labels, as analyze says it.
-    let cautions = super::plausible::cautions(&table, &test);
+    // What the table's data say against its labels, as analyze says it, and a final model
+    // that leaves far more than the noise.
+    let mut cautions = super::plausible::cautions(&table, &test);
+    if let Some(last) = discovery.residual_steps().last() {
+        let rms = (last
+            .residuals
+            .iter()
+            .map(|r| r * r)
+            .sum::<crate::math::Real>()
+            / last.residuals.len().max(1) as crate::math::Real)
+            .sqrt();
+        cautions.extend(super::plausible::unexplained(
+            &table,
+            rms,
+            &format!("the final model ({})", last.model),
+        ));
+    }
     Ok(if args.json {
         let mut report = discovery.to_json();
         report["cautions"] = serde_json::json!(cautions);

@@ -171,3 +171,49 @@ pub fn stated_speed_contradiction(table: &BallbarTable) -> Option<String> {
         )
     })
 }
+
+/// How many times the trace's own noise a model's residual RMS must exceed, and by at least
+/// [`SMALLEST_UNEXPLAINED`], before the trace is said to hold what no term explains: 10.
+pub const UNEXPLAINED_FACTOR: Real = 10.0;
+
+/// The smallest unexplained residual RMS (m) named: 1 µm, ten times a ball-bar's resolution
+/// and above the servo ripple real traces keep after the diagnostic terms.
+pub const SMALLEST_UNEXPLAINED: Real = 1e-6;
+
+/// The trace's noise (m): the robust scale of each sense's second differences in angle order
+/// (the median absolute one / 0.6745, over √6, white noise's second difference having
+/// variance 6σ²); steps at reversals and a smooth trace barely move the median.
+pub fn trace_noise(table: &BallbarTable) -> Option<Real> {
+    let mut second = Vec::new();
+    for sense in [Sense::Ccw, Sense::Cw] {
+        let mut trace: Vec<(Real, Real)> = table
+            .readings
+            .iter()
+            .filter(|r| r.sense == sense)
+            .map(|r| (r.angle, r.deviation))
+            .collect();
+        trace.sort_by(|a, b| a.0.total_cmp(&b.0));
+        second.extend(
+            trace
+                .windows(3)
+                .map(|w| (w[2].1 - 2.0 * w[1].1 + w[0].1).abs()),
+        );
+    }
+    crate::io::plausible::median(second).map(|m| m / 0.6745 / 6f64.sqrt())
+}
+
+/// A model (`what`) whose residual RMS `rms` (m) stands [`UNEXPLAINED_FACTOR`] times above the
+/// trace's noise and above [`SMALLEST_UNEXPLAINED`]: the trace holds something no term of it
+/// explains — a feed override (angles assigned at a feed the machine did not run), a crash,
+/// a disturbed test — and the values fitted around it are not to be trusted.
+pub fn unexplained(table: &BallbarTable, rms: Real, what: &str) -> Option<String> {
+    let noise = trace_noise(table)?;
+    (rms > SMALLEST_UNEXPLAINED && rms > UNEXPLAINED_FACTOR * noise).then(|| {
+        format!(
+            "{what} leaves {} µm RMS, {} times the trace's noise ({} µm, from successive readings): the trace holds something no term explains (a feed override, so that the angles were assigned at a feed the machine did not run; a crash or a disturbed test), and the values fitted around it are not to be trusted",
+            trimmed(rms / M_PER_UM, 3),
+            trimmed(rms / noise.max(Real::MIN_POSITIVE), 2),
+            trimmed(noise / M_PER_UM, 3)
+        )
+    })
+}

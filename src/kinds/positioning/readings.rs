@@ -12,7 +12,11 @@
 //!            = −u · (T_i⁻¹·T_z·b − b)               interferometer on the tool (reverse set-up)
 //! ```
 //!
-//! `t_i` is the reading's target. The machine at reading `i` is the axis under test at its
+//! `t_i` is the reading's target, plus an offset `c` of the zero's group — the whole table
+//! (`zero = once`) or each run (`zero = each_run`) — fitted as a nuisance: the reading the laser
+//! was zeroed on is an assumption (a test that starts with the minus pass may have been
+//! datumed at the near end before it), and with `c` free any reading of the group serves as
+//! `z`: a datum elsewhere only moves every reading of the group by one constant. The machine at reading `i` is the axis under test at its
 //! target, its direction of travel that of the approach (`+`: positive, so reversal terms
 //! take the approach's sign), the other axes where the table's preamble says they stood (the
 //! line of the test: `y_mm`, `z_mm`, … or [`Setup::axes`]), their direction positive (they
@@ -20,10 +24,8 @@
 //! table's first reading (`zero = once`, ISO 230-2 practice, the default for a table that does
 //! not say) or each run's first reading (`zero = each_run`). In an ISO 230-2 or ISO 230-3 test
 //! every run starts at the same target in the same direction, so for a geometric model the two
-//! are the same. The zero's reading stays in the readings (its model value is 0, its measured
-//! value the noise of that reading): the instrument's zero is not a free offset, so there is
-//! no nuisance, and what no laser sees — a translation common to every reading, the constant
-//! term of `EXX` — does not enter the readings.
+//! are the same. What no laser sees — a translation common to every reading of a group, the
+//! constant term of `EXX` — is `c`'s.
 //!
 //! Set-up quantities (for the Monte Carlo): the reflector offset `b` (`reflector.x`, `.y`,
 //! `.z`, tool frame), stated with [`Setup::beam_offset_uncertainty`] each. The line of the test
@@ -105,8 +107,10 @@ struct LaserModel {
     states: Vec<MachineState>,
     /// The target of each reading (m).
     targets: Vec<Real>,
-    /// The reading where the laser was zeroed for each reading.
+    /// The reading each reading's travel is counted from (the first of its zero group).
     zero_of: Vec<usize>,
+    /// The zero group (nuisance offset) of each reading.
+    group_of: Vec<usize>,
 }
 
 impl ReadingModel for LaserModel {
@@ -115,7 +119,7 @@ impl ReadingModel for LaserModel {
         machine: &Machine,
         workspace: &mut Workspace,
         errors: &ErrorModel,
-        _nuisance: &[Real],
+        nuisance: &[Real],
         setup: &[Real],
         out: &mut [Real],
     ) {
@@ -141,7 +145,7 @@ impl ReadingModel for LaserModel {
                         .dot(rigid_inverse(&poses[i]).transform_point3(origin) - b)
                 }
             };
-            *value = self.targets[z] + travel - self.targets[i];
+            *value = self.targets[z] + travel - self.targets[i] + nuisance[self.group_of[i]];
         }
     }
 }
@@ -267,6 +271,7 @@ pub fn readings(
     let mut states = Vec::with_capacity(table.readings.len());
     let mut targets = Vec::with_capacity(table.readings.len());
     let mut zero_of = Vec::with_capacity(table.readings.len());
+    let mut group_of = Vec::with_capacity(table.readings.len());
     let mut measured = Vec::with_capacity(table.readings.len());
     // The reading the laser was zeroed on: the first of the test (Zeroing::Once) or of each run,
     // by `time_min` when every reading has one (an export may list the rows in another order),
@@ -313,6 +318,10 @@ pub fn readings(
             Zeroing::Once => first_of_test,
             Zeroing::EachRun => run_zero,
         });
+        group_of.push(match zero {
+            Zeroing::Once => 0,
+            Zeroing::EachRun => reading.run,
+        });
         states.push(state);
         targets.push(reading.target);
         measured.push(reading.deviation);
@@ -332,7 +341,7 @@ pub fn readings(
         machine: conditions.machine.clone(),
         sigma: vec![setup.sigma; measured.len()],
         measured,
-        nuisance: Vec::new(),
+        nuisance: zero_offsets(table, zero),
         setup: reflector.to_vec(),
         model: Box::new(LaserModel {
             beam: axis.unit(),
@@ -341,8 +350,29 @@ pub fn readings(
             states,
             targets,
             zero_of,
+            group_of,
         }),
     })
+}
+
+/// The nuisance offset of each zero group: `laser.zero` for a table zeroed once, `laser.zero
+/// run R` for each run of one zeroed at every run.
+fn zero_offsets(table: &PositioningTable, zero: Zeroing) -> Vec<Quantity> {
+    let quantity = |name: String| Quantity {
+        name,
+        translation: true,
+        start: 0.0,
+        uncertainty: 0.0,
+    };
+    match zero {
+        Zeroing::Once => vec![quantity("laser.zero".into())],
+        Zeroing::EachRun => (0..table.runs.len().max(1))
+            .map(|r| {
+                let label = table.runs.get(r).map_or("1", String::as_str);
+                quantity(format!("laser.zero run {label}"))
+            })
+            .collect(),
+    }
 }
 
 /// `workpiece` or `tool`, as the preamble says it.

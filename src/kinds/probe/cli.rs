@@ -50,7 +50,8 @@ const JSON_KEYS: &str = "\
   mesh_points[]           cycle, feature, point, surface_mm (latched centre + stylus radius
                           along the approach)
   cautions[]              what the touches say against the set-up: approach vectors off the
-                          feature's radius, a diameter far from the calibration, a short arc";
+                          feature's radius, a diameter far from the calibration, a short arc
+  columns_not_read[]      columns of the table the reader read past (no figure depends on them)";
 
 #[derive(Args)]
 #[command(allow_negative_numbers = true)]

@@ -67,7 +67,8 @@ baseline{model, base_harmonics, rms_um, cv_rms_um, fold_cv_rms_um[], evidence{}}
 steps[{effect, together_with, cause, evidence, params, rms_um, cv_rms_um, fold_cv_rms_um[],
 gain_um, gain_pct, gain_z, rest_z, z_needed}], rejected[{effect, cv_rms_um, fold_cv_rms_um[],
 gain_z, rest_z, z_needed, fails (the rule's condition it fails)}], untestable[{effect, reason}],
-final{model, params{}, rms_um, cv_rms_um, fold_cv_rms_um[]}. params: harmonic
+final{model, params{}, rms_um, cv_rms_um, fold_cv_rms_um[]}, cautions[] (what the record says
+against its labels, as analyze says it), columns_not_read[]. params: harmonic
 {per_revolution, amplitude{PROBE_um}}, asynchronous_line {per_revolution, harmonics, name, hz[],
 amplitude{PROBE_um: [per speed]}}, drift {time_constant_s (null: linear), over_s,
 drift{PROBE_um}}, speed_dependence {speeds_rpm[], amplitude{PROBE_um: {upr_k: [per speed]}}}.";
@@ -173,8 +174,10 @@ JSON keys (--json):
     form_um[] (outward, on ψ = 360°·m/M), motion_synchronous_um (LSC value of the separated
     motion along the first probe), blind[] (harmonics the layout cannot see)
   notes[]
-  cautions[]: what the error motions say against the units (a total over 100 µm: nm in the
-    µm columns; every one under 5 nm: mm in them)
+  cautions[]: what the record says against its units and labels (a total over 100 µm: nm in
+    the µm columns; every one under 5 nm: mm in them; a probe stuck or spiking; two probes on
+    one signal; an eccentricity turning against the axis)
+  columns_not_read[]: columns of the table the reader read past (no figure depends on them)
   setup: machine, artefact, structural_loop, axes (where the other axes stood), as the
     preamble says them (null when it does not); preamble_not_used[] (keys no reader took)";
 

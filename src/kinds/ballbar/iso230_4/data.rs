@@ -176,7 +176,15 @@ impl CircleData {
         Ok(CircleData {
             test: *test,
             points,
-            deviation: table.readings.iter().map(|r| r.deviation).collect(),
+            deviation: exactly_centred(
+                &angle,
+                &table
+                    .readings
+                    .iter()
+                    .map(|r| r.deviation)
+                    .collect::<Vec<_>>(),
+                test.radius,
+            ),
             ranges,
             counts,
             spans,
@@ -247,4 +255,54 @@ impl CircleData {
             .map(|(t, k)| self.column_on(t, k, shape, rows))
             .collect()
     }
+}
+
+/// The readings `deviation` (at the programmed angles `angle`, radius `radius`) with the
+/// second-order effect of the centre ball's offset taken out, so that the first-order circle
+/// d ≈ r₀ + c_p·cos θ + c_q·sin θ the figures remove is exact.
+///
+/// With the tool ball at (R + e(θ))·u(θ) from the programmed centre and the centre ball at c
+/// from it, the bar reads D = |(R + e)·u − c|, so D² = (R + e)² − 2(R + e)·u·c + |c|² and
+/// R + e = u·c + √(D² − (u⊥·c)²) exactly (u⊥ the direction normal to u). Since
+/// d = D − R, the reading d' = √((R + d)² − (u⊥·c)²) − R differs from the machine's radial
+/// deviation e by −u·c alone, first order as the figures model it; without this the offset
+/// leaves (u⊥·c)²/(2R) = |c|²/(4R)·(1 − cos 2(θ − φ)) in the trace (0.22 µm at 2θ for a
+/// centre set 0.36 mm off on a 150 mm bar), which reads as squareness and ovality. c comes
+/// from the first-order fit itself (c = −(c_p, c_q)), refitted on the corrected readings until
+/// it settles (the correction is second order: two passes change it by less than 1 pm).
+fn exactly_centred(angle: &[Real], deviation: &[Real], radius: Real) -> Vec<Real> {
+    let mut centred = deviation.to_vec();
+    for _ in 0..3 {
+        let Some((c_p, c_q)) = first_order_centre(angle, &centred) else {
+            return deviation.to_vec();
+        };
+        for ((out, &d), &theta) in centred.iter_mut().zip(deviation).zip(angle) {
+            let (sin, cos) = theta.sin_cos();
+            // u⊥·c with u⊥ = (−sin θ, cos θ) and c = −(c_p, c_q).
+            let across = c_p * sin - c_q * cos;
+            let reach = radius + d;
+            let root = reach * reach - across * across;
+            // √(X² − a²) − R = d − a²/(√(X² − a²) + X), without the cancellation.
+            *out = if root > 0.0 && reach > 0.0 {
+                d - across * across / (root.sqrt() + reach)
+            } else {
+                d
+            };
+        }
+    }
+    centred
+}
+
+/// The first-order circle's centre terms (c_p, c_q) of d ≈ r₀ + c_p·cos θ + c_q·sin θ, by least
+/// squares; `None` when the angles do not determine them.
+fn first_order_centre(angle: &[Real], deviation: &[Real]) -> Option<(Real, Real)> {
+    let mut normal = nalgebra::Matrix3::<Real>::zeros();
+    let mut right = nalgebra::Vector3::<Real>::zeros();
+    for (&theta, &d) in angle.iter().zip(deviation) {
+        let row = nalgebra::Vector3::new(1.0, theta.cos(), theta.sin());
+        normal += row * row.transpose();
+        right += row * d;
+    }
+    let solution = normal.try_inverse()? * right;
+    Some((solution[1], solution[2]))
 }

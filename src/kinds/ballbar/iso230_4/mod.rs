@@ -9,9 +9,10 @@
 //!
 //! # ISO 230-4 figures
 //!
-//! The offset of the machine's circle from the centre ball is removed by least squares to
-//! first order, d ≈ r₀ + c_p·cos θ + c_q·sin θ; the first-order removal leaves at most a
-//! residual of amplitude e²/(4R) for an offset e (0.025 µm for e = 0.1 mm at R = 100 mm).
+//! The offset of the machine's circle from the centre ball is removed by least squares,
+//! d ≈ r₀ + c_p·cos θ + c_q·sin θ, after the readings have had its second-order part taken out
+//! exactly (`data::exactly_centred`: an offset e would otherwise leave e²/(4R) at 2θ, 0.22 µm
+//! for a centre set 0.36 mm off on a 150 mm bar, read as squareness).
 //!
 //! - `G_ccw`, `G_cw` circular deviation: max − min of the residuals of each sense's own fit;
 //! - `G` bidirectional circular deviation G(b): max − min of both senses' residuals from one

@@ -204,7 +204,7 @@ impl BallbarEvaluation {
         );
         let _ = writeln!(
             out,
-            "  (centre offset removed by a first-order least-squares circle; F relative to the nominal radius)"
+            "  (centre offset removed exactly by a least-squares circle; F relative to the nominal radius)"
         );
         let _ = writeln!(
             out,
