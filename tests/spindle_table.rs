@@ -794,3 +794,46 @@ fn a_spectrum_draws_synchronous_and_asynchronous_bars() {
             .all(|b| b.iter().all(|(k, _)| k != "class"))
     );
 }
+
+#[test]
+fn a_logged_measured_speed_that_jitters_reads_as_one_run_at_its_mean() {
+    // Two revolutions of 8 samples at 60 rpm, then the same at 120 rpm, as an analyser logs
+    // the measured speed: ±0.03 % around each commanded one. Read as two runs, each at the
+    // mean of its logged speeds; the clean table (exact speeds) reads the same runs.
+    let table = |jitter: &dyn Fn(usize) -> f64| {
+        let mut text = String::from("x_um,revolution,angle_deg,speed_rpm\n");
+        let mut k = 0;
+        for speed in [60.0, 120.0] {
+            for revolution in 0..2 {
+                for s in 0..8 {
+                    let angle = 45.0 * s as f64;
+                    text += &format!(
+                        "{:.3},{revolution},{angle},{:.4}\n",
+                        (angle.to_radians()).cos(),
+                        speed * (1.0 + jitter(k))
+                    );
+                    k += 1;
+                }
+            }
+        }
+        parse(text.as_bytes(), "t.csv").unwrap_or_else(|e| panic!("{e}"))
+    };
+    let clean = table(&|_| 0.0);
+    let jittered = table(&|k| 3e-4 * if k % 3 == 0 { 1.0 } else { -0.5 });
+    assert_eq!(jittered.record.revolution, clean.record.revolution);
+    let rpm = |t: &SpindleTable, i: usize| t.record.speed[i] * 60.0 / (2.0 * PI);
+    for i in 0..32 {
+        // Within 0.03 % of the commanded speed, one value per run.
+        assert!(
+            close(rpm(&jittered, i), rpm(&clean, i), 3e-4 * rpm(&clean, i)),
+            "{i}"
+        );
+        assert_eq!(
+            jittered.record.speed[i],
+            jittered.record.speed[16 * (i / 16)]
+        );
+    }
+    // A step of 2 % is a new run at the next speed, jitter or not.
+    let stepped = table(&|k| if k >= 8 && k < 16 { 0.02 } else { 0.0 });
+    assert_ne!(stepped.record.speed[0], stepped.record.speed[8]);
+}

@@ -9,7 +9,7 @@
 //! | `revolution` | yes | revolution number (0, 1, …): consecutive within a run, each revolution `samples_per_revolution` rows; a run's first revolution is stored as 0 (a 1-based export reads as 0-based) |
 //! | `angle_deg` | yes | axis angle from the index mark, in `[0, 360)`, strictly increasing within a revolution; at a negative `speed_rpm` decreasing from the mark (0, then just under 360: the angle travelled increases) (stored in rad) |
 //! | `time_s` | one of the two | time of the sample (s) |
-//! | `speed_rpm` | one of the two | commanded speed, signed (positive for positive rotation of the axis); constant within a run (stored in rad/s) |
+//! | `speed_rpm` | one of the two | commanded speed, signed (positive for positive rotation of the axis); constant within a run, or a logged measured speed jittering within 1 % of it, read as the run's mean (stored in rad/s) |
 //! | `NAME_um` | at least one | the reading of probe `NAME` (µm; artefact motion along the probe's direction increases it); `NAME` is lower-case letters, digits and `_` |
 //!
 //! Any other column (a sample index, a thermometer) is read past and listed in the report as
@@ -193,6 +193,42 @@ fn check_angle_units(
 }
 
 /// One data row as read, before the checks across rows.
+/// The largest relative spread of a logged `speed_rpm` within one run: 1 %. An analyser that
+/// logs the measured speed shows the drive's jitter (a few 0.01 % on a spindle drive); a run
+/// is one commanded speed, and a speed programme's steps differ by far more.
+pub const SPEED_JITTER: Real = 0.01;
+
+/// Speeds that jitter within a run (consecutive rows of one set-up, revolutions not going
+/// back, each speed within [`SPEED_JITTER`] of the run's first and of its sign) are read as
+/// the run's mean: the measured speed of an analyser's log, not a new run at every sample.
+fn steady_speeds(rows: &mut [Row]) {
+    let mut start = 0;
+    for i in 1..=rows.len() {
+        let ends = i == rows.len() || {
+            let (first, this) = (&rows[start], &rows[i]);
+            this.setup != first.setup
+                || this.revolution < rows[i - 1].revolution
+                || match (first.speed_rpm, this.speed_rpm) {
+                    (Some(a), Some(b)) => {
+                        a.signum() != b.signum() || (b - a).abs() > SPEED_JITTER * a.abs()
+                    }
+                    _ => false,
+                }
+        };
+        if ends {
+            let run = &mut rows[start..i];
+            let speeds: Option<Vec<Real>> = run.iter().map(|r| r.speed_rpm).collect();
+            if let Some(speeds) = speeds {
+                let mean = speeds.iter().sum::<Real>() / speeds.len() as Real;
+                for row in run.iter_mut() {
+                    row.speed_rpm = Some(mean);
+                }
+            }
+            start = i;
+        }
+    }
+}
+
 struct Row {
     line: Option<u64>,
     setup: String,
@@ -357,6 +393,7 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<SpindleTable, TableError> {
     if rows.is_empty() {
         return Err(fail(None, "no data rows".into()));
     }
+    steady_speeds(&mut rows);
 
     // Runs and revolutions.
     let mut samples_per_revolution = declared;
