@@ -582,3 +582,43 @@ fn two_spindle_probes_on_one_signal_are_named() {
         );
     }
 }
+
+/// Twelve revolutions of two probes, x1 and y1, 32 samples each at 600 rpm: 3 µm of
+/// eccentricity, 0.02 µm of noise; `gain(probe, revolution)` scales each reading.
+fn eccentric_record(gain: impl Fn(&str, usize) -> f64) -> Vec<String> {
+    use mtwin::kinds::spindle::{plausible, table};
+    let mut noise = super::plausible::Noise(23);
+    let mut text = String::from("time_s,revolution,angle_deg,x1_um,y1_um\n");
+    for revolution in 0..12 {
+        for k in 0..32 {
+            let angle = 360.0 * k as f64 / 32.0;
+            let t = (revolution * 32 + k) as f64 * 0.1 / 32.0;
+            let (s, c) = angle.to_radians().sin_cos();
+            text += &format!(
+                "{t:.6},{revolution},{angle},{:.4},{:.4}\n",
+                gain("x1", revolution) * (3.0 * c + 0.02 * noise.next()),
+                gain("y1", revolution) * (3.0 * s + 0.02 * noise.next())
+            );
+        }
+    }
+    let table = table::parse(text.as_bytes(), "s.csv").unwrap_or_else(|e| panic!("{e}"));
+    plausible::record_cautions(&table.record, table.samples_per_revolution)
+}
+
+#[test]
+fn a_probe_range_switched_mid_record_is_named_by_its_revolution() {
+    assert_eq!(eccentric_record(|_, _| 1.0), Vec::<String>::new());
+    // Probe x1's amplifier switched to half gain from revolution 5 on.
+    let cautions = eccentric_record(|p, r| if p == "x1" && r >= 5 { 0.5 } else { 1.0 });
+    the_caution(
+        &cautions,
+        &[
+            "column `x1_um`",
+            "changes 0.5-fold from revolution 5",
+            "range or gain switched",
+        ],
+    );
+    // Both probes at half gain from there (the artefact's set-up changed for all): not named.
+    let all = eccentric_record(|_, r| if r >= 5 { 0.5 } else { 1.0 });
+    assert!(all.iter().all(|c| !c.contains("-fold")), "{all:#?}");
+}

@@ -11,7 +11,9 @@
 //!   it, and by over [`SMALLEST_COUNTER_ROTATION`]): a probe direction's sign, swapped columns
 //!   or the angle's sense wrong;
 //! - two probes carrying one signal (the same readings but for an offset, or negated): one
-//!   probe on two inputs of the analyser.
+//!   probe on two inputs of the analyser;
+//! - one probe whose once-per-revolution amplitude steps within a run while the others hold
+//!   theirs: a range or gain switched mid-record.
 //!
 //! [`record_cautions`] are those the record shows without an evaluation (`discover` prints
 //! them).
@@ -85,6 +87,7 @@ pub fn record_cautions(record: &SpindleRecord, per_revolution: usize) -> Vec<Str
     let mut found = stuck_probes(record, per_revolution);
     found.extend(counter_rotating(record));
     found.extend(copied_probes(record));
+    found.extend(gain_steps(record));
     found
 }
 
@@ -247,4 +250,93 @@ fn first_harmonics(record: &SpindleRecord, i: usize, j: usize, det: Real) -> Opt
     }
     let norm = |v: [Real; 2]| v[0].hypot(v[1]) / n as Real;
     Some((norm(co), norm(counter)))
+}
+
+/// The smallest once-per-revolution amplitude (m) of a probe whose step within a run is
+/// judged: 0.2 µm, where a probe's noise moves the amplitude by a few percent at most.
+pub const SMALLEST_GAIN_AMPLITUDE: Real = 0.2e-6;
+
+/// The smallest change of a probe's once-per-revolution amplitude, as a ratio, named as a
+/// gain or range switched within a run: 1.25. The artefact's eccentricity, which dominates
+/// it, does not change within a run; each side of the step must hold within ±10 %.
+pub const SMALLEST_GAIN_STEP: Real = 1.25;
+
+/// Probes whose once-per-revolution amplitude (the artefact's eccentricity as they see it)
+/// steps by [`SMALLEST_GAIN_STEP`] or more within a run, holding within ±10 % on each side of
+/// the step, while every other probe of the run holds its own: an amplifier's range or gain
+/// switched mid-record (the error motions then mix two scales, and the step reads as
+/// asynchronous motion). A real change of the set-up (the artefact knocked) changes what
+/// every probe sees.
+fn gain_steps(record: &SpindleRecord) -> Vec<String> {
+    let mut found = Vec::new();
+    let n = record.angle.len();
+    let mut start = 0;
+    for end in 1..=n {
+        let boundary = end == n
+            || record.setup[end] != record.setup[start]
+            || record.speed[end] != record.speed[start]
+            || record.revolution[end] < record.revolution[end - 1];
+        if !boundary {
+            continue;
+        }
+        let steps: Vec<Option<(usize, Real)>> = record
+            .readings
+            .iter()
+            .map(|values| amplitude_step(record, values, start, end))
+            .collect();
+        let stepped: Vec<usize> = (0..steps.len()).filter(|&p| steps[p].is_some()).collect();
+        if let [p] = stepped.as_slice()
+            && let Some((revolution, ratio)) = steps[*p]
+        {
+            found.push(format!(
+                "column `{}_um`: its once-per-revolution amplitude changes {}-fold from revolution {revolution} of the run at {} rpm, steady on each side, while the other probes hold theirs: an amplifier's range or gain switched mid-record? The error motions mix two scales",
+                record.probes[*p].name,
+                trimmed(ratio, 3),
+                trimmed(record.speed[start] * 60.0 / std::f64::consts::TAU, 5)
+            ));
+        }
+        start = end;
+    }
+    found
+}
+
+/// The revolution (as numbered in the record) where the once-per-revolution amplitude of
+/// `values` over samples `start..end` steps ([`gain_steps`]), with the ratio after/before.
+fn amplitude_step(
+    record: &SpindleRecord,
+    values: &[Real],
+    start: usize,
+    end: usize,
+) -> Option<(usize, Real)> {
+    let mut amplitudes: Vec<(usize, Real)> = Vec::new();
+    let mut first = start;
+    for i in start + 1..=end {
+        if i == end || record.revolution[i] != record.revolution[first] {
+            let (mut c, mut s) = (0.0, 0.0);
+            for k in first..i {
+                let (sin, cos) = record.angle[k].sin_cos();
+                c += values[k] * cos;
+                s += values[k] * sin;
+            }
+            let count = (i - first) as Real;
+            amplitudes.push((record.revolution[first], 2.0 * c.hypot(s) / count));
+            first = i;
+        }
+    }
+    if amplitudes.len() < 8 {
+        return None;
+    }
+    let median =
+        |a: &[(usize, Real)]| crate::io::plausible::median(a.iter().map(|x| x.1).collect());
+    let steady = |a: &[(usize, Real)], m: Real| a.iter().all(|x| (x.1 / m - 1.0).abs() <= 0.1);
+    (2..amplitudes.len() - 1).find_map(|split| {
+        let (before, after) = amplitudes.split_at(split);
+        let (b, a) = (median(before)?, median(after)?);
+        let ratio = a / b;
+        (b.min(a) >= SMALLEST_GAIN_AMPLITUDE
+            && (ratio >= SMALLEST_GAIN_STEP || ratio <= 1.0 / SMALLEST_GAIN_STEP)
+            && steady(before, b)
+            && steady(after, a))
+        .then_some((after[0].0, ratio))
+    })
 }
