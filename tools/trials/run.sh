@@ -20,6 +20,7 @@ command -v python3 > /dev/null || { echo "run.sh: python3 is needed (standard li
 mkdir -p "$WORK"; WORK=$(cd "$WORK" && pwd)
 case "$WORK/" in "$REPO"/*) echo "run.sh: OUTDIR $WORK is inside the repository; give one outside it" >&2; exit 2 ;; esac
 export GENBIN=${GENBIN:-$BIN}
+export PYTHONDONTWRITEBYTECODE=1   # keep the repository free of __pycache__
 T0=$(date +%s)
 echo "$BIN" > "$WORK/binary.txt"
 log() { printf '[%3ds] %s\n' $(( $(date +%s) - T0 )) "$*"; }

@@ -6,6 +6,7 @@ Usage: python3 gen.py [WORK]  (WORK default /tmp/mtwin-trials; run.sh calls it).
 """
 import math, os, sys, copy, random
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.join(HERE, '..', 'lib'))
 from tab import Table
 from trialpaths import REPO, WORK, BASE, MODELS, SCENARIOS, write_cases

@@ -14,6 +14,7 @@ silently still reads CONFIDENT-WRONG (look at RESDIR/<tag>/stdout against the 's
 import csv, os, re, sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True
 sys.path.insert(0, HERE)
 from recorded_verdicts import RECORDED  # noqa: E402
 

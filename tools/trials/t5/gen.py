@@ -11,6 +11,7 @@ Columns of cases.tsv: tag, kind, class, command, wrong, truth, ref, expect
 """
 import json, math, os, random, re, sys
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.join(HERE, '..', 'lib'))
 from tab import Table
 from trialpaths import REPO, WORK, BASE, MODELS, SCENARIOS, write_cases
