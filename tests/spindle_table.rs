@@ -834,6 +834,6 @@ fn a_logged_measured_speed_that_jitters_reads_as_one_run_at_its_mean() {
         );
     }
     // A step of 2 % is a new run at the next speed, jitter or not.
-    let stepped = table(&|k| if k >= 8 && k < 16 { 0.02 } else { 0.0 });
+    let stepped = table(&|k| if (8..16).contains(&k) { 0.02 } else { 0.0 });
     assert_ne!(stepped.record.speed[0], stepped.record.speed[8]);
 }

@@ -313,10 +313,10 @@ fn amplitude_step(
     for i in start + 1..=end {
         if i == end || record.revolution[i] != record.revolution[first] {
             let (mut c, mut s) = (0.0, 0.0);
-            for k in first..i {
-                let (sin, cos) = record.angle[k].sin_cos();
-                c += values[k] * cos;
-                s += values[k] * sin;
+            for (value, angle) in values[first..i].iter().zip(&record.angle[first..i]) {
+                let (sin, cos) = angle.sin_cos();
+                c += value * cos;
+                s += value * sin;
             }
             let count = (i - first) as Real;
             amplitudes.push((record.revolution[first], 2.0 * c.hypot(s) / count));
