@@ -1145,13 +1145,12 @@ fn a_centre_ball_set_a_third_of_a_millimetre_off_leaves_no_shape_in_the_figures(
 #[test]
 fn a_trace_run_at_ninety_percent_feed_override_is_named_as_unexplained() {
     use mtwin::kinds::ballbar::plausible::unexplained;
-    // An out-of-round machine (12 µm of 2θ and 5 µm of 3θ) traced with 0.05 µm of noise; the
-    // software assigns angles at the programmed feed, the machine runs at `override_` of it, so
-    // the reading labelled θ was taken at override·θ. At 100 % the diagnostic fit's terms
-    // take the 2θ shape and leave the 3θ lobes (3.5 µm RMS, not a term) — so a clean machine
-    // here has only the 2θ; at 90 % the shape lands at the wrong angles and the fit leaves
-    // micrometres, dozens of times the noise.
-    let trace = |override_: f64, lobes: f64| {
+    // An out-of-round machine (12 µm of 2θ) traced with 0.05 µm of noise; the software
+    // assigns angles at the programmed feed, the machine runs at `override_` of it, so the
+    // reading labelled θ was taken at override·θ. At 100 % the diagnostic fit's terms take the
+    // 2θ shape; at 90 % the shape lands at the wrong angles and the fit leaves micrometres,
+    // dozens of times the noise.
+    let trace = |override_: f64| {
         let mut rng = seeded_rng(3, "feed override");
         let mut readings = Vec::new();
         for (sense, sign) in [(Sense::Ccw, 1.0), (Sense::Cw, -1.0)] {
@@ -1162,7 +1161,6 @@ fn a_trace_run_at_ninety_percent_feed_override_is_named_as_unexplained() {
                     sense,
                     angle: labelled.rem_euclid(TAU),
                     deviation: 12.0 * UM * (2.0 * actual).cos()
-                        + lobes * UM * (3.0 * actual).cos()
                         + 0.05 * UM * standard_normal(&mut rng),
                     time: None,
                 });
@@ -1178,9 +1176,9 @@ fn a_trace_run_at_ninety_percent_feed_override_is_named_as_unexplained() {
         let rms = evaluation.diagnostics.as_ref().unwrap().rms;
         unexplained(table, rms, "the diagnostic fit")
     };
-    let clean = trace(1.0, 0.0);
+    let clean = trace(1.0);
     assert_eq!(said(&clean), None);
-    let overridden = trace(0.9, 0.0);
+    let overridden = trace(0.9);
     let caution = said(&overridden).expect("named");
     assert!(caution.contains("feed override"), "{caution}");
 }

@@ -105,6 +105,29 @@ pub(crate) fn looks_like(name: &str, known: &[&str]) -> Option<String> {
         .map(|k| format!("column `{name}`: did you mean `{k}`?"))
 }
 
+/// The columns among `unread` (a header's names its reader has no use for, in order) that are
+/// read past; the first that `slip` says looks like one the reader does read is refused at
+/// the header's `line`, with what the reader reads (`reads`).
+pub(crate) fn read_past<'a>(
+    unread: impl IntoIterator<Item = &'a str>,
+    slip: impl Fn(&str) -> Option<String>,
+    reads: &str,
+    line: u64,
+    file: &str,
+) -> Result<Vec<String>, super::TableError> {
+    unread
+        .into_iter()
+        .map(|name| match slip(name) {
+            Some(message) => Err(super::TableError::new(
+                file,
+                Some(line),
+                format!("{message} (this reader reads {reads})"),
+            )),
+            None => Ok(name.to_string()),
+        })
+        .collect()
+}
+
 /// Why `name` looks like a thermometer's column written another way than `temp_<sensor>_degc`,
 /// for readers that read thermometers; `None` when it does not.
 pub(crate) fn thermometer_slip(name: &str) -> Option<String> {

@@ -13,7 +13,7 @@ mod table;
 mod write;
 
 pub use columns::not_read_line;
-pub(crate) use columns::{Quantity, channel_slip, clock, looks_like, thermometer_slip};
+pub(crate) use columns::{Quantity, channel_slip, clock, looks_like, read_past, thermometer_slip};
 pub use conditions::{Conditions, not_used_line};
 pub use path::{PathError, relative_path};
 pub use table::{CLOCK_MIN, CLOCK_S, Range, THERMOMETER, TableError, first_non_finite};

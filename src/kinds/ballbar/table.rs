@@ -257,18 +257,13 @@ impl BallbarTable {
         let machine = stated.get("machine").map(|(m, _)| m.to_string());
         let mut reader = csv_reader(bytes);
         let (header, header_line) = read_header(&mut reader, file)?;
-        let mut columns_not_read = Vec::new();
-        for name in header.iter().filter(|name| !KNOWN.contains(name)) {
-            if let Some(message) = crate::io::looks_like(name, &KNOWN) {
-                return Err(fail(
-                    Some(header_line),
-                    format!(
-                        "{message} (this reader reads direction, angle_deg, deviation_um and time_s)"
-                    ),
-                ));
-            }
-            columns_not_read.push(name.to_string());
-        }
+        let columns_not_read = crate::io::read_past(
+            header.iter().filter(|name| !KNOWN.contains(name)),
+            |name| crate::io::looks_like(name, &KNOWN),
+            "direction, angle_deg, deviation_um and time_s",
+            header_line,
+            file,
+        )?;
         let column = |name: &str| header.iter().position(|h| h == name);
         let required = |name: &str| {
             column(name).ok_or_else(|| {

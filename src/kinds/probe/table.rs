@@ -193,22 +193,18 @@ impl Columns {
             .chain(ROTARY)
             .chain(CALIBRATION)
             .collect();
-        let mut not_read = Vec::new();
-        for name in header.iter().filter(|name| !known.contains(name)) {
-            if let Some(message) = crate::io::looks_like(name, &known) {
-                return Err(TableError::new(
-                    file,
-                    Some(line),
-                    format!(
-                        "{message} (this reader reads {}, and optionally {} and {})",
-                        required.join(", "),
-                        ROTARY.join(", "),
-                        CALIBRATION.join(", ")
-                    ),
-                ));
-            }
-            not_read.push(name.to_string());
-        }
+        let not_read = crate::io::read_past(
+            header.iter().filter(|name| !known.contains(name)),
+            |name| crate::io::looks_like(name, &known),
+            &format!(
+                "{}, and optionally {} and {}",
+                required.join(", "),
+                ROTARY.join(", "),
+                CALIBRATION.join(", ")
+            ),
+            line,
+            file,
+        )?;
         for name in required {
             if !header.iter().any(|h| h == *name) {
                 return Err(TableError::new(

@@ -207,19 +207,14 @@ impl RtestTable {
             .chain(DEVIATION)
             .chain(PROBES)
             .collect();
-        let mut columns_not_read = Vec::new();
-        for name in header.iter().filter(|name| !known.contains(name)) {
-            if let Some(message) = crate::io::looks_like(name, &known) {
-                return Err(fail(
-                    Some(header_line),
-                    format!(
-                        "{message} (this reader reads test, point, time_s, a_deg/b_deg/c_deg, \
-                         x_mm/y_mm/z_mm, dx_um, dy_um, dz_um, probe1_um … probe4_um)"
-                    ),
-                ));
-            }
-            columns_not_read.push(name.to_string());
-        }
+        let columns_not_read = crate::io::read_past(
+            header.iter().filter(|name| !known.contains(name)),
+            |name| crate::io::looks_like(name, &known),
+            "test, point, time_s, a_deg/b_deg/c_deg, x_mm/y_mm/z_mm, dx_um, dy_um, dz_um, \
+             probe1_um … probe4_um",
+            header_line,
+            file,
+        )?;
         let column = |name: &str| header.iter().position(|h| h == name);
         let required = |name: &str| {
             column(name).ok_or_else(|| {

@@ -98,17 +98,13 @@ pub fn record_cautions(record: &SpindleRecord, per_revolution: usize) -> Vec<Str
 /// motions of both directions would be computed from one.
 fn copied_probes(record: &SpindleRecord) -> Vec<String> {
     let mut found = Vec::new();
-    let constant = |values: &mut dyn Iterator<Item = Real>| {
-        let values: Vec<Real> = values.collect();
-        spread(values.iter().copied()) < 1e-12
-    };
     for (i, (a, ra)) in record.probes.iter().zip(&record.readings).enumerate() {
         if spread(ra.iter().copied()) < SMALLEST_MOTION {
             continue;
         }
         for (b, rb) in record.probes.iter().zip(&record.readings).skip(i + 1) {
-            let same = constant(&mut ra.iter().zip(rb).map(|(x, y)| x - y));
-            let negated = constant(&mut ra.iter().zip(rb).map(|(x, y)| x + y));
+            let same = spread(ra.iter().zip(rb).map(|(x, y)| x - y)) < 1e-12;
+            let negated = spread(ra.iter().zip(rb).map(|(x, y)| x + y)) < 1e-12;
             if same || negated {
                 found.push(format!(
                     "columns `{}_um` and `{}_um` carry one signal ({} at every sample): one probe on two inputs of the analyser, or a channel duplicated in the export? The error motions along both directions come from one probe",
