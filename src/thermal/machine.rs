@@ -18,7 +18,7 @@
 //! With them X idling at 4 800 mm/min warms its nut by 3.4 °C (63 % after 32 min) and its
 //! screw, lagging, by 2.4 °C (63 % after 63 min, 95 % after about 3 h) — Lu 2012 Ch. 3 and 5
 //! report warm-ups of 2.5–3 h. Y and Z, with no table to share the nut's heat, warm a little
-//! more. `tests/thermal_twin.rs` checks these lie in the ranges the issue asks for. Friction heat is taken proportional to speed (Coulomb
+//! more. `tests/it/thermal_twin.rs` checks these lie in the ranges the issue asks for. Friction heat is taken proportional to speed (Coulomb
 //! friction); heat is spread evenly within a node. Thermal errors: each linear axis's screw
 //! expands with 11.7 ppm/K (steel, unless set otherwise) from its fixed end (at the axis zero
 //! unless set otherwise), the

@@ -12,7 +12,7 @@
 //! with the file, line and column (binary STL: the facet and its byte offset).
 //!
 //! Accuracy: the cast is GJK, so a touch on a facet is exact to about 1e-10 m and no better
-//! (see `tests/contact.rs`); analytic artefacts have closed forms in the sibling modules.
+//! (see `tests/it/contact.rs`); analytic artefacts have closed forms in the sibling modules.
 
 mod closed;
 mod obj;

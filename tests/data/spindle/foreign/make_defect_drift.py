@@ -20,7 +20,7 @@ What is in it (um; theta the spindle angle, u the turns since the first index, t
     probe holder settling after the spindle starts: a first-order approach, not a line);
   - probe noise 3 nm (Gaussian), rounding to 1 nm.
 
-The constants are repeated in tests/discovery_spindle.rs, which computes what discovery must find.
+The constants are repeated in tests/it/discovery_spindle.rs, which computes what discovery must find.
 Run: python3 make_defect_drift.py  (in this folder)
 """
 import math

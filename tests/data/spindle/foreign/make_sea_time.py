@@ -33,7 +33,7 @@ probed sphere's centre:
                 + A_b sin(2 pi f_b t + psi_b) + N(0, sigma)
 
 The bearing line f_b = 440 Hz is 4.4 times the mean rotation frequency. The constants are
-repeated in tests/cli_spindle.rs, which computes the closed forms from them.
+repeated in tests/it/cli_spindle.rs, which computes the closed forms from them.
 Run: python3 make_sea_time.py  (in this folder)
 """
 import math

@@ -1,0 +1,1240 @@
+//! `mtwin analyze spindle` end to end, through the binary:
+//!
+//! * on what `mtwin run scenarios/vmc3_spindle.toml` writes: the JSON has exactly the keys the
+//!   help documents, three segments at 2000/6000/12000 rpm, the speed series, the preferred
+//!   centre first, and values equal to those computed here from the table's rows by hand;
+//! * `--plot` writes well-formed SVG files named polar_*, spectrum_*, speed_* and nothing else,
+//!   and a folder that cannot be made fails with nothing written;
+//! * `--centres` restricts the centres (the preferred one still first) and refuses an unknown
+//!   one by name;
+//! * the malformed fixtures are refused with file:line, non-zero exit, nothing on stdout;
+//! * a foreign export (`tests/data/spindle/foreign/`, written by an independent Python model,
+//!   sampled on time with a speed ripple, CRLF, its own column order, no geometry): the values
+//!   and lines agree with the closed forms of that model within stated tolerances and the
+//!   report says it resampled.
+//! * `discover spindle`: the JSON keys its help documents, on the foreign export; bad set-up,
+//!   bearing and revolution counts refused with the file named, non-zero exit, nothing on
+//!   stdout.
+
+use crate::common::{mtwin_output as mtwin, root};
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::f64::consts::{PI, TAU};
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+fn data(name: &str) -> PathBuf {
+    root().join("tests/data/spindle").join(name)
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// `mtwin analyze spindle FILE EXTRA…`.
+fn analyze(file: &Path, extra: &[&OsStr]) -> Output {
+    let mut args: Vec<&OsStr> = vec!["analyze".as_ref(), "spindle".as_ref(), file.as_os_str()];
+    args.extend_from_slice(extra);
+    mtwin(&args)
+}
+
+/// `analyze spindle FILE --json EXTRA…`, which must succeed; its JSON.
+fn analyze_json(file: &Path, extra: &[&OsStr]) -> Value {
+    let mut args: Vec<&OsStr> = vec!["--json".as_ref()];
+    args.extend_from_slice(extra);
+    let output = analyze(file, &args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    serde_json::from_slice(&output.stdout).expect("JSON on stdout")
+}
+
+fn keys(value: &Value) -> BTreeSet<&str> {
+    value
+        .as_object()
+        .unwrap_or_else(|| panic!("an object: {value}"))
+        .keys()
+        .map(String::as_str)
+        .collect()
+}
+
+fn set<'a>(names: &[&'a str]) -> BTreeSet<&'a str> {
+    names.iter().copied().collect()
+}
+
+fn number(value: &Value) -> f64 {
+    value
+        .as_f64()
+        .unwrap_or_else(|| panic!("a number: {value}"))
+}
+
+fn array(value: &Value) -> &Vec<Value> {
+    value
+        .as_array()
+        .unwrap_or_else(|| panic!("an array: {value}"))
+}
+
+/// Every entry of `dir` (hidden ones included), sorted; empty if it does not exist.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = match std::fs::read_dir(dir) {
+        Ok(read) => read
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    names.sort();
+    names
+}
+
+fn range(values: &[f64]) -> f64 {
+    let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+    hi - lo
+}
+
+/// `p` without its first harmonic, for angles spread evenly over a full turn (then the least-
+/// squares 1-UPR fit is `2/M Σ p cos θ`, `2/M Σ p sin θ`): the LSC residual of ISO 230-7 in the
+/// limaçon model.
+fn without_first_harmonic(p: &[f64], angles: &[f64]) -> Vec<f64> {
+    let m = p.len() as f64;
+    let a: f64 = 2.0 / m * p.iter().zip(angles).map(|(v, t)| v * t.cos()).sum::<f64>();
+    let b: f64 = 2.0 / m * p.iter().zip(angles).map(|(v, t)| v * t.sin()).sum::<f64>();
+    p.iter()
+        .zip(angles)
+        .map(|(v, t)| v - a * t.cos() - b * t.sin())
+        .collect()
+}
+
+/// Panics unless `svg` is well-formed XML (quick-xml) with one `<svg>` root, all closed.
+fn assert_well_formed_svg(svg: &str, name: &str) {
+    use quick_xml::events::Event;
+    let mut reader = quick_xml::Reader::from_str(svg);
+    let (mut depth, mut roots) = (0usize, 0usize);
+    loop {
+        match reader
+            .read_event()
+            .unwrap_or_else(|e| panic!("{name}: not well-formed XML: {e}"))
+        {
+            Event::Start(e) => {
+                if depth == 0 {
+                    roots += 1;
+                    assert_eq!(e.name().as_ref(), b"svg", "{name}: the root");
+                }
+                depth += 1;
+            }
+            Event::Empty(e) if depth == 0 => {
+                roots += 1;
+                assert_eq!(e.name().as_ref(), b"svg", "{name}: the root");
+            }
+            Event::End(_) => depth -= 1,
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert_eq!((depth, roots), (0, 1), "{name}: one <svg> root, closed");
+}
+
+// ---------------------------------------------------------------------------------------------
+// A table read by hand: the test's own reading of the CSV, to compute values independently.
+
+struct Csv {
+    /// `# key = value` lines of the preamble.
+    keys: Vec<(String, String)>,
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Csv {
+    fn read(path: &Path) -> Csv {
+        let content = std::fs::read_to_string(path).unwrap();
+        let mut keys = Vec::new();
+        let mut header = Vec::new();
+        let mut rows = Vec::new();
+        for line in content.lines() {
+            let line = line.trim_end_matches('\r');
+            if let Some(comment) = line.strip_prefix('#') {
+                if let Some((k, v)) = comment.split_once('=') {
+                    keys.push((k.trim().to_string(), v.trim().to_string()));
+                }
+            } else if header.is_empty() {
+                header = line.split(',').map(str::to_string).collect();
+            } else if !line.is_empty() {
+                rows.push(line.split(',').map(str::to_string).collect());
+            }
+        }
+        Csv { keys, header, rows }
+    }
+
+    fn key(&self, key: &str) -> &str {
+        self.keys
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+            .unwrap_or_else(|| panic!("no `{key}` in the preamble"))
+    }
+
+    fn column(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column `{name}`"))
+    }
+
+    fn value(&self, row: usize, column: usize) -> f64 {
+        self.rows[row][column].trim().parse().unwrap()
+    }
+}
+
+/// Runs the bundled vmc3 spindle scenario into `dir/out`; returns its `spindle.csv`.
+fn run_vmc3_spindle(dir: &Path) -> PathBuf {
+    let out = dir.join("out");
+    let scenario = root().join("scenarios/vmc3_spindle.toml");
+    let output = mtwin(&[
+        "run".as_ref(),
+        scenario.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    out.join("spindle.csv")
+}
+
+/// Writes to `to` the preamble, the header and the rows of `from` whose revolution is below
+/// `keep`, at the speeds `speeds` (as written in the table, e.g. "2000.000"; all when empty),
+/// with the preamble's `revolutions` and `speeds_rpm` saying so (the reader checks them).
+///
+/// Why not the whole table: it keeps the test short (the full record is 5.3 MB; reading it
+/// once took 77 s while the reader counted lines from the file's start for every row, a bug
+/// these tests found and that is fixed). The first revolutions of each run are themselves a
+/// valid record of that run.
+fn first_revolutions(from: &Path, to: &Path, keep: usize, speeds: &[&str]) {
+    let content = std::fs::read_to_string(from).unwrap();
+    let mut lines = content.lines();
+    let mut out = String::new();
+    let header = loop {
+        let line = lines.next().expect("a header");
+        // The preamble says what the rows hold: the revolutions and speeds kept.
+        if line.starts_with("# revolutions = ") {
+            out += &format!("# revolutions = {keep}\n");
+            continue;
+        }
+        if line.starts_with("# speeds_rpm = ") && !speeds.is_empty() {
+            out += &format!("# speeds_rpm = {}\n", speeds.join(" "));
+            continue;
+        }
+        out += line;
+        out.push('\n');
+        if !line.starts_with('#') {
+            break line.split(',').collect::<Vec<_>>();
+        }
+    };
+    let revolution = header.iter().position(|h| *h == "revolution").unwrap();
+    let speed = header.iter().position(|h| *h == "speed_rpm").unwrap();
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        let kept = fields[revolution].parse::<usize>().unwrap() < keep
+            && (speeds.is_empty() || speeds.contains(&fields[speed]));
+        if kept {
+            out += line;
+            out.push('\n');
+        }
+    }
+    std::fs::write(to, out).unwrap();
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. The JSON report on mtwin's own record.
+
+const SEGMENT_KEYS: [&str; 4] = ["setup", "speed_rpm", "revolutions", "tests"];
+const TEST_KEYS: [&str; 8] = [
+    "name",
+    "direction",
+    "sensing",
+    "probes",
+    "height_mm",
+    "unit",
+    "values",
+    "lines",
+];
+const VALUE_KEYS: [&str; 9] = [
+    "centre",
+    "offset",
+    "total",
+    "synchronous",
+    "asynchronous",
+    "fundamental",
+    "residual",
+    "inner",
+    "outer",
+];
+const LINE_KEYS: [&str; 4] = ["per_revolution", "hz", "amplitude", "synchronous"];
+const ALL_CENTRES: [&str; 5] = ["PC", "LSC", "MRS", "MIC", "MCC"];
+
+/// The centres in report order: the preferred one (ISO 230-7 Tab 1: PC for axial and face, LSC
+/// for radial and tilt), then the others asked, in the order PC, LSC, MRS, MIC, MCC.
+fn centre_order(direction: &str, asked: &[&'static str]) -> Vec<&'static str> {
+    let preferred = match direction {
+        "axial" | "face" => "PC",
+        "radial" | "tilt" => "LSC",
+        other => panic!("unknown direction {other}"),
+    };
+    std::iter::once(preferred)
+        .chain(asked.iter().copied().filter(|c| *c != preferred))
+        .collect()
+}
+
+fn test_named<'a>(segment: &'a Value, name: &str) -> &'a Value {
+    array(&segment["tests"])
+        .iter()
+        .find(|t| t["name"] == name)
+        .unwrap_or_else(|| panic!("no test `{name}` in {}", segment["speed_rpm"]))
+}
+
+#[test]
+fn run_then_analyze_reports_the_documented_keys_and_the_values_of_the_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = run_vmc3_spindle(dir.path());
+    let table = dir.path().join("spindle.csv");
+    first_revolutions(&full, &table, 2, &[]);
+    let json = analyze_json(&table, &[]);
+
+    assert_eq!(
+        keys(&json),
+        set(&[
+            "samples_per_revolution",
+            "segments",
+            "speeds",
+            "separations",
+            "notes",
+            "cautions",
+            "columns_not_read",
+            "setup"
+        ])
+    );
+    // The twin's own record (micrometres of error motion, in µm): no unit caution.
+    assert_eq!(json["cautions"], serde_json::json!([]));
+    assert_eq!(json["samples_per_revolution"], 1024);
+    // Every key the twin wrote was read; the set-up is said again.
+    assert_eq!(json["setup"]["preamble_not_used"], serde_json::json!([]));
+    assert_eq!(json["setup"]["machine"], "vmc3");
+    assert_eq!(json["notes"], serde_json::json!([]), "on the index grid");
+    assert_eq!(
+        json["separations"],
+        serde_json::json!([]),
+        "one set-up and two probes per height: nothing to separate"
+    );
+
+    // Three segments, one per speed of the scenario, each with its 2 revolutions.
+    let segments = array(&json["segments"]);
+    let speeds: Vec<f64> = segments.iter().map(|s| number(&s["speed_rpm"])).collect();
+    assert_eq!(speeds, [2000.0, 6000.0, 12000.0]);
+    // The five probes of the nest (x1, y1 at 0, x2, y2 80 mm up, z on the axis) give these
+    // tests (module docs of evaluate.rs).
+    let expected_tests = [
+        ("radial x1", "radial", "fixed", vec!["x1"], 0.0, "um"),
+        ("radial y1", "radial", "fixed", vec!["y1"], 0.0, "um"),
+        ("radial x2", "radial", "fixed", vec!["x2"], 80.0, "um"),
+        ("radial y2", "radial", "fixed", vec!["y2"], 80.0, "um"),
+        ("axial z", "axial", "fixed", vec!["z"], 0.0, "um"),
+        (
+            "radial x1+y1 rotating",
+            "radial",
+            "rotating",
+            vec!["x1", "y1"],
+            0.0,
+            "um",
+        ),
+        (
+            "radial x2+y2 rotating",
+            "radial",
+            "rotating",
+            vec!["x2", "y2"],
+            80.0,
+            "um",
+        ),
+        ("tilt x1-x2", "tilt", "fixed", vec!["x1", "x2"], 0.0, "urad"),
+        ("tilt y1-y2", "tilt", "fixed", vec!["y1", "y2"], 0.0, "urad"),
+        (
+            "tilt x1+y1-x2+y2 rotating",
+            "tilt",
+            "rotating",
+            vec!["x1", "y1", "x2", "y2"],
+            0.0,
+            "urad",
+        ),
+    ];
+    for segment in segments {
+        assert_eq!(keys(segment), set(&SEGMENT_KEYS));
+        assert_eq!(segment["setup"], "normal");
+        assert_eq!(segment["revolutions"], 2);
+        let tests = array(&segment["tests"]);
+        assert_eq!(tests.len(), expected_tests.len());
+        for (test, (name, direction, sensing, probes, height, unit)) in
+            tests.iter().zip(&expected_tests)
+        {
+            assert_eq!(keys(test), set(&TEST_KEYS));
+            assert_eq!(test["name"], *name);
+            assert_eq!(test["direction"], *direction);
+            assert_eq!(test["sensing"], *sensing, "{name}");
+            assert_eq!(test["probes"], serde_json::json!(probes), "{name}");
+            assert_eq!(number(&test["height_mm"]), *height, "{name}");
+            assert_eq!(test["unit"], *unit, "{name}");
+            let values = array(&test["values"]);
+            let centres: Vec<&str> = values
+                .iter()
+                .map(|v| v["centre"].as_str().unwrap())
+                .collect();
+            assert_eq!(centres, centre_order(direction, &ALL_CENTRES), "{name}");
+            for v in values {
+                assert_eq!(keys(v), set(&VALUE_KEYS), "{name}");
+                assert_eq!(array(&v["offset"]).len(), 2);
+                for key in &VALUE_KEYS[2..] {
+                    assert!(number(&v[*key]) >= 0.0, "{name} {key}: {v}");
+                }
+            }
+            // MRS is the centre of the minimum radial separation: every other centre's
+            // synchronous value is at least its value (to the JSON's rounding).
+            let mrs = values.iter().find(|v| v["centre"] == "MRS").unwrap();
+            for v in values {
+                assert!(
+                    number(&v["synchronous"]) >= number(&mrs["synchronous"]) - 2e-6,
+                    "{name}: MRS is the minimum radial separation: {v} vs {mrs}"
+                );
+            }
+            let lines = array(&test["lines"]);
+            assert!(!lines.is_empty() && lines.len() <= 8, "{name}");
+            for (l, next) in lines.iter().zip(lines.iter().skip(1)) {
+                assert_eq!(keys(l), set(&LINE_KEYS));
+                assert!(
+                    number(&l["amplitude"]) >= number(&next["amplitude"]),
+                    "largest first"
+                );
+            }
+            for l in lines {
+                // hz = UPR × revolutions per second, the speed of the segment.
+                let hz = number(&l["per_revolution"]) * number(&segment["speed_rpm"]) / 60.0;
+                assert!((number(&l["hz"]) - hz).abs() < 2e-6, "{l}");
+                // 2 revolutions: lines every 1/2 UPR, the whole ones synchronous.
+                let upr = number(&l["per_revolution"]);
+                assert_eq!(l["synchronous"], upr.fract() == 0.0, "{l}");
+            }
+        }
+    }
+
+    // Values against speed: each test, its preferred centre, the three speeds.
+    let series = array(&json["speeds"]);
+    assert_eq!(series.len(), expected_tests.len());
+    for (entry, (name, _, _, _, _, unit)) in series.iter().zip(&expected_tests) {
+        assert_eq!(keys(entry), set(&["test", "unit", "points"]));
+        assert_eq!(entry["test"], format!("{name} (normal)"));
+        assert_eq!(entry["unit"], *unit);
+        let points = array(&entry["points"]);
+        assert_eq!(points.len(), 3);
+        for (point, segment) in points.iter().zip(segments) {
+            assert_eq!(
+                keys(point),
+                set(&["speed_rpm", "synchronous", "asynchronous"])
+            );
+            assert_eq!(point["speed_rpm"], segment["speed_rpm"]);
+            let preferred = &test_named(segment, name)["values"][0];
+            assert_eq!(point["synchronous"], preferred["synchronous"]);
+            assert_eq!(point["asynchronous"], preferred["asynchronous"]);
+        }
+    }
+
+    // The values, computed here from the table's rows. Tolerance 2e-6 (µm or µrad): the JSON's
+    // rounding to 1e-6 plus floating-point noise.
+    let csv = Csv::read(&table);
+    let m: usize = csv.key("samples_per_revolution").parse().unwrap();
+    assert_eq!(m, 1024);
+    let (speed, angle) = (csv.column("speed_rpm"), csv.column("angle_deg"));
+    let (x1, x2, z) = (csv.column("x1_um"), csv.column("x2_um"), csv.column("z_um"));
+    // The height of the x2 station above x1 (mm), from the preamble.
+    let height = |key: &str| -> f64 {
+        csv.key(key)
+            .split_whitespace()
+            .nth(2)
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let separation_mm = height("x2_position_mm") - height("x1_position_mm");
+    assert_eq!(separation_mm, 80.0);
+    for segment in segments {
+        let rpm = number(&segment["speed_rpm"]);
+        let rows: Vec<usize> = (0..csv.rows.len())
+            .filter(|&i| csv.value(i, speed) == rpm)
+            .collect();
+        assert_eq!(rows.len(), 2 * m);
+        let angles: Vec<f64> = rows[..m]
+            .iter()
+            .map(|&i| csv.value(i, angle).to_radians())
+            .collect();
+        // Per angle: the mean over the revolutions (synchronous) and the band (asynchronous).
+        let profile = |signal: &dyn Fn(usize) -> f64| -> (Vec<f64>, f64) {
+            let revolutions = rows.len() / m;
+            let mut mean = vec![0.0; m];
+            let mut band: f64 = 0.0;
+            for (j, slot) in mean.iter_mut().enumerate() {
+                let at: Vec<f64> = (0..revolutions).map(|k| signal(rows[k * m + j])).collect();
+                *slot = at.iter().sum::<f64>() / revolutions as f64;
+                band = band.max(range(&at));
+            }
+            (mean, band)
+        };
+        let close = |json: &Value, ours: f64, what: &str| {
+            assert!(
+                (number(json) - ours).abs() < 2e-6,
+                "{rpm} rpm {what}: JSON {json}, by hand {ours}"
+            );
+        };
+        // Axial z about PC: the range of the mean profile.
+        let (z_mean, z_band) = profile(&|i| csv.value(i, z));
+        let axial = &test_named(segment, "axial z")["values"][0];
+        assert_eq!(axial["centre"], "PC");
+        close(
+            &axial["synchronous"],
+            range(&z_mean),
+            "axial z PC synchronous",
+        );
+        close(&axial["asynchronous"], z_band, "axial z asynchronous");
+        // Radial x1 about LSC: the mean profile without its first harmonic.
+        let (x1_mean, x1_band) = profile(&|i| csv.value(i, x1));
+        let radial = &test_named(segment, "radial x1")["values"][0];
+        assert_eq!(radial["centre"], "LSC");
+        let lsc = range(&without_first_harmonic(&x1_mean, &angles));
+        close(&radial["synchronous"], lsc, "radial x1 LSC synchronous");
+        close(&radial["asynchronous"], x1_band, "radial x1 asynchronous");
+        // Tilt x1-x2 about LSC, in µrad: (upper − lower) / L, µm / mm = mrad.
+        let (tilt_mean, _) =
+            profile(&|i| (csv.value(i, x2) - csv.value(i, x1)) / separation_mm * 1e3);
+        let tilt = &test_named(segment, "tilt x1-x2")["values"][0];
+        assert_eq!(tilt["centre"], "LSC");
+        let lsc = range(&without_first_harmonic(&tilt_mean, &angles));
+        close(
+            &tilt["synchronous"],
+            lsc,
+            "tilt x1-x2 LSC synchronous (µrad)",
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Plots.
+
+#[test]
+fn plots_are_svg_files_named_by_kind_and_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = run_vmc3_spindle(dir.path());
+    let table = dir.path().join("spindle.csv");
+    first_revolutions(&full, &table, 2, &[]);
+    let plots = dir.path().join("plots");
+    let json = analyze_json(&table, &["--plot".as_ref(), plots.as_os_str()]);
+    let segments = array(&json["segments"]);
+    let tests_per_segment = array(&segments[0]["tests"]).len();
+    let names = entries(&plots);
+    let count = |prefix: &str| names.iter().filter(|n| n.starts_with(prefix)).count();
+    // A polar plot and a spectrum per segment and test, a chart against speed per test.
+    assert_eq!(
+        count("polar_"),
+        segments.len() * tests_per_segment,
+        "{names:?}"
+    );
+    assert_eq!(count("spectrum_"), segments.len() * tests_per_segment);
+    assert_eq!(count("speed_"), array(&json["speeds"]).len());
+    assert_eq!(
+        names.len(),
+        count("polar_") + count("spectrum_") + count("speed_"),
+        "nothing else (no temporaries): {names:?}"
+    );
+    for name in &names {
+        assert!(name.ends_with(".svg"), "{name}");
+        let svg = std::fs::read_to_string(plots.join(name)).unwrap();
+        assert_well_formed_svg(&svg, name);
+    }
+    // One plot per speed: each speed of the record is named in some polar plot's name.
+    for segment in segments {
+        let tag = format!("_{}rpm_", number(&segment["speed_rpm"]));
+        assert_eq!(
+            names
+                .iter()
+                .filter(|n| n.starts_with("polar_") && n.contains(&tag))
+                .count(),
+            tests_per_segment,
+            "{tag}: {names:?}"
+        );
+    }
+}
+
+#[test]
+fn plots_into_a_folder_under_a_file_fail_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocker = dir.path().join("not_a_folder");
+    std::fs::write(&blocker, "a regular file\n").unwrap();
+    let plots = blocker.join("plots");
+    let before = entries(dir.path());
+    let output = analyze(
+        &data("small.csv"),
+        &["--json".as_ref(), "--plot".as_ref(), plots.as_os_str()],
+    );
+    assert!(!output.status.success());
+    assert!(output.stdout.is_empty(), "{}", text(&output.stdout));
+    let stderr = text(&output.stderr);
+    assert!(stderr.contains("not_a_folder"), "{stderr}");
+    assert_eq!(
+        entries(dir.path()),
+        before,
+        "nothing written beside the file"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&blocker).unwrap(),
+        "a regular file\n"
+    );
+}
+
+/// Was a bug (src/io/write.rs, `write_files`): the files are first written as `.NAME.partial`
+/// and then renamed one by one; when a rename failed (here: the target name is taken by a
+/// folder), the files renamed before it stayed, and so did the temporaries not yet renamed,
+/// although the function promises that a failure leaves none of the new files. Blocking the
+/// first plot's name or the fourth's must leave the folder as it was.
+#[test]
+fn a_plot_that_cannot_be_renamed_leaves_no_files_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    // The names the plots take, from a run that succeeds.
+    let good = dir.path().join("good");
+    let output = analyze(&data("small.csv"), &["--plot".as_ref(), good.as_os_str()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let names = entries(&good);
+    assert_eq!(names.len(), 6, "{names:?}");
+    for blocked in [names.first().unwrap(), names.last().unwrap()] {
+        let plots = dir.path().join(format!("blocked_{blocked}"));
+        std::fs::create_dir_all(plots.join(blocked)).unwrap();
+        let output = analyze(
+            &data("small.csv"),
+            &["--json".as_ref(), "--plot".as_ref(), plots.as_os_str()],
+        );
+        assert!(!output.status.success(), "{blocked} is a folder");
+        assert!(output.stdout.is_empty());
+        assert!(text(&output.stderr).contains(blocked.as_str()));
+        assert_eq!(
+            entries(&plots),
+            std::slice::from_ref(blocked),
+            "only the folder that was there before"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Centres.
+
+#[test]
+fn centres_restrict_the_report_and_the_preferred_comes_first() {
+    // The foreign export of tests/data/spindle has axial, radial and tilt tests.
+    let table = data("foreign_sea.csv");
+    let json = analyze_json(&table, &["--centres".as_ref(), "LSC,MRS".as_ref()]);
+    let mut directions = BTreeSet::new();
+    for segment in array(&json["segments"]) {
+        for test in array(&segment["tests"]) {
+            let direction = test["direction"].as_str().unwrap();
+            directions.insert(direction.to_string());
+            let centres: Vec<&str> = array(&test["values"])
+                .iter()
+                .map(|v| v["centre"].as_str().unwrap())
+                .collect();
+            assert_eq!(
+                centres,
+                centre_order(direction, &["LSC", "MRS"]),
+                "{}",
+                test["name"]
+            );
+        }
+    }
+    assert_eq!(
+        directions,
+        ["axial", "radial", "tilt"]
+            .map(String::from)
+            .into_iter()
+            .collect(),
+        "axial gets PC added in front, radial and tilt have LSC first"
+    );
+    // The values about the centres kept are those of the report without the option.
+    let all = analyze_json(&table, &[]);
+    for (a, b) in array(&json["segments"]).iter().zip(array(&all["segments"])) {
+        for (ta, tb) in array(&a["tests"]).iter().zip(array(&b["tests"])) {
+            for va in array(&ta["values"]) {
+                let vb = array(&tb["values"])
+                    .iter()
+                    .find(|v| v["centre"] == va["centre"])
+                    .unwrap();
+                assert_eq!(va, vb);
+            }
+        }
+    }
+
+    for bad in ["XYZ", "LSC,XYZ"] {
+        let output = analyze(
+            &table,
+            &["--json".as_ref(), "--centres".as_ref(), bad.as_ref()],
+        );
+        assert!(!output.status.success(), "{bad}");
+        assert!(output.stdout.is_empty());
+        let stderr = text(&output.stderr);
+        assert!(
+            stderr.contains("--centres") && stderr.contains("\"XYZ\""),
+            "{stderr}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Bad files.
+
+/// The 1-based number of the first line of `content` for which `is_it` holds.
+fn line_where(content: &str, is_it: impl Fn(&str) -> bool) -> usize {
+    content
+        .lines()
+        .position(is_it)
+        .map(|i| i + 1)
+        .expect("such a line")
+}
+
+#[test]
+fn malformed_tables_are_refused_with_file_and_line_and_nothing_on_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let read = |name: &str| std::fs::read_to_string(data(name)).unwrap();
+
+    // The lines, found here in the fixtures: the header of the table without probes; the last
+    // row of the short revolution (revolution 1 ends there after 7 of 8 samples); the row whose
+    // angle is not above the one before it in its revolution; the row with NaN.
+    let missing = read("missing_probes.csv");
+    let header = line_where(&missing, |l| !l.starts_with('#'));
+    let short = read("short_revolution.csv");
+    let last = short.lines().count();
+    let angles = read("angle_not_increasing.csv");
+    let rows: Vec<(usize, f64)> = angles
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("revolution"))
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[0].parse().unwrap(), f[1].parse().unwrap())
+        })
+        .collect();
+    let offender = (1..rows.len())
+        .find(|&i| rows[i].0 == rows[i - 1].0 && rows[i].1 <= rows[i - 1].1)
+        .unwrap();
+    let angle_line = line_where(&angles, |l| l.starts_with("revolution")) + 1 + offender;
+    let nan = read("nan.csv");
+    let nan_line = line_where(&nan, |l| l.contains("NaN"));
+
+    let cases = [
+        ("missing_probes.csv", header, "probe"),
+        ("short_revolution.csv", last, "7 samples"),
+        ("angle_not_increasing.csv", angle_line, "angle_deg"),
+        ("nan.csv", nan_line, "NaN"),
+    ];
+    for (name, line, what) in cases {
+        let plots = dir.path().join(format!("plots_{name}"));
+        let output = analyze(
+            &data(name),
+            &["--json".as_ref(), "--plot".as_ref(), plots.as_os_str()],
+        );
+        assert!(!output.status.success(), "{name}");
+        assert_eq!(output.status.code(), Some(1), "{name}");
+        assert!(output.stdout.is_empty(), "{name}: {}", text(&output.stdout));
+        let stderr = text(&output.stderr);
+        assert!(
+            stderr.contains(&format!("{name}:{line}:")) && stderr.contains(what),
+            "{name}: expected line {line} and `{what}` in: {stderr}"
+        );
+        assert!(!plots.exists(), "{name}: no plot folder");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. A foreign export: time-sampled, resampled by the analyser, against the closed forms of an
+// independent model.
+
+/// The model of `tests/data/spindle/foreign/make_sea_time.py` (µm, rad; see its docstring):
+/// X = e cos(θ+δ) + p cos(θ+γ) + a2 cos(2θ+α2) + a3 cos(3θ+α3) + A_b cos(2π f_b t + ψ_b) + noise,
+/// Y = e sin(θ+δ) + q sin(θ+γ) + b2 sin(2θ+α2) + b3 sin(3θ+β3) + A_b sin(2π f_b t + ψ_b) + noise.
+mod sea {
+    pub const E: f64 = 4.0;
+    pub const DELTA: f64 = 0.7;
+    pub const P: f64 = 0.30;
+    pub const Q: f64 = 0.18;
+    pub const GAMMA: f64 = -0.4;
+    pub const A2: f64 = 0.40;
+    pub const B2: f64 = 0.25;
+    pub const ALPHA2: f64 = 0.5;
+    pub const A3: f64 = 0.22;
+    pub const ALPHA3: f64 = 1.1;
+    pub const B3: f64 = 0.15;
+    pub const BETA3: f64 = -0.6;
+    /// The bearing line: amplitude (µm) and frequency over the mean rotation frequency.
+    pub const A_B: f64 = 0.06;
+    pub const BEARING_UPR: f64 = 4.4;
+    /// Probe noise (µm, standard deviation per sample).
+    pub const SIGMA: f64 = 0.004;
+    pub const RPM: f64 = 6000.0;
+    pub const SAMPLES_PER_REVOLUTION: usize = 256;
+    /// Revolutions in the file.
+    pub const REVOLUTIONS: usize = 11;
+
+    /// The synchronous motion (X, Y) at angle θ.
+    pub fn synchronous(theta: f64) -> (f64, f64) {
+        let x = E * (theta + DELTA).cos()
+            + P * (theta + GAMMA).cos()
+            + A2 * (2.0 * theta + ALPHA2).cos()
+            + A3 * (3.0 * theta + ALPHA3).cos();
+        let y = E * (theta + DELTA).sin()
+            + Q * (theta + GAMMA).sin()
+            + B2 * (2.0 * theta + ALPHA2).sin()
+            + B3 * (3.0 * theta + BETA3).sin();
+        (x, y)
+    }
+}
+
+/// `|Σ a_i e^{iφ_i}|`: the amplitude of a sum of sinusoids of one frequency.
+fn phasor_sum(terms: &[(f64, f64)]) -> f64 {
+    let (re, im) = terms.iter().fold((0.0, 0.0), |(re, im), (a, phi)| {
+        (re + a * phi.cos(), im + a * phi.sin())
+    });
+    re.hypot(im)
+}
+
+/// The range over a fine grid (36 000 points: the sampled maximum of these trigonometric
+/// polynomials of degree ≤ 4 and amplitude < 5 µm is within 2e-7 µm of the true one).
+fn fine_range(f: impl Fn(f64) -> f64) -> f64 {
+    let n = 36_000;
+    let values: Vec<f64> = (0..n).map(|i| f(TAU * i as f64 / n as f64)).collect();
+    range(&values)
+}
+
+#[test]
+fn the_foreign_time_sampled_fixture_is_what_the_generator_says() {
+    let path = data("foreign/sea_time.csv");
+    let bytes = std::fs::read(&path).unwrap();
+    assert!(bytes.len() < 300_000, "a small fixture: {}", bytes.len());
+    let content = String::from_utf8(bytes).unwrap();
+    assert!(
+        content.split_inclusive('\n').all(|l| l.ends_with("\r\n")),
+        "CRLF"
+    );
+    let csv = Csv::read(&path);
+    assert_eq!(
+        csv.header,
+        ["y1_um", "time_s", "x1_um", "revolution", "angle_deg"]
+    );
+    assert!(
+        csv.keys.iter().all(|(k, _)| !k.ends_with("_direction")
+            && !k.ends_with("_position_mm")
+            && k != "samples_per_revolution"),
+        "no geometry in the preamble: {:?}",
+        csv.keys
+    );
+    let m = sea::SAMPLES_PER_REVOLUTION;
+    assert_eq!(csv.rows.len(), sea::REVOLUTIONS * m);
+    let (revolution, angle) = (csv.column("revolution"), csv.column("angle_deg"));
+    let step = 360.0 / m as f64;
+    for (i, row) in csv.rows.iter().enumerate() {
+        // 1-based revolutions of 256 samples each, none of them on the index grid (the
+        // nearest grid angle at least 0.4° away: half a step, 0.70°, less the ripple's 0.25°).
+        assert_eq!(row[revolution], (i / m + 1).to_string(), "row {i}");
+        let a = csv.value(i, angle);
+        let off = (a / step - (a / step).round()).abs() * step;
+        assert!(off > 0.4, "row {i}: {a}° is {off}° from the grid");
+        // Readings to 1 nm.
+        for column in ["x1_um", "y1_um"] {
+            let cell = &row[csv.column(column)];
+            assert_eq!(cell.split('.').nth(1).map(str::len), Some(3), "{cell}");
+        }
+    }
+}
+
+#[test]
+fn a_time_sampled_foreign_export_is_resampled_and_its_values_are_the_models() {
+    let path = data("foreign/sea_time.csv");
+    let json = analyze_json(&path, &[]);
+    assert_eq!(json["samples_per_revolution"], sea::SAMPLES_PER_REVOLUTION);
+    let notes: Vec<&str> = array(&json["notes"])
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("resampled") && n.contains("256 per revolution")),
+        "{notes:?}"
+    );
+    let segments = array(&json["segments"]);
+    assert_eq!(segments.len(), 1, "one speed, the ripple notwithstanding");
+    let segment = &segments[0];
+    assert_eq!(segment["setup"], "");
+    // No speed column: the speed is the slope of angle against time. The 0.3 % ripple at 70 Hz
+    // over 0.11 s biases a straight-line fit by about 1e-4: 0.1 % allowed.
+    let rpm = number(&segment["speed_rpm"]);
+    assert!((rpm - sea::RPM).abs() < 6.0, "{rpm}");
+    // The first sample comes 0.7° after the index: the first revolution has no sample at or
+    // before angle 0 to interpolate from and is dropped (motion::resample keeps whole
+    // revolutions only).
+    assert_eq!(segment["revolutions"], sea::REVOLUTIONS - 1);
+
+    let tests = array(&segment["tests"]);
+    let by_probes = |probes: &[&str], sensing: &str| {
+        tests
+            .iter()
+            .find(|t| {
+                t["sensing"] == sensing && {
+                    let p: BTreeSet<&str> = array(&t["probes"])
+                        .iter()
+                        .map(|v| v.as_str().unwrap())
+                        .collect();
+                    p == set(probes)
+                }
+            })
+            .unwrap_or_else(|| panic!("no {sensing} test of {probes:?}"))
+    };
+    let x1 = by_probes(&["x1"], "fixed");
+    let y1 = by_probes(&["y1"], "fixed");
+    let rotating = by_probes(&["x1", "y1"], "rotating");
+    assert_eq!(tests.len(), 3, "two radial probes at one height, no more");
+    for test in tests {
+        assert_eq!(test["direction"], "radial");
+        assert_eq!(test["unit"], "um");
+        assert_eq!(test["values"][0]["centre"], "LSC");
+    }
+
+    // The closed forms.
+    // Fixed sensitive direction along X: the synchronous profile is X(θ); LSC removes its first
+    // harmonic (the artefact's eccentricity e and the 1-UPR orbit p), so the value is the range
+    // of a2 cos(2θ+α2) + a3 cos(3θ+α3).
+    let x1_lsc = fine_range(|t| {
+        sea::A2 * (2.0 * t + sea::ALPHA2).cos() + sea::A3 * (3.0 * t + sea::ALPHA3).cos()
+    });
+    let y1_lsc = fine_range(|t| {
+        sea::B2 * (2.0 * t + sea::ALPHA2).sin() + sea::B3 * (3.0 * t + sea::BETA3).sin()
+    });
+    // Rotating sensitive direction (formula (1)): r(θ) = X cos θ + Y sin θ; its first harmonic
+    // is removed on a fine grid (exact for this trigonometric polynomial).
+    let rotating_lsc = {
+        let n = 36_000;
+        let angles: Vec<f64> = (0..n).map(|i| TAU * i as f64 / n as f64).collect();
+        let r: Vec<f64> = angles
+            .iter()
+            .map(|&t| {
+                let (x, y) = sea::synchronous(t);
+                x * t.cos() + y * t.sin()
+            })
+            .collect();
+        range(&without_first_harmonic(&r, &angles))
+    };
+    // Error budget of the analyser's synchronous LSC value against these: the noise of the
+    // 10-revolution mean (σ/√10 = 1.3 nm per point, so the two extremes within ±4σ each:
+    // 10 nm), linear interpolation (h²/8·max|s''| with h = 2π/256, max|s''| < 10 µm/rad²:
+    // 0.75 nm per point, 1.5 nm on a range), the 256-point grid missing the extremes (0.5 nm),
+    // the bearing line's phase wobble from the speed ripple (A_b·4.4·0.0043 rad = 1.1 nm per
+    // point, 2.3 nm on a range), rounding to 1 nm (0.3 nm rms). In all 15 nm.
+    const SYNC_TOL: f64 = 0.015;
+    let lsc = |test: &Value| number(&test["values"][0]["synchronous"]);
+    for (name, test, model) in [
+        ("radial x1", x1, x1_lsc),
+        ("radial y1", y1, y1_lsc),
+        ("radial x1+y1 rotating", rotating, rotating_lsc),
+    ] {
+        assert!(
+            (lsc(test) - model).abs() < SYNC_TOL,
+            "{name}: LSC synchronous {} against the model's {model}",
+            lsc(test)
+        );
+    }
+    // The fundamental (2·|1-UPR|) of the fixed X direction: the eccentricity and the 1-UPR
+    // orbit together; tolerance twice a line's (below).
+    let x1_first = phasor_sum(&[(sea::E, sea::DELTA), (sea::P, sea::GAMMA)]);
+    let y1_first = phasor_sum(&[(sea::E, sea::DELTA), (sea::Q, sea::GAMMA)]);
+    for (test, first) in [(x1, x1_first), (y1, y1_first)] {
+        let fundamental = number(&test["values"][0]["fundamental"]);
+        assert!(
+            (fundamental - 2.0 * first).abs() < 0.004,
+            "{fundamental} against {}",
+            2.0 * first
+        );
+    }
+    // The asynchronous value (the widest band at one angle): the bearing line over 10
+    // revolutions at 4.4 UPR puts 5 equally spaced phases at every angle, a band between
+    // 2 cos(π/5 / 2)·A_b (at best) and 2·A_b, widened or narrowed by the noise (±4σ at each end).
+    let band_low = 2.0 * (PI / 10.0).cos() * sea::A_B - 8.0 * sea::SIGMA;
+    let band_high = 2.0 * sea::A_B + 8.0 * sea::SIGMA;
+    for test in [x1, y1, rotating] {
+        let asynchronous = number(&test["values"][0]["asynchronous"]);
+        assert!(
+            (band_low..band_high).contains(&asynchronous),
+            "{}: {asynchronous} not in [{band_low}, {band_high}]",
+            test["name"]
+        );
+    }
+
+    // The spectrum: each line of the model at its frequency with its amplitude. Tolerance
+    // 2 nm: the noise spread over 2560 lines (< 0.2 nm a line), linear interpolation's
+    // attenuation ((n·h)²/8 of the amplitude: 0.3 nm at 1 UPR of 4.1 µm, 0.1 nm at 4.4 UPR).
+    // The bearing whirls forward at 4.4 times the rotation, so a probe turning with the rotor
+    // (the rotating sensitive direction) sees it at 3.4 UPR. In the rotating direction
+    // r = X cos θ + Y sin θ has, by the product-to-sum formulas, the lines
+    //   1 UPR (a2+b2)/2, 2 UPR |(p−q)/2·e^{iγ} + a3/2·e^{iα3} + b3/2·e^{iβ3}|,
+    //   3 UPR (a2−b2)/2, 4 UPR |a3/2·e^{iα3} − b3/2·e^{iβ3}|,
+    // and the eccentricity only a constant (e cos δ).
+    // (test, [(UPR, amplitude µm, synchronous)]).
+    type Lines<'a> = (&'a Value, Vec<(f64, f64, bool)>);
+    let expected_lines: [Lines<'_>; 3] = [
+        (
+            x1,
+            vec![
+                (1.0, x1_first, true),
+                (2.0, sea::A2, true),
+                (3.0, sea::A3, true),
+                (sea::BEARING_UPR, sea::A_B, false),
+            ],
+        ),
+        (
+            y1,
+            vec![
+                (1.0, y1_first, true),
+                (2.0, sea::B2, true),
+                (3.0, sea::B3, true),
+                (sea::BEARING_UPR, sea::A_B, false),
+            ],
+        ),
+        (
+            rotating,
+            vec![
+                (1.0, (sea::A2 + sea::B2) / 2.0, true),
+                (
+                    2.0,
+                    phasor_sum(&[
+                        ((sea::P - sea::Q) / 2.0, sea::GAMMA),
+                        (sea::A3 / 2.0, sea::ALPHA3),
+                        (sea::B3 / 2.0, sea::BETA3),
+                    ]),
+                    true,
+                ),
+                (3.0, (sea::A2 - sea::B2) / 2.0, true),
+                (
+                    4.0,
+                    phasor_sum(&[(sea::A3 / 2.0, sea::ALPHA3), (-sea::B3 / 2.0, sea::BETA3)]),
+                    true,
+                ),
+                (sea::BEARING_UPR - 1.0, sea::A_B, false),
+            ],
+        ),
+    ];
+    for (test, expected) in &expected_lines {
+        let lines = array(&test["lines"]);
+        for &(upr, amplitude, synchronous) in expected {
+            let line = lines
+                .iter()
+                .find(|l| (number(&l["per_revolution"]) - upr).abs() < 1e-9)
+                .unwrap_or_else(|| panic!("{}: no line at {upr} UPR in {lines:?}", test["name"]));
+            assert_eq!(line["synchronous"], synchronous, "{line}");
+            let got = number(&line["amplitude"]);
+            assert!(
+                (got - amplitude).abs() < 0.002,
+                "{} at {upr} UPR: {got} against the model's {amplitude}",
+                test["name"]
+            );
+            // In Hz at the mean speed: 100 rev/s, within the speed's 0.1 %.
+            let hz = upr * sea::RPM / 60.0;
+            assert!(
+                (number(&line["hz"]) - hz).abs() < hz * 1e-3,
+                "{line} against {hz} Hz"
+            );
+        }
+        // The bearing line is the largest asynchronous line.
+        let first_async = lines.iter().find(|l| l["synchronous"] == false).unwrap();
+        assert!(
+            (number(&first_async["amplitude"]) - sea::A_B).abs() < 0.002,
+            "{first_async}"
+        );
+    }
+
+    // The report for people says so too.
+    let output = analyze(&path, &[]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let report = text(&output.stdout);
+    assert!(
+        report.contains("note: samples off the index grid: resampled"),
+        "{report}"
+    );
+    assert!(report.contains("6000 min⁻¹, 10 revolutions"), "{report}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. `discover spindle`.
+
+/// `mtwin discover spindle FILE EXTRA…`.
+fn discover(file: &Path, extra: &[&OsStr]) -> Output {
+    let mut args: Vec<&OsStr> = vec!["discover".as_ref(), "spindle".as_ref(), file.as_os_str()];
+    args.extend_from_slice(extra);
+    mtwin(&args)
+}
+
+#[test]
+fn discover_reports_the_documented_keys_on_a_foreign_export() {
+    let output = discover(&data("foreign/sea_time.csv"), &["--json".as_ref()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let json: Value = serde_json::from_slice(&output.stdout).expect("JSON on stdout");
+    assert_eq!(
+        keys(&json),
+        set(&[
+            "kind",
+            "setup",
+            "other_setups",
+            "probes",
+            "samples_per_revolution",
+            "speeds_rpm",
+            "revolutions",
+            "n_samples",
+            "validation",
+            "baseline",
+            "steps",
+            "rejected",
+            "untestable",
+            "final",
+            "cautions",
+            "columns_not_read",
+        ])
+    );
+    // A foreign export's extra columns and its own cautions: none here.
+    assert_eq!(json["cautions"], serde_json::json!([]));
+    assert_eq!(json["columns_not_read"], serde_json::json!([]));
+    assert_eq!(keys(&json["validation"]), set(&["scheme", "folds", "rule"]));
+    assert_eq!(
+        keys(&json["baseline"]),
+        set(&[
+            "model",
+            "base_harmonics",
+            "rms_um",
+            "cv_rms_um",
+            "fold_cv_rms_um",
+            "evidence"
+        ])
+    );
+    let steps = array(&json["steps"]);
+    let ids: Vec<&str> = steps
+        .iter()
+        .map(|s| s["effect"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids, ["harmonic", "asynchronous_line"]);
+    for step in steps {
+        assert_eq!(
+            keys(step),
+            set(&[
+                "effect",
+                "together_with",
+                "cause",
+                "evidence",
+                "params",
+                "rms_um",
+                "cv_rms_um",
+                "fold_cv_rms_um",
+                "gain_um",
+                "gain_pct",
+                "gain_z",
+                "rest_z",
+                "z_needed"
+            ])
+        );
+        // One held-out RMS per fold: 11 revolutions in min(5, 11) blocks.
+        let folds: Vec<f64> = array(&step["fold_cv_rms_um"]).iter().map(number).collect();
+        assert_eq!(folds.len(), 5);
+        // Accepted: the combined z and the z without the best fold reach the z needed.
+        assert!(number(&step["gain_z"]) >= number(&step["z_needed"]));
+        assert!(number(&step["rest_z"]) >= number(&step["z_needed"]));
+    }
+    for rejected in array(&json["rejected"]) {
+        assert_eq!(
+            keys(rejected),
+            set(&[
+                "effect",
+                "cv_rms_um",
+                "fold_cv_rms_um",
+                "gain_z",
+                "rest_z",
+                "z_needed",
+                "fails"
+            ])
+        );
+    }
+    assert_eq!(
+        keys(&steps[1]["params"]),
+        set(&["per_revolution", "harmonics", "name", "hz", "amplitude"])
+    );
+    assert_eq!(
+        keys(&json["final"]),
+        set(&["model", "params", "rms_um", "cv_rms_um", "fold_cv_rms_um"])
+    );
+    // The 11 revolutions × 256 samples × 2 probes.
+    assert_eq!(number(&json["n_samples"]), (11 * 256 * 2) as f64);
+    // The text report names the same effects.
+    let output = discover(&data("foreign/sea_time.csv"), &[]);
+    let report = text(&output.stdout);
+    assert!(
+        report.contains("+ harmonic: 3 UPR") && report.contains("+ asynchronous_line: 4.400 UPR"),
+        "{report}"
+    );
+}
+
+#[test]
+fn discover_refuses_what_it_cannot_search_with_the_file_named() {
+    let sea = data("foreign/sea_time.csv");
+    let small = data("small.csv");
+    // (file, flags, what the message says, whether it is about the file)
+    let cases: [(&Path, Vec<&str>, &str, bool); 4] = [
+        (
+            &sea,
+            vec!["--setup", "reversed"],
+            "set-up `reversed` is not in the record",
+            true,
+        ),
+        (
+            &sea,
+            vec![
+                "--bearing-elements",
+                "9",
+                "--bearing-element-diameter-mm",
+                "40",
+                "--bearing-pitch-diameter-mm",
+                "39",
+            ],
+            "bearing geometry",
+            false,
+        ),
+        (
+            &sea,
+            vec!["--bearing-elements", "9"],
+            "--bearing-element-diameter-mm",
+            false,
+        ),
+        // small.csv holds 2 revolutions: none could be held out.
+        (&small, vec![], "at least 3", true),
+    ];
+    for (file, extra, what, about_the_file) in cases {
+        let args: Vec<&OsStr> = extra.iter().map(|a| a.as_ref()).collect();
+        let output = discover(file, &args);
+        assert!(!output.status.success(), "{extra:?}");
+        assert!(
+            output.stdout.is_empty(),
+            "{extra:?}: {}",
+            text(&output.stdout)
+        );
+        let stderr = text(&output.stderr);
+        assert!(
+            stderr.contains(what),
+            "{extra:?}: expected `{what}` in {stderr}"
+        );
+        if about_the_file {
+            let name = file.file_name().unwrap().to_str().unwrap();
+            assert!(
+                stderr.contains(name),
+                "{extra:?}: the file named in {stderr}"
+            );
+        }
+    }
+}

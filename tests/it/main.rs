@@ -1,0 +1,61 @@
+//! The integration tests, linked once: one module per area (a binary per file linked the crate,
+//! rapier, parquet and rerun fifty-six times). Helpers shared by several areas live in `common`.
+//! Run one area with `cargo test --test it <area>::`, e.g. `cargo test --test it golden::`.
+
+mod common;
+
+mod ballbar;
+mod ballbar_conditions;
+mod ballbar_model;
+mod ballbar_play;
+mod bodies;
+mod cli;
+mod cli_edges;
+mod cli_estimate;
+mod cli_rtest;
+mod cli_spindle;
+mod collision;
+mod compensate;
+mod contact;
+mod dataset;
+mod discovered_model;
+mod discovery;
+mod discovery_ballbar;
+mod discovery_fixtures;
+mod discovery_reports;
+mod discovery_spindle;
+mod docs;
+mod error_dynamics;
+mod error_model;
+mod estimate;
+mod etve;
+mod golden;
+mod identifiability;
+mod iso230_2;
+mod iso230_3;
+mod iso230_4;
+mod kinematics;
+mod laser;
+mod layers;
+mod lm;
+mod lu2012;
+mod malformed_inputs;
+mod messages;
+mod positioning_report;
+mod probe;
+mod program;
+mod readings_laser_ballbar;
+mod rtest;
+mod scenarios;
+mod score;
+mod spindle_chain;
+mod spindle_motion;
+mod spindle_polar;
+mod spindle_separation;
+mod spindle_table;
+mod spindle_thermal;
+mod spindle_twin;
+mod stated_conditions;
+mod thermal;
+mod thermal_twin;
+mod viz;
