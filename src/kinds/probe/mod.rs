@@ -10,6 +10,7 @@
 //! | [`instrument`] | the virtual [`TouchProbe`]: stylus radius and its error, lobed pre-travel, latency, repeatability; the touch on the twin |
 //! | [`table`] | the [`ProbeTable`] (every touch) and the [`SpheresTable`] (a fit per sphere) |
 //! | [`fit`] | Kåsa and geometric sphere and circle fits |
+//! | [`results`] | [`SphereResult`](results::SphereResult), [`RingResult`](results::RingResult), [`PlateResult`](results::PlateResult), [`SurfacePoint`](results::SurfacePoint): what the evaluation finds per feature |
 //! | [`analysis`] | [`ProbeEvaluation`]: sphere form and radius error, P_FTU, ring diameter and roundness, plate centre distances |
 //! | [`run`] | the simulation: tables and truth |
 //! | [`cli`] | `mtwin analyze probe` |
@@ -22,6 +23,7 @@ pub mod fit;
 pub mod instrument;
 pub mod plausible;
 pub mod readings;
+pub mod results;
 pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]

@@ -16,6 +16,7 @@
 //! - **A short arc.** A ring probed over less than [`SHORTEST_ARC`] gives its diameter from an
 //!   arc too short to fix it.
 
+use super::results::{DistanceError, PlateResult, SphereResult};
 use super::table::ProbeTouch;
 use crate::math::{M_PER_MM, Real, Vector, trimmed};
 use std::f64::consts::{PI, TAU};
@@ -46,7 +47,7 @@ pub const ODD_FORM: Real = 5e-6;
 /// and ten times the median form of the table's other spheres: one touch off (dirt, a typo),
 /// which a fit of a few points spreads over all its touches rather than leaving on one, so
 /// the centre and the size move with it. At least three spheres.
-pub fn odd_sphere_form(spheres: &[super::analysis::SphereResult]) -> Option<String> {
+pub fn odd_sphere_form(spheres: &[SphereResult]) -> Option<String> {
     if spheres.len() < 3 {
         return None;
     }
@@ -77,8 +78,8 @@ pub fn odd_sphere_form(spheres: &[super::analysis::SphereResult]) -> Option<Stri
 /// [`OUTLIER`] and ten times the other pairs' errors (medians): its calibrated centre
 /// mistyped (a certificate transcribed wrong) or the ball disturbed. A machine's errors
 /// change the distances smoothly over the plate; one ball alone off is not the machine.
-pub fn odd_plate_ball(plate: &super::analysis::PlateResult) -> Option<String> {
-    let error = |d: &super::analysis::DistanceError| (d.measured - d.calibrated).abs();
+pub fn odd_plate_ball(plate: &PlateResult) -> Option<String> {
+    let error = |d: &DistanceError| (d.measured - d.calibrated).abs();
     let mut balls: Vec<usize> = plate
         .distances
         .iter()

@@ -8,7 +8,7 @@
 //! positions do not lie on a circle (the sphere on the axis, a pivot of zero length) carry no
 //! such evidence and are not judged.
 
-use super::table::RtestRow;
+use super::rows::RtestRow;
 use crate::io::TableError;
 use crate::math::{M_PER_MM, Real, Vector, trimmed};
 

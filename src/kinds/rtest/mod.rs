@@ -22,6 +22,7 @@ pub mod plausible;
 pub mod plot;
 pub mod program;
 pub mod readings;
+mod rows;
 pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]

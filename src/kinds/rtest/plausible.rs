@@ -7,7 +7,7 @@
 //! the turntable's only the machine can say: `identify` checks every angle against its
 //! joint's limits.)
 
-use super::table::RtestTable;
+use super::rows::{RtestRow, RtestTable};
 use crate::io::plausible::{Block, copied_block, copy_sentence, spread};
 use crate::math::{Real, trimmed};
 use std::f64::consts::TAU;
@@ -168,7 +168,7 @@ fn radians_without_positions(table: &RtestTable) -> Option<String> {
     let columns: Vec<usize> = (0..3)
         .filter(|&i| table.rows.iter().any(|r| r.angles[i].is_some()))
         .collect();
-    let written = |r: &super::table::RtestRow, i: usize| r.angles[i].map(Real::to_degrees);
+    let written = |r: &RtestRow, i: usize| r.angles[i].map(Real::to_degrees);
     let within = table.rows.iter().all(|r| {
         columns
             .iter()

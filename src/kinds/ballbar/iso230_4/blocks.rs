@@ -6,99 +6,19 @@
 //! depend on the searched shape) and the deviation at every reading, their cross products
 //! summed per block, and per axis the readings ordered by their arc from the nearest
 //! programmed reversal, where the reversal terms change with the searched lag, play and decay
-//! (`reversal.rs`). Sums over other columns at chosen shapes (lobes, cyclic terms) are cached
-//! here too when first needed (`spectral.rs`).
-
-use super::spectral::{CentreMoments, LobeMoments, LobeSums, LobeTransform, Spectrum};
-use super::{CircleData, CircularTest, Shape, Term, arc_since_reversal, diagnostic_column};
+//! (`reversal.rs`). Sums over other columns at chosen shapes (lobes, cyclic terms) are made
+//! here too when first needed, and kept (their kinds in `moments.rs`, read in `spectral.rs`).
+use super::moments::{
+    CentreMoments, DOUBLE_ORDER, LOBE_WIDTH, LobeMoments, LobeSums, LobeTransform, ORDER, Spectrum,
+};
+use super::nufft::Nufft;
+use super::statics::{SIGMA_COS, SIGMA_COS_2, SIGMA_SIN, STATICS, WIDTH, Y};
+use super::{CircleData, Shape, arc_since_reversal, diagnostic_column};
 use crate::math::Real;
+use rustfft::num_complex::Complex;
 use std::collections::HashMap;
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::{Arc, Mutex, OnceLock};
-
-/// The columns that do not depend on the searched shape (with no angle lag), the reversal
-/// terms among them at no lag and no play: their change with a lag or a play is on the
-/// readings near the reversals only.
-pub(super) const STATICS: [Term; 14] = [
-    Term::Radius,
-    Term::CentreP,
-    Term::CentreQ,
-    Term::Squareness,
-    Term::ScaleMismatch,
-    Term::ServoMismatch,
-    Term::StraightnessP,
-    Term::StraightnessQ,
-    Term::RadiusDrift,
-    Term::SenseRadius,
-    Term::BacklashP,
-    Term::BacklashQ,
-    Term::LateralPlayP,
-    Term::LateralPlayQ,
-];
-/// Three more static columns, σ·sin θ, σ·cos θ and σ·(R/2)·cos 2θ: with them (and the servo
-/// mismatch's σ·sin 2θ) the position-dependent columns at an angle lag, at θ − σ·φ, are
-/// combinations of static ones.
-const SIGMA_SIN: usize = STATICS.len();
-const SIGMA_COS: usize = STATICS.len() + 1;
-const SIGMA_COS_2: usize = STATICS.len() + 2;
-/// The deviation's index after the static columns.
-pub(super) const Y: usize = STATICS.len() + 3;
-/// Values per reading in the table: the static columns, then the deviation.
-pub(super) const WIDTH: usize = Y + 1;
-
-/// The index of `term` among [`STATICS`] (position-dependent terms only without angle lag).
-pub(super) fn static_index(term: Term, shape: &Shape) -> Option<usize> {
-    let position = matches!(
-        term,
-        Term::CentreP | Term::CentreQ | Term::Squareness | Term::ScaleMismatch
-    );
-    if position && shape.angle_lag != 0.0 {
-        return None;
-    }
-    STATICS.iter().position(|t| *t == term)
-}
-
-/// A position-dependent column at `shape`'s angle lag as a combination of static columns
-/// (index, weight): with φ = v·ℓ/R, cos(θ − σφ) = cos φ·cos θ + sin φ·σ sin θ, and alike.
-pub(super) fn lagged(term: Term, shape: &Shape, test: &CircularTest) -> Option<Vec<(usize, Real)>> {
-    let phi = test.feed * shape.angle_lag / test.radius;
-    let (s, c) = phi.sin_cos();
-    let (s2, c2) = (2.0 * phi).sin_cos();
-    let index = |t: Term| STATICS.iter().position(|x| *x == t).unwrap_or_default();
-    Some(match term {
-        Term::CentreP => vec![(index(Term::CentreP), c), (SIGMA_SIN, s)],
-        Term::CentreQ => vec![(index(Term::CentreQ), c), (SIGMA_COS, -s)],
-        // (R/2)·sin 2θ_a = cos 2φ·(R/2)·sin 2θ − sin 2φ·σ·(R/2)·cos 2θ.
-        Term::Squareness => vec![(index(Term::Squareness), c2), (SIGMA_COS_2, -s2)],
-        // (R/2)·cos 2θ_a = cos 2φ·(R/2)·cos 2θ + sin 2φ·σ·(R/2)·sin 2θ, the servo column
-        // σ·(v/2)·sin 2θ times R/v.
-        Term::ScaleMismatch => vec![
-            (index(Term::ScaleMismatch), c2),
-            (index(Term::ServoMismatch), s2 * test.radius / test.feed),
-        ],
-        _ => return None,
-    })
-}
-
-/// The derivative in the angle lag ℓ of c_p·cos θ_a + c_q·sin θ_a at `shape`'s angle lag,
-/// σ·(v/R)·(c_p·sin θ_a − c_q·cos θ_a), as a combination of static columns.
-pub(super) fn angle_lag_derivative(
-    centre: (Real, Real),
-    shape: &Shape,
-    test: &CircularTest,
-) -> Vec<(usize, Real)> {
-    let rate = test.feed / test.radius;
-    let (s, c) = (rate * shape.angle_lag).sin_cos();
-    let index = |t: Term| STATICS.iter().position(|x| *x == t).unwrap_or_default();
-    let (cp, cq) = centre;
-    // σ·sin θ_a = σ·sin θ·cos φ − cos θ·sin φ; σ·cos θ_a = σ·cos θ·cos φ + sin θ·sin φ.
-    vec![
-        (SIGMA_SIN, rate * cp * c),
-        (index(Term::CentreP), -rate * cp * s),
-        (SIGMA_COS, -rate * cq * c),
-        (index(Term::CentreQ), -rate * cq * s),
-    ]
-}
 
 /// Values made once when first needed, by key, shared between threads (the lock is held only
 /// to find or make a key's cell; the value is made in the cell).
@@ -279,6 +199,11 @@ impl Blocks {
         &self.table[i * WIDTH..(i + 1) * WIDTH]
     }
 
+    /// Whether reading `i` is in the `included` blocks.
+    pub(super) fn fitted(&self, included: &[bool], i: usize) -> bool {
+        included[usize::from(self.block_of[i])]
+    }
+
     /// The largest gap (rad) between the angles of a sense among the `included` blocks'
     /// readings, the wrap at 360° included; 2π without readings (see
     /// [`super::covered_arc`]: the covered span is 2π less this gap).
@@ -296,5 +221,169 @@ impl Blocks {
             last = angle;
         }
         Real::max(largest, first + std::f64::consts::TAU - last)
+    }
+}
+
+/// The sums over other columns, made per block when a fit first needs them.
+impl Blocks {
+    /// The moments of `axis`'s cyclic columns about grid frequency `frequency` (1/m), per
+    /// block.
+    pub(super) fn centre_moments(
+        &self,
+        data: &CircleData,
+        axis: usize,
+        frequency: Real,
+    ) -> CentreMoments {
+        let mut linear = vec![vec![Complex::new(0.0, 0.0); WIDTH * ORDER]; self.count];
+        let mut double = vec![vec![Complex::new(0.0, 0.0); DOUBLE_ORDER]; self.count];
+        let mut squares = vec![0.0; self.count];
+        let mut powers = [Complex::new(0.0, 0.0); DOUBLE_ORDER];
+        let mut phasors = Vec::with_capacity(data.len());
+        for i in 0..data.len() {
+            let b = usize::from(self.block_of[i]);
+            let c = data.cyclic_c(axis, i);
+            let phase = TAU * frequency * data.test.radius * c;
+            let (s, k) = phase.sin_cos();
+            let mut term = Complex::new(c * k, c * s);
+            phasors.push(term);
+            for power in powers.iter_mut().take(ORDER) {
+                *power = term;
+                term *= c;
+            }
+            let row = self.row(i);
+            let sums = &mut linear[b];
+            for (j, &w) in row.iter().enumerate() {
+                for (sum, power) in sums[j * ORDER..(j + 1) * ORDER].iter_mut().zip(&powers) {
+                    *sum += power * w;
+                }
+            }
+            let (s2, k2) = (2.0 * phase).sin_cos();
+            let mut term = Complex::new(c * c * k2, c * c * s2);
+            for sum in double[b].iter_mut() {
+                *sum += term;
+                term *= c;
+            }
+            squares[b] += c * c;
+        }
+        CentreMoments {
+            linear,
+            double,
+            squares,
+            phasors,
+        }
+    }
+
+    /// The lobe columns' sums per block, for every lobe count searched.
+    pub(super) fn lobe_sums(&self, data: &CircleData) -> LobeSums {
+        let (low, high) = data.ranges.lobes;
+        let counts = (high + 1).saturating_sub(low) as usize;
+        let mut sums = vec![vec![0.0; counts * LOBE_WIDTH]; self.count];
+        for (i, point) in data.points.iter().enumerate() {
+            let block = &mut sums[usize::from(self.block_of[i])];
+            let row = self.row(i);
+            let (ds, dc) = point.sin_cos;
+            let (mut s, mut c) = (Real::from(low) * point.angle).sin_cos();
+            for k in 0..counts {
+                let out = &mut block[k * LOBE_WIDTH..(k + 1) * LOBE_WIDTH];
+                for (j, &w) in row.iter().enumerate() {
+                    out[j] += s * w;
+                    out[WIDTH + j] += c * w;
+                }
+                out[2 * WIDTH] += s * s;
+                out[2 * WIDTH + 1] += c * c;
+                out[2 * WIDTH + 2] += s * c;
+                (s, c) = (s * dc + c * ds, c * dc - s * ds);
+            }
+        }
+        LobeSums { low, high, sums }
+    }
+
+    /// The moments of the lobe columns of count `k` about grid frequency `frequency` (1/m) of
+    /// `axis`'s cyclic columns, per block.
+    pub(super) fn lobe_moments_about(
+        &self,
+        data: &CircleData,
+        axis: usize,
+        frequency: Real,
+        k: u32,
+    ) -> LobeMoments {
+        let mut sums = vec![[[Complex::new(0.0, 0.0); ORDER]; 2]; self.count];
+        for (i, point) in data.points.iter().enumerate() {
+            let c = data.cyclic_c(axis, i);
+            let (s, k_) = (TAU * frequency * data.test.radius * c).sin_cos();
+            let lobe = (Real::from(k) * point.angle).sin_cos();
+            let block = &mut sums[usize::from(self.block_of[i])];
+            let mut term = Complex::new(c * k_, c * s);
+            let [with_sin, with_cos] = block;
+            for (a, b) in with_sin.iter_mut().zip(with_cos.iter_mut()) {
+                *a += term * lobe.0;
+                *b += term * lobe.1;
+                term *= c;
+            }
+        }
+        LobeMoments { blocks: sums }
+    }
+
+    /// What the periodogram of `axis`'s cyclic columns needs from the data alone.
+    pub(super) fn spectrum(&self, data: &CircleData, axis: usize) -> Spectrum {
+        let grid = data.frequency_grid();
+        let radius = data.test.radius;
+        let c: Vec<Real> = (0..data.len()).map(|i| data.cyclic_c(axis, i)).collect();
+        let positions: Vec<Real> = c.iter().map(|c| TAU * grid.step * radius * c).collect();
+        let nufft = Nufft::new(&positions, grid.count);
+        let factor = c
+            .iter()
+            .map(|&c| {
+                let (s, k) = (TAU * grid.low * radius * c).sin_cos();
+                Complex::new(c * k, c * s)
+            })
+            .collect();
+        let doubled: Vec<Real> = positions.iter().map(|u| 2.0 * u).collect();
+        let twice = Nufft::new(&doubled, grid.count);
+        let mut double = Vec::with_capacity(self.count);
+        let mut squares = vec![0.0; self.count];
+        for (b, square) in squares.iter_mut().enumerate() {
+            let members = (0..data.len()).filter(|&i| usize::from(self.block_of[i]) == b);
+            double.push(twice.transform(members.map(|i| {
+                let (s, k) = (2.0 * TAU * grid.low * radius * c[i]).sin_cos();
+                (i, Complex::new(c[i] * c[i] * k, c[i] * c[i] * s))
+            })));
+            *square = (0..data.len())
+                .filter(|&i| usize::from(self.block_of[i]) == b)
+                .map(|i| c[i] * c[i])
+                .sum();
+        }
+        Spectrum {
+            nufft,
+            factor,
+            double,
+            squares,
+            tables: OnceLock::new(),
+        }
+    }
+
+    /// The blocks' transforms of every table column for `spectrum` (see [`Spectrum::tables`]).
+    pub(super) fn table_transforms(
+        &self,
+        data: &CircleData,
+        spectrum: &Spectrum,
+    ) -> Vec<Vec<Vec<Complex<Real>>>> {
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); self.count];
+        for i in 0..data.len() {
+            members[usize::from(self.block_of[i])].push(i);
+        }
+        members
+            .iter()
+            .map(|rows| {
+                (0..WIDTH)
+                    .map(|j| {
+                        spectrum.nufft.transform(
+                            rows.iter()
+                                .map(|&i| (i, spectrum.factor[i] * self.row(i)[j])),
+                        )
+                    })
+                    .collect()
+            })
+            .collect()
     }
 }

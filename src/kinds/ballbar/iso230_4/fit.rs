@@ -5,10 +5,11 @@
 //! alone.
 
 use super::blocks::Blocks;
-use super::blocks::angle_lag_derivative;
+use super::columns::{Column, Dense};
 use super::linalg::{Projection, gram, gram_pinv};
-use super::normal::{Column, Dense, Fitter};
+use super::normal::Fitter;
 use super::profile::LagProfile;
+use super::statics::angle_lag_derivative;
 use super::{CircleData, Shape, Term, covered_arc, diagnostic_column};
 use crate::math::Real;
 use std::f64::consts::TAU;

@@ -112,11 +112,15 @@
 
 // Read top-down in this order: model (terms and their columns), data (the prepared table),
 // identify (what the data can give), fit (the joint fit), search (its searched parameters),
-// blocks (the readings cut into blocks, with the sums fits share), normal (least squares from
-// cross products), reversal (the reversal terms at a shape), profile (the lag profile), spectral (cyclic and
-// lobe columns by their moments and transforms), linalg (the least-squares algebra), diagnose
-// (the diagnostics), figures (G, H, F and `evaluate`), report (text and JSON).
+// profile (the lag profile), spectral (cyclic and lobe columns by their moments and
+// transforms), normal (least squares from cross products), reversal (the reversal terms at a
+// shape), columns (a fit's columns: dense part and sparse change), blocks (the readings cut
+// into blocks, with the sums fits share), moments (the kinds of those sums), nufft (the
+// non-uniform Fourier transform), statics (the table's static columns), linalg (the
+// least-squares algebra), diagnose (the diagnostics), figures (G, H, F and `evaluate`),
+// report (text and JSON).
 mod blocks;
+mod columns;
 mod data;
 mod diagnose;
 #[cfg(test)]
@@ -126,12 +130,15 @@ mod fit;
 mod identify;
 mod linalg;
 mod model;
+mod moments;
 mod normal;
+mod nufft;
 mod profile;
 mod report;
 mod reversal;
 mod search;
 mod spectral;
+mod statics;
 
 pub use blocks::Blocks;
 pub use data::{CircleData, SearchRanges, covered_arc};

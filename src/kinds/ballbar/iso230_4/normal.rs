@@ -1,128 +1,22 @@
 //! Least squares in normal-equation form over the readings of a union of blocks
-//! ([`Fitter`]): a column is a dense part (a combination of the table's static columns, or a
-//! cyclic or lobe column) plus a sparse change (a reversal term at a lag or with play, a
-//! spike), and the cross products of any two are taken from the per-block sums of their dense
-//! parts and over the sparse readings only. [`NormalFit`] is a fit of fixed columns from its
+//! ([`Fitter`]): a column is a dense part plus a sparse change (`columns.rs`), and the cross
+//! products of any two are taken from the per-block sums of their dense parts and over the
+//! sparse readings only. [`NormalFit`] is a fit of fixed columns from its
 //! Gram matrix, ready to score extra columns from their cross products.
 
-use super::blocks::{Blocks, WIDTH, Y, lagged, static_index};
+use super::blocks::Blocks;
+use super::columns::{Column, Dense, Key, Sparse};
 use super::linalg::{gram_pinv, small_pinv};
+use super::moments::{CombinedLobes, CombinedMoments, SeriesPair};
 use super::reversal::Reversal;
-use super::spectral::{CombinedLobes, CombinedMoments};
+use super::statics::{WIDTH, Y, lagged, static_index};
 use super::{CircleData, Shape, Term};
 use crate::math::Real;
 use nalgebra::DMatrix;
-use rustfft::num_complex::Complex;
 use std::cell::{OnceCell, RefCell};
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 use std::rc::Rc;
-
-/// Values at a few readings (in increasing reading), zero elsewhere, with their sums against
-/// the table's columns over the fitted readings.
-#[derive(Clone, Debug, Default)]
-pub(super) struct Sparse {
-    pub(super) rows: Vec<u32>,
-    pub(super) values: Vec<Real>,
-    /// Σ over the fitted readings of the values times each table column (`WIDTH`).
-    table: Vec<Real>,
-}
-
-impl Sparse {
-    /// The sparse part with `values` at `rows` (any order) for `fitter`'s readings.
-    pub(super) fn new(fitter: &Fitter<'_>, mut entries: Vec<(u32, Real)>) -> Sparse {
-        entries.sort_by_key(|e| e.0);
-        let mut table = vec![0.0; WIDTH];
-        for &(i, v) in &entries {
-            if fitter.fitted(i as usize) {
-                for (t, w) in table.iter_mut().zip(fitter.blocks.row(i as usize)) {
-                    *t += v * w;
-                }
-            }
-        }
-        Sparse {
-            rows: entries.iter().map(|e| e.0).collect(),
-            values: entries.iter().map(|e| e.1).collect(),
-            table,
-        }
-    }
-
-    fn is_empty(&self) -> bool {
-        self.rows.is_empty()
-    }
-}
-
-/// The dense part of a column.
-#[derive(Clone, Debug)]
-pub(super) enum Dense {
-    /// None (a spike).
-    Zero,
-    /// A static column of the table.
-    Static(usize),
-    /// A combination of static columns (index, weight).
-    Mix(Rc<[(usize, Real)]>),
-    /// Column `index` of the cyclic term of `axis` (0: c·sin, 1: c·cos of 2π·R·c/period).
-    Cyclic {
-        axis: usize,
-        period: Real,
-        index: usize,
-    },
-    /// Column `index` of `k` lobes (0: sin kθ, 1: cos kθ).
-    Lobe { k: u32, index: usize },
-}
-
-/// What identifies a dense part that is not static, for the fit's memory of its values and
-/// products.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-enum Key {
-    Cyclic(usize, u64, usize),
-    Lobe(u32, usize),
-}
-
-impl Dense {
-    /// The static columns it combines (index, weight), if it is static.
-    pub(super) fn statics(&self) -> Option<Vec<(usize, Real)>> {
-        self.with_statics(<[(usize, Real)]>::to_vec)
-    }
-
-    /// `f` of the static columns it combines (index, weight), if it is static.
-    pub(super) fn with_statics<R>(&self, f: impl FnOnce(&[(usize, Real)]) -> R) -> Option<R> {
-        match self {
-            Dense::Zero => Some(f(&[])),
-            Dense::Static(j) => Some(f(&[(*j, 1.0)])),
-            Dense::Mix(mix) => Some(f(mix)),
-            _ => None,
-        }
-    }
-
-    fn key(&self) -> Option<Key> {
-        match self {
-            Dense::Cyclic {
-                axis,
-                period,
-                index,
-            } => Some(Key::Cyclic(*axis, period.to_bits(), *index)),
-            Dense::Lobe { k, index } => Some(Key::Lobe(*k, *index)),
-            _ => None,
-        }
-    }
-}
-
-/// A column of a fit: a dense part plus a sparse change.
-#[derive(Clone, Debug)]
-pub(super) struct Column {
-    pub(super) dense: Dense,
-    pub(super) sparse: Rc<Sparse>,
-}
-
-impl Column {
-    pub(super) fn dense(dense: Dense) -> Column {
-        Column {
-            dense,
-            sparse: Rc::new(Sparse::default()),
-        }
-    }
-}
 
 /// A fit of fixed columns from their normal equations.
 #[derive(Clone, Debug)]
@@ -227,9 +121,6 @@ pub(super) struct Fitter<'a> {
     pub(super) last_series: RefCell<Option<(Real, SeriesPair)>>,
 }
 
-/// The Taylor coefficients of a cyclic offset and of its doubled phase.
-pub(super) type SeriesPair = Rc<(Vec<Complex<Real>>, Vec<Complex<Real>>)>;
-
 impl<'a> Fitter<'a> {
     /// Fits over the `included` blocks of `blocks` (made from `data`).
     pub(super) fn new(data: &'a CircleData, blocks: &'a Blocks, included: Vec<bool>) -> Self {
@@ -264,7 +155,7 @@ impl<'a> Fitter<'a> {
 
     /// Whether reading `i` is fitted.
     pub(super) fn fitted(&self, i: usize) -> bool {
-        self.included[usize::from(self.blocks.block_of[i])]
+        self.blocks.fitted(&self.included, i)
     }
 
     /// The sum of squared deviations over the fitted readings.
@@ -322,7 +213,12 @@ impl<'a> Fitter<'a> {
         if let Some(known) = self.reversal_columns.borrow().get(&key) {
             return known.clone();
         }
-        let column = Reversal::new(axis, shape, &self.data.test).column(self, term);
+        let column = Reversal::new(axis, shape, &self.data.test).column(
+            self.data,
+            self.blocks,
+            &self.included,
+            term,
+        );
         self.reversal_columns
             .borrow_mut()
             .insert(key, column.clone());

@@ -27,9 +27,11 @@
 //! take may disagree to a hair, and the unlagged columns may be 0 where the lagged ones are
 //! not) are evaluated one by one.
 
+use super::columns::{Column, Dense};
 use super::model::SPIKE_DECAYS;
-use super::normal::{Column, Dense, Fitter, NormalFit};
+use super::normal::{Fitter, NormalFit};
 use super::reversal::{EDGE, Reading, Reversal};
+use super::statics::static_index;
 use super::{Shape, Term};
 use crate::math::Real;
 use nalgebra::DMatrix;
@@ -119,10 +121,7 @@ impl<'a> LagProfile<'a> {
         let statics: Vec<Column> = moving
             .iter()
             .map(|&t| {
-                Column::dense(
-                    super::blocks::static_index(t, &Shape::default())
-                        .map_or(Dense::Zero, Dense::Static),
-                )
+                Column::dense(static_index(t, &Shape::default()).map_or(Dense::Zero, Dense::Static))
             })
             .collect();
         let (k, m) = (fixed_columns.len(), moving.len());

@@ -9,9 +9,11 @@
 //! it, over [`SPIKE_DECAYS`] decays. A column at a shape is therefore its unlagged static
 //! column plus a change on the readings near the reversals.
 
+use super::blocks::Blocks;
+use super::columns::{Column, Dense, Sparse};
 use super::model::{SPIKE_DECAYS, signum, take_up_arc};
-use super::normal::{Column, Dense, Fitter, Sparse};
-use super::{BasisPoint, CircularTest, Shape, Term};
+use super::statics::static_index;
+use super::{BasisPoint, CircleData, CircularTest, Shape, Term};
 use crate::math::Real;
 use std::f64::consts::PI;
 use std::rc::Rc;
@@ -193,40 +195,50 @@ impl Reversal {
         }
     }
 
-    /// The column of `term` (a reversal term of this axis) for `fitter`'s readings: the
-    /// static unlagged column plus its change near the reversals, or a spike's values there.
-    pub(super) fn column(&self, fitter: &Fitter<'_>, term: Term) -> Column {
+    /// The column of `term` (a reversal term of this axis) for the readings of the
+    /// `included` blocks of `blocks` (made from `data`): the static unlagged column plus its
+    /// change near the reversals, or a spike's values there.
+    pub(super) fn column(
+        &self,
+        data: &CircleData,
+        blocks: &Blocks,
+        included: &[bool],
+        term: Term,
+    ) -> Column {
         let slot = Reversal::slot(term);
-        let static_index = super::blocks::static_index(term, &Shape::default());
-        let rows = &fitter.blocks.axes[self.axis];
+        let static_index = static_index(term, &Shape::default());
+        let rows = &blocks.axes[self.axis];
         let (from, to) = self.zone(slot == 2);
         let mut entries = Vec::new();
         for &i in rows.within(from, to) {
             let reading = Reading {
-                at: &fitter.data.points[i as usize],
+                at: &data.points[i as usize],
                 arc: rows.arc[i as usize],
             };
             let value = self.values(&reading)[slot];
             let change = match static_index {
-                Some(j) => value - fitter.blocks.row(i as usize)[j],
+                Some(j) => value - blocks.row(i as usize)[j],
                 None => value,
             };
             if change != 0.0 {
                 entries.push((i, change));
             }
         }
-        let sparse = Rc::new(Sparse::new(fitter, entries));
+        let sparse = Rc::new(Sparse::new(blocks, included, entries));
         Column {
             dense: static_index.map_or(Dense::Zero, Dense::Static),
             sparse,
         }
     }
 
-    /// The fitted readings within the spike's window at its longest decay `longest` (s), with
-    /// their spike weights and times since the onset, in increasing time.
+    /// The readings of the `included` blocks of `blocks` (made from `data`) within the
+    /// spike's window at its longest decay `longest` (s), with their spike weights and times
+    /// since the onset, in increasing time.
     pub(super) fn spike_window(
         &self,
-        fitter: &Fitter<'_>,
+        data: &CircleData,
+        blocks: &Blocks,
+        included: &[bool],
         longest: Real,
     ) -> Vec<(usize, Real, Real)> {
         let widest = Reversal {
@@ -235,15 +247,15 @@ impl Reversal {
             ..*self
         };
         let (from, to) = widest.zone(true);
-        let rows = &fitter.blocks.axes[self.axis];
+        let rows = &blocks.axes[self.axis];
         let mut window: Vec<(usize, Real, Real)> = rows
             .within(from, to)
             .iter()
             .map(|&i| i as usize)
-            .filter(|&i| fitter.fitted(i))
+            .filter(|&i| blocks.fitted(included, i))
             .filter_map(|i| {
                 let reading = Reading {
-                    at: &fitter.data.points[i],
+                    at: &data.points[i],
                     arc: rows.arc[i],
                 };
                 let (since, next) = self.since(&reading);

@@ -5,13 +5,15 @@
 //! from cross products alone: the readings a spike lives on, the cyclic columns' moments
 //! about a grid frequency, the lobe columns' sums (`spectral.rs`).
 
-use super::blocks::{Blocks, Y};
+use super::blocks::Blocks;
+use super::columns::{Column, Dense};
 use super::linalg::Projection;
 use super::model::SPIKE_DECAYS;
-use super::normal::{Column, Dense, Fitter, NormalFit};
+use super::moments::{ORDER, offset_series};
+use super::normal::{Fitter, NormalFit};
 use super::profile::LagProfile;
 use super::reversal::Reversal;
-use super::spectral::offset_series;
+use super::statics::Y;
 use super::{CircleData, ModelFit, Shape, Term};
 use crate::math::{Real, golden_minimum};
 use nalgebra::DMatrix;
@@ -100,7 +102,7 @@ impl Fitter<'_> {
     fn search_decay(&self, axis: usize, fixed: &[Column], fit: &NormalFit, shape: &mut Shape) {
         let ranges = self.data.ranges;
         let reversal = Reversal::new(axis, shape, &self.data.test);
-        let window = reversal.spike_window(self, ranges.decay.1);
+        let window = reversal.spike_window(self.data, self.blocks, &self.included, ranges.decay.1);
         let rows: Vec<usize> = window.iter().map(|w| w.0).collect();
         let k = fixed.len();
         let values = self.values_at(fixed, &rows);
@@ -206,7 +208,7 @@ impl Fitter<'_> {
             .map(|c| {
                 let mut m = match &c.dense {
                     Dense::Zero | Dense::Static(_) | Dense::Mix(_) => {
-                        vec![Complex::new(0.0, 0.0); super::spectral::ORDER]
+                        vec![Complex::new(0.0, 0.0); ORDER]
                     }
                     Dense::Lobe { k: count, index } => self.lobe_moments(axis, k, *count, *index),
                     dense => {

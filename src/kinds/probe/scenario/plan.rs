@@ -1,541 +1,36 @@
-//! The `[probe]` section: a touch-trigger probe in the spindle and the cycles it runs.
-//!
-//! ```toml
-//! [probe]
-//! stylus_diameter_mm = 6.0          # the diameter the controller uses (its calibrated value)
-//! stylus_radius_error_um = 0.0      # true − believed stylus radius
-//! pretravel_um = 1.0                # lateral pre-travel δ0
-//! lobing_um = 0.5                   # 3-lobe amplitude δ3: δ(θ) = δ0 + δ3·cos 3(θ − θ0)
-//! lobing_phase_deg = 0.0            # θ0, from the tool frame's x axis
-//! pretravel_axial_um = 2.0          # pre-travel along the stylus axis
-//! repeatability_um = 0.25           # trigger scatter, 1σ along the motion
-//! feed_mm_per_min = 240.0           # approach speed
-//! latency_ms = 0.0                  # trigger latency: the axes latch v·t further on
-//! clearance_mm = 2.0                # each approach starts this far from the nominal surface
-//! overtravel_mm = 2.0               # and may go this far past it before "no touch"
-//!
-//! [[probe.sphere]]                  # a calibration sphere (KinematicsOpt cycle 451 style)
-//! diameter_mm = 25.0                # calibrated diameter
-//! centre_mm = [100.0, 0.0, 150.0]   # on the table (workpiece frame)
-//! points = 5                        # 4–24: (points − 1) around the tool axis + the pole; 25: ISO 10360-5
-//! incidence_deg = 30.0              # elevation of the side points above the equator
-//! rotary = [{ a_deg = 0.0, c_deg = 0.0 }, { a_deg = 0.0, c_deg = 90.0 }]   # default: all at 0
-//!
-//! [[probe.ring]]                    # a ring gauge: diameter and roundness
-//! diameter_mm = 50.0
-//! centre_mm = [0.0, 100.0, 120.0]   # the bore's centre at the probing height
-//! points = 12
-//! axis = [0.0, 0.0, 1.0]            # the bore's axis (default: the tool axis)
-//! rotary = { c_deg = 0.0 }
-//!
-//! [[probe.ballplate]]               # a ball plate, set at one or more placements
-//! rows = 4
-//! columns = 5
-//! pitch_mm = 80.0
-//! ball_diameter_mm = 20.0
-//! points = 5
-//! incidence_deg = 30.0
-//! placements = [{ origin_mm = [-160.0, -120.0, 60.0], along_row = [1, 0, 0], across_rows = [0, 1, 0] }]
-//! ball_offsets_um = [[0.5, -0.2, 0.0], …]   # optional: each ball's offset from the grid, plate frame, as calibrated
-//!
-//! [[probe.mesh]]                    # points on a mesh workpiece
-//! file = "data/part.stl"            # STL or OBJ, relative to the scenario; closed
-//! units = "mm"                      # mm, m or in
-//! origin_mm = [0.0, 0.0, 0.0]       # where the mesh's origin sits (workpiece frame)
-//! rotation_deg = 0.0                # about the workpiece z axis
-//! max_travel_mm = 10.0
-//! points = [{ start_mm = [0.0, 0.0, 80.0], direction = [0.0, 0.0, -1.0] }]   # along the surface normal (within 1 mrad)
-//! ```
-//!
-//! Every move is checked on the nominal chain: it must touch its artefact within its travel,
-//! and start and end within every axis's travel.
+//! The cycles planned on the nominal chain with their checks ([`Plan`]): each move must touch
+//! its artefact within its travel, and start and end within every axis's travel.
 
-use super::cycles::{
+use super::raw::{RawMesh, RawPlate, RawRing, RawRotary, RawSphere};
+use super::values::{count, direction, finite, point, value};
+use crate::contact::{Approach, BallPlate, Cylinder, CylinderSide, Mesh, Sphere};
+use crate::kinds::probe::cycles::{
     Cycle, CycleKind, Feature, LinearFrame, ProbeMove, Target, ring_pattern, sphere_pattern,
 };
-use super::instrument::TouchProbe;
-use crate::contact::{Approach, BallPlate, Cylinder, CylinderSide, Mesh, Sphere};
 use crate::machine::{Axis, AxisValues, Machine};
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, Rotation, Vector};
-use crate::scenario::bounds::{self, Bound};
-use crate::scenario::{Checker, Context, ScenarioError, ScenarioErrorKind};
-use serde::Deserialize;
+use crate::scenario::{Checker, ScenarioError};
 use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 use toml::Spanned;
 
-/// The raw `[probe]` section.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawProbe {
-    stylus_diameter_mm: Spanned<Real>,
-    stylus_radius_error_um: Option<Spanned<Real>>,
-    pretravel_um: Option<Spanned<Real>>,
-    lobing_um: Option<Spanned<Real>>,
-    lobing_phase_deg: Option<Spanned<Real>>,
-    pretravel_axial_um: Option<Spanned<Real>>,
-    repeatability_um: Option<Spanned<Real>>,
-    feed_mm_per_min: Option<Spanned<Real>>,
-    latency_ms: Option<Spanned<Real>>,
-    clearance_mm: Option<Spanned<Real>>,
-    overtravel_mm: Option<Spanned<Real>>,
-    #[serde(default)]
-    sphere: Vec<Spanned<RawSphere>>,
-    #[serde(default)]
-    ring: Vec<Spanned<RawRing>>,
-    #[serde(default)]
-    ballplate: Vec<Spanned<RawPlate>>,
-    #[serde(default)]
-    mesh: Vec<Spanned<RawMesh>>,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(deny_unknown_fields)]
-struct RawRotary {
-    a_deg: Option<Real>,
-    b_deg: Option<Real>,
-    c_deg: Option<Real>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawSphere {
-    diameter_mm: Spanned<Real>,
-    centre_mm: Spanned<[Real; 3]>,
-    points: Option<Spanned<i64>>,
-    incidence_deg: Option<Spanned<Real>>,
-    rotary: Option<Spanned<Vec<RawRotary>>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawRing {
-    diameter_mm: Spanned<Real>,
-    centre_mm: Spanned<[Real; 3]>,
-    points: Option<Spanned<i64>>,
-    axis: Option<Spanned<[Real; 3]>>,
-    rotary: Option<Spanned<RawRotary>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawPlate {
-    rows: Spanned<i64>,
-    columns: Spanned<i64>,
-    pitch_mm: Spanned<Real>,
-    ball_diameter_mm: Spanned<Real>,
-    points: Option<Spanned<i64>>,
-    incidence_deg: Option<Spanned<Real>>,
-    placements: Spanned<Vec<RawPlacement>>,
-    ball_offsets_um: Option<Spanned<Vec<[Real; 3]>>>,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(deny_unknown_fields)]
-struct RawPlacement {
-    origin_mm: [Real; 3],
-    along_row: Option<[Real; 3]>,
-    across_rows: Option<[Real; 3]>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawMesh {
-    file: Spanned<String>,
-    units: Option<Spanned<String>>,
-    origin_mm: Option<Spanned<[Real; 3]>>,
-    rotation_deg: Option<Spanned<Real>>,
-    max_travel_mm: Option<Spanned<Real>>,
-    rotary: Option<Spanned<RawRotary>>,
-    points: Spanned<Vec<RawMeshPoint>>,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(deny_unknown_fields)]
-struct RawMeshPoint {
-    start_mm: [Real; 3],
-    direction: [Real; 3],
-}
-
-/// A probe and the cycles it runs.
-#[derive(Clone, Debug)]
-pub struct ProbeTest {
-    /// The instrument.
-    pub probe: TouchProbe,
-    /// The cycles, in the order of the section (spheres, rings, plate placements, meshes).
-    pub cycles: Vec<Cycle>,
-    /// The machine's name (for the tables' preamble).
-    pub machine: String,
-}
-
-/// A finite value ≥ `min` (or > `min` when `strict`), with its default.
-fn value(
-    check: &Checker<'_>,
-    v: &Option<Spanned<Real>>,
-    key: &str,
-    default: Real,
-    min: Real,
-    strict: bool,
-) -> Result<Real, ScenarioError> {
-    check.value(v, key, default, |x| {
-        if x.is_finite() && (x > min || (!strict && x == min)) {
-            Ok(x)
-        } else {
-            let relation = if strict { ">" } else { "≥" };
-            Err(format!(
-                "expected a finite number {relation} {min}, got {x}"
-            ))
-        }
-    })
-}
-
-/// A value within `bound`, `default` when absent.
-fn bounded(
-    check: &Checker<'_>,
-    v: &Option<Spanned<Real>>,
-    key: &str,
-    default: Real,
-    bound: Bound,
-) -> Result<Real, ScenarioError> {
-    check.value(v, key, default, |x| bound.check(x))
-}
-
-/// How far a probe's trigger can lag, scatter or lobe (µm).
-const TRIGGER_UM: Bound = Bound {
-    lo: 0.0,
-    hi: 1000.0,
-    why: "a probe that triggers a millimetre late is not a probe",
-};
-
-/// A finite value, 0 by default.
-fn finite(
-    check: &Checker<'_>,
-    v: &Option<Spanned<Real>>,
-    key: &str,
-) -> Result<Real, ScenarioError> {
-    value(check, v, key, 0.0, Real::MIN, false)
-}
-
-/// A whole number within `range`, with its default.
-fn count(
-    check: &Checker<'_>,
-    v: &Option<Spanned<i64>>,
-    key: &str,
-    default: usize,
-    range: (usize, usize),
-) -> Result<usize, ScenarioError> {
-    check.value(v, key, default, |n| {
-        if n >= range.0 as i64 && n <= range.1 as i64 {
-            Ok(n as usize)
-        } else {
-            Err(format!("expected {} … {}, got {n}", range.0, range.1))
-        }
-    })
-}
-
-/// A point given in mm, in m.
-fn point(check: &Checker<'_>, v: &Spanned<[Real; 3]>, key: &str) -> Result<Vector, ScenarioError> {
-    let p = Vector::from_array(*v.get_ref());
-    if p.is_finite() {
-        Ok(p * M_PER_MM)
-    } else {
-        Err(check.fail(Some(v.span()), key, "expected three finite numbers (mm)"))
-    }
-}
-
-/// The unit vector along `v`, which must have a length.
-fn direction(
-    check: &Checker<'_>,
-    v: [Real; 3],
-    span: Range<usize>,
-    key: &str,
-) -> Result<Vector, ScenarioError> {
-    let d = Vector::from_array(v);
-    if d.is_finite() && d.length() > 1e-12 {
-        Ok(d.normalize())
-    } else {
-        Err(check.fail(
-            Some(span),
-            key,
-            format!(
-                "({}, {}, {}) has zero length or is not finite: an approach needs a direction",
-                v[0], v[1], v[2]
-            ),
-        ))
-    }
-}
-
-/// The probe test of a `[probe]` section; `scenario_dir` is the folder mesh files are relative
-/// to.
-pub fn probe_test(
-    context: &Context<'_>,
-    machine: &Machine,
-    raw: &Spanned<RawProbe>,
-    scenario_dir: &Path,
-) -> Result<ProbeTest, ScenarioError> {
-    let p = raw.get_ref();
-    let check = Checker::new(context, raw.span(), "probe");
-    let diameter = *p.stylus_diameter_mm.get_ref();
-    if !(diameter.is_finite() && diameter > 0.0 && diameter <= 100.0) {
-        return Err(check.fail(
-            Some(p.stylus_diameter_mm.span()),
-            "stylus_diameter_mm",
-            format!(
-                "expected a positive diameter up to 100 mm, got {}",
-                crate::math::readable(diameter)
-            ),
-        ));
-    }
-    let stylus_radius = diameter / 2.0 * M_PER_MM;
-    let radius_error = bounded(
-        &check,
-        &p.stylus_radius_error_um,
-        "stylus_radius_error_um",
-        0.0,
-        Bound::symmetric(1000.0, "a stylus a millimetre off its calibration"),
-    )? * M_PER_UM;
-    if stylus_radius + radius_error <= 0.0 {
-        return Err(check.fail(
-            p.stylus_radius_error_um.as_ref().map(|v| v.span()),
-            "stylus_radius_error_um",
-            "leaves no stylus ball",
-        ));
-    }
-    let probe = TouchProbe {
-        stylus_radius,
-        radius_error,
-        pretravel: bounded(&check, &p.pretravel_um, "pretravel_um", 0.0, TRIGGER_UM)? * M_PER_UM,
-        lobing: bounded(&check, &p.lobing_um, "lobing_um", 0.0, TRIGGER_UM)? * M_PER_UM,
-        lobing_phase: bounded(
-            &check,
-            &p.lobing_phase_deg,
-            "lobing_phase_deg",
-            0.0,
-            Bound::symmetric(360.0, "a phase within one turn"),
-        )? * RAD_PER_DEG,
-        pretravel_axial: bounded(
-            &check,
-            &p.pretravel_axial_um,
-            "pretravel_axial_um",
-            0.0,
-            TRIGGER_UM,
-        )? * M_PER_UM,
-        repeatability: bounded(
-            &check,
-            &p.repeatability_um,
-            "repeatability_um",
-            0.0,
-            TRIGGER_UM,
-        )? * M_PER_UM,
-        feed: bounded(
-            &check,
-            &p.feed_mm_per_min,
-            "feed_mm_per_min",
-            240.0,
-            bounds::FEED_MM_PER_MIN,
-        )? * M_PER_MM
-            / 60.0,
-        latency: bounded(
-            &check,
-            &p.latency_ms,
-            "latency_ms",
-            0.0,
-            Bound {
-                lo: 0.0,
-                hi: 1000.0,
-                why: "a trigger latched a second late",
-            },
-        )? * 1e-3,
-    };
-    if probe.lobing > probe.pretravel {
-        return Err(check.fail(
-            p.lobing_um.as_ref().map(|v| v.span()),
-            "lobing_um",
-            "is larger than pretravel_um: the pre-travel would be negative in some directions",
-        ));
-    }
-    let approach = Bound {
-        lo: 0.001,
-        hi: 100.0,
-        why: "1 µm to 100 mm of approach: a probing move, not a traverse",
-    };
-    let clearance = bounded(&check, &p.clearance_mm, "clearance_mm", 2.0, approach)? * M_PER_MM;
-    let overtravel = bounded(&check, &p.overtravel_mm, "overtravel_mm", 2.0, approach)? * M_PER_MM;
-    let plan = Plan {
-        check: &check,
-        machine,
-        r: stylus_radius,
-        clearance,
-        overtravel,
-    };
-    let mut cycles = Vec::new();
-    for (n, sphere) in p.sphere.iter().enumerate() {
-        cycles.push(plan.sphere(sphere, &format!("sphere[{n}]"))?);
-    }
-    for (n, ring) in p.ring.iter().enumerate() {
-        cycles.push(plan.ring(ring, &format!("ring[{n}]"))?);
-    }
-    for (n, plate) in p.ballplate.iter().enumerate() {
-        cycles.extend(plan.plate(plate, &format!("ballplate[{n}]"))?);
-    }
-    for (n, mesh) in p.mesh.iter().enumerate() {
-        cycles.push(plan.mesh(mesh, &format!("mesh[{n}]"), scenario_dir)?);
-    }
-    if cycles.is_empty() {
-        return Err(context.error(Some(raw.span()), ScenarioErrorKind::Nothing, "probe: no cycle: add a [[probe.sphere]], [[probe.ring]], [[probe.ballplate]] or [[probe.mesh]]"));
-    }
-    if let Some((cycle, feature, point, hit)) = collision(machine, &cycles, probe.feed) {
-        return Err(context.error(
-            Some(raw.span()),
-            ScenarioErrorKind::Value,
-            format!(
-                "probe: cycle {cycle}, feature {feature}, point {point}: the {} (tool side) would touch the {} (workpiece side), {:.2} s into the probing, at {}",
-                hit.tool_body,
-                hit.workpiece_body,
-                hit.time,
-                hit.describe(machine)
-            ),
-        ));
-    }
-    Ok(ProbeTest {
-        probe,
-        cycles,
-        machine: machine.name().to_string(),
-    })
-}
-
 /// How far (rad) a mesh point's approach may be from the surface normal: 1 mrad leaves
 /// `r·θ²/2` (under 1 nm for a 3 mm stylus) along the normal.
 pub const MESH_NORMAL_TOLERANCE: Real = 1e-3;
 
-/// The probe's body in the spindle: a cylinder of this radius (m) from [`PROBE_BODY_FROM`]
-/// above the stylus tip to the spindle nose, 150 mm above it (a 50 mm stylus on a Ø 40 mm
-/// probe). The stylus itself is not checked: touching the artefact is its job.
-pub const PROBE_BODY_RADIUS: Real = 0.020;
-/// Where the probe's body starts above the stylus tip (m).
-pub const PROBE_BODY_FROM: Real = 0.050;
-/// The radius (m) of a calibration sphere's stem, from the table surface up to the sphere.
-pub const STEM_RADIUS: Real = 0.005;
-/// The time (s) the programme takes to move from one probing move to the next.
-const REPOSITION_S: Real = 1.0;
-
-/// Sweeps every probing move (from its start to its full travel, at the probing feed, the
-/// machine repositioning in a straight line of axis values between moves) with the machine's
-/// bodies and the probe's against the workpiece side and the artefacts (spheres on their
-/// stems, plate balls, mesh workpieces; a ring gauge's body is not modelled); the first
-/// collision, with its cycle, feature and point (1-based).
-fn collision(
-    machine: &Machine,
-    cycles: &[Cycle],
-    feed: Real,
-) -> Option<(usize, usize, usize, crate::collision::Collision)> {
-    let mut time = 0.0;
-    for (c, cycle) in cycles.iter().enumerate() {
-        // One scene per cycle: its artefact is on the table for that cycle only (a ball plate
-        // moves between its placements).
-        let scene = cycle_scene(machine, cycle);
-        let mut path = Vec::new();
-        let mut labels = Vec::new();
-        for (f, feature) in cycle.features.iter().enumerate() {
-            for (m, probing) in feature.moves.iter().enumerate() {
-                let mut end = probing.start;
-                for (axis, component) in [Axis::X, Axis::Y, Axis::Z]
-                    .into_iter()
-                    .zip(probing.direction.to_array())
-                {
-                    end[axis] += component * probing.max_travel;
-                }
-                if time > 0.0 {
-                    time += REPOSITION_S;
-                }
-                labels.push((time, (c + 1, f + 1, m + 1)));
-                path.push((time, probing.start));
-                time += probing.max_travel / feed;
-                path.push((time, end));
-            }
-        }
-        if let Err(hit) = scene.sweep(machine, &path) {
-            let (_, (c, f, m)) = labels
-                .iter()
-                .rev()
-                .find(|(t, _)| *t <= hit.time)
-                .copied()
-                .unwrap_or((0.0, (c + 1, 1, 1)));
-            return Some((c, f, m, hit));
-        }
-    }
-    None
-}
-
-/// The machine without its `tool` link, the probe's body in its place, and the artefacts of
-/// `cycle` the stylus does not touch by design: the stems, and what the probe's body could
-/// meet (a sphere, a plate's balls, a mesh workpiece).
-fn cycle_scene(machine: &Machine, cycle: &Cycle) -> crate::collision::Scene {
-    use crate::collision::{Mount, Scene, SharedShape, Solid};
-    let at = crate::math::Pose::from_translation;
-    let mut scene = Scene::of_machine(machine, &["tool"]);
-    let length = 0.150 - PROBE_BODY_FROM;
-    scene.attach(
-        "probe body",
-        Mount::Tool,
-        at(Vector::new(0.0, 0.0, PROBE_BODY_FROM + length / 2.0)),
-        Solid::Cylinder(PROBE_BODY_RADIUS, length),
-    );
-    for (f, feature) in cycle.features.iter().enumerate() {
-        let name = format!("artefact {}", f + 1);
-        match &feature.target {
-            Target::Sphere(sphere) => {
-                scene.attach(
-                    &name,
-                    Mount::Workpiece,
-                    at(sphere.centre),
-                    Solid::Sphere(sphere.radius),
-                );
-                let stem = sphere.centre.z - sphere.radius;
-                if stem > 1e-6 {
-                    scene.attach(
-                        &format!("{name} stem"),
-                        Mount::Workpiece,
-                        at(Vector::new(sphere.centre.x, sphere.centre.y, stem / 2.0)),
-                        Solid::Cylinder(STEM_RADIUS, stem),
-                    );
-                }
-            }
-            Target::Plate(plate) => {
-                for centre in &plate.centres {
-                    scene.attach(
-                        "plate ball",
-                        Mount::Workpiece,
-                        at(*centre),
-                        Solid::Sphere(plate.radius),
-                    );
-                }
-            }
-            Target::Mesh(mesh) => scene.attach_shape(
-                "mesh workpiece",
-                Mount::Workpiece,
-                crate::math::Pose::IDENTITY,
-                SharedShape::new(mesh.shape().clone()),
-            ),
-            Target::Ring(_) => {}
-        }
-    }
-    scene
-}
-
 /// Planning the cycles with the checks.
-struct Plan<'a> {
-    check: &'a Checker<'a>,
-    machine: &'a Machine,
-    r: Real,
-    clearance: Real,
-    overtravel: Real,
+pub(super) struct Plan<'a> {
+    pub(super) check: &'a Checker<'a>,
+    pub(super) machine: &'a Machine,
+    pub(super) r: Real,
+    pub(super) clearance: Real,
+    pub(super) overtravel: Real,
 }
 
 impl Plan<'_> {
     /// The rotary angles of `raw` (absent: 0), each on an axis the machine has, within travel.
-    fn rotary(
+    pub(super) fn rotary(
         &self,
         raw: Option<RawRotary>,
         span: Range<usize>,
@@ -573,7 +68,7 @@ impl Plan<'_> {
     }
 
     /// The linear axes' frame at `rotary`, which must not be degenerate.
-    fn frame(
+    pub(super) fn frame(
         &self,
         rotary: &AxisValues,
         span: Range<usize>,
@@ -591,7 +86,7 @@ impl Plan<'_> {
     /// Checks a planned move on the nominal chain: it touches `target` within its travel, and
     /// starts and ends (`overtravel` past the touch) within every axis's travel.
     #[allow(clippy::too_many_arguments)]
-    fn checked_move(
+    pub(super) fn checked_move(
         &self,
         frame: &LinearFrame,
         target: &Target,
@@ -656,7 +151,7 @@ impl Plan<'_> {
         Ok(probing)
     }
 
-    fn diameter(&self, v: &Spanned<Real>, key: &str) -> Result<Real, ScenarioError> {
+    pub(super) fn diameter(&self, v: &Spanned<Real>, key: &str) -> Result<Real, ScenarioError> {
         let d = *v.get_ref();
         if d.is_finite() && d > 0.0 {
             Ok(d * M_PER_MM)
@@ -669,7 +164,11 @@ impl Plan<'_> {
         }
     }
 
-    fn incidence(&self, v: &Option<Spanned<Real>>, key: &str) -> Result<Real, ScenarioError> {
+    pub(super) fn incidence(
+        &self,
+        v: &Option<Spanned<Real>>,
+        key: &str,
+    ) -> Result<Real, ScenarioError> {
         let deg = value(self.check, v, key, 0.0, 0.0, false)?;
         if deg >= 90.0 {
             return Err(self.check.fail(
@@ -683,7 +182,7 @@ impl Plan<'_> {
 
     /// The moves of a sphere pattern on `target`, about the sphere `centre` of radius `radius`.
     #[allow(clippy::too_many_arguments)]
-    fn sphere_moves(
+    pub(super) fn sphere_moves(
         &self,
         frame: &LinearFrame,
         target: &Target,
@@ -706,7 +205,11 @@ impl Plan<'_> {
             .collect()
     }
 
-    fn sphere(&self, raw: &Spanned<RawSphere>, key: &str) -> Result<Cycle, ScenarioError> {
+    pub(super) fn sphere(
+        &self,
+        raw: &Spanned<RawSphere>,
+        key: &str,
+    ) -> Result<Cycle, ScenarioError> {
         let s = raw.get_ref();
         let diameter = self.diameter(&s.diameter_mm, &format!("{key}.diameter_mm"))?;
         let centre = point(self.check, &s.centre_mm, &format!("{key}.centre_mm"))?;
@@ -759,7 +262,7 @@ impl Plan<'_> {
         })
     }
 
-    fn ring(&self, raw: &Spanned<RawRing>, key: &str) -> Result<Cycle, ScenarioError> {
+    pub(super) fn ring(&self, raw: &Spanned<RawRing>, key: &str) -> Result<Cycle, ScenarioError> {
         let g = raw.get_ref();
         let diameter = self.diameter(&g.diameter_mm, &format!("{key}.diameter_mm"))?;
         let centre = point(self.check, &g.centre_mm, &format!("{key}.centre_mm"))?;
@@ -818,7 +321,11 @@ impl Plan<'_> {
         })
     }
 
-    fn plate(&self, raw: &Spanned<RawPlate>, key: &str) -> Result<Vec<Cycle>, ScenarioError> {
+    pub(super) fn plate(
+        &self,
+        raw: &Spanned<RawPlate>,
+        key: &str,
+    ) -> Result<Vec<Cycle>, ScenarioError> {
         let b = raw.get_ref();
         let size = |v: &Spanned<i64>, name: &str| -> Result<usize, ScenarioError> {
             count(
@@ -953,7 +460,12 @@ impl Plan<'_> {
         Ok(cycles)
     }
 
-    fn mesh(&self, raw: &Spanned<RawMesh>, key: &str, dir: &Path) -> Result<Cycle, ScenarioError> {
+    pub(super) fn mesh(
+        &self,
+        raw: &Spanned<RawMesh>,
+        key: &str,
+        dir: &Path,
+    ) -> Result<Cycle, ScenarioError> {
         let m = raw.get_ref();
         let unit = match m.units.as_ref().map(|u| u.get_ref().as_str()) {
             None | Some("mm") => M_PER_MM,
@@ -1061,24 +573,5 @@ impl Plan<'_> {
                 calibrated_centre: None,
             }],
         })
-    }
-}
-
-impl ProbeTest {
-    /// One line per cycle, as `mtwin check` lists them.
-    pub fn describe(&self) -> Vec<String> {
-        self.cycles
-            .iter()
-            .map(|c| {
-                let touches: usize = c.features.iter().map(|f| f.moves.len()).sum();
-                format!(
-                    "probe: {} cycle, {} feature(s), {touches} touches, stylus Ø {:.3} mm at {:.0} mm/min",
-                    c.kind.name(),
-                    c.features.len(),
-                    2.0 * self.probe.stylus_radius / M_PER_MM,
-                    self.probe.feed / M_PER_MM * 60.0
-                )
-            })
-            .collect()
     }
 }
