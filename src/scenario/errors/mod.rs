@@ -1,7 +1,7 @@
 //! The `[errors.NAME]` sections: ISO 230-1 error parameters as written (file units), checked
 //! and turned into the error model.
 //!
-//! The terms as written are [`super::error_spec`]'s; here [`error_model`] checks each section
+//! The terms as written are [`super::error_spec`]'s; here `error_model` checks each section
 //! and assembles the model, with the terms of the error function in `function` (both ways:
 //! [`function_of`], [`spec_of`]), the time- and speed-dependent terms in `dynamics`, the terms
 //! measured inputs drive in [`super::inputs`], and the bound on a plausible error in
