@@ -5,7 +5,7 @@
 use anyhow::{Result, bail};
 use clap::builder::TypedValueParser as _;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
-use mtwin::app::{Scenario, Simulation, simulate, write_outputs};
+use mtwin::app::{Scenario, ScenarioFiles, Simulation, simulate, write_outputs};
 use mtwin::kinds::{KINDS, Kind, Verb};
 use mtwin::machine::{Machine, Side};
 use std::path::{Path, PathBuf};
@@ -332,7 +332,8 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             .filter(|kind| kind.name == name)
             .find_map(verb)
             .expect("clap offers only registered kinds");
-        let output = (verb.run)(matches, &mut |what| eprintln!("{verb_name}: {what}"))?;
+        let mut progress = |what: &str| eprintln!("{verb_name}: {what}");
+        let output = (verb.run)(matches, &mut progress, &ScenarioFiles)?;
         say_raw(&output);
         Ok(())
     };

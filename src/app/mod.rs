@@ -24,4 +24,4 @@ pub mod score;
 pub use run::{
     RunError, RunOutput, Simulation, check_run_folder, run_scenario, simulate, write_outputs,
 };
-pub use scenario::Scenario;
+pub use scenario::{Scenario, ScenarioFiles};

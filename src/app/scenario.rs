@@ -2,6 +2,7 @@
 //! together (see [`crate::scenario`] for the file format and the shared sections).
 
 use crate::errors::TemperatureRecord;
+use crate::kinds::ScenarioLoader;
 use crate::kinds::ballbar::{self, BallbarTest};
 use crate::kinds::drift::{self, EtveTest, SpindleThermalTest};
 use crate::kinds::positioning::{self, LaserTest};
@@ -547,5 +548,21 @@ impl Scenario {
             ));
         }
         lines
+    }
+}
+
+/// Scenario files loaded whole with [`Scenario::load`]: what this layer lends the kinds'
+/// verbs as their [`ScenarioLoader`], since the kinds sit below the whole scenario.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ScenarioFiles;
+
+impl ScenarioLoader for ScenarioFiles {
+    fn check(&self, path: &Path) -> anyhow::Result<()> {
+        Scenario::load(path)?;
+        Ok(())
+    }
+
+    fn ballbar_test(&self, path: &Path) -> anyhow::Result<Option<BallbarTest>> {
+        Ok(Scenario::load(path)?.ballbar_test)
     }
 }

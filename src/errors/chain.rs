@@ -23,8 +23,10 @@
 //! exact zeros); only the per-turn harmonics differ, by ulps of their amplitudes. Nothing
 //! allocates.
 
+use super::ErrorModel;
+use super::binding::Action;
+use super::deviation::Deviation;
 use super::function::TurnSeries;
-use super::{Action, Deviation, ErrorModel};
 use crate::machine::{
     Axis, AxisInfo, JointRotation, Machine, MachineState, MotionKind, Side, Workspace, then_motion,
 };

@@ -23,7 +23,9 @@
 //! it was found on (the usual use: check and extend a model on measured data); driving it from
 //! the network for a new programme is not wired yet.
 
-use super::{Action, Binding, ErrorModelError, ParameterName};
+use super::binding::{Action, Binding};
+use super::error::ErrorModelError;
+use super::name::ParameterName;
 use crate::errors::TemperatureRecord;
 use crate::machine::{Machine, MachineState};
 use crate::math::Real;

@@ -24,7 +24,8 @@
 //! this content is a linear coefficient: the estimators fit the synchronous functions only and
 //! see the rest as noise.
 
-use super::{ParameterName, Table};
+use super::function::Table;
+use super::name::ParameterName;
 use crate::math::{Real, seeded_rng};
 use rand::RngExt;
 use std::f64::consts::TAU;

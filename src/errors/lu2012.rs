@@ -18,7 +18,8 @@
 //! `Y·EA0Z` to `V_z`, which a chain does not); tool errors and spindle error motions are
 //! ignored; no second-order terms. Defined for 3-axis machines only.
 
-use super::{ErrorModel, Motion, ParameterName};
+use super::ErrorModel;
+use super::name::{Motion, ParameterName};
 use crate::machine::{Axis, Machine, MachineState};
 use crate::math::Vector;
 

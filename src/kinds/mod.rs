@@ -21,8 +21,9 @@
 //! Layers: a kind's files use the shared layers below them (math, machine, errors, thermal,
 //! program, twin, io, scenario, discovery, viz) and its own siblings, never another kind.
 //! [`crate::app`] sits above every kind: it assembles a [`crate::app::Scenario`] from the
-//! kinds' sections and runs it. A kind's `cli.rs` is the binary's layer (it may load a
-//! scenario to check one a discovered model extends); nothing below imports it.
+//! kinds' sections and runs it. A kind's `cli.rs` is the binary's layer; a verb that needs a
+//! whole scenario (the one a discovered model extends) has it loaded by the layer above,
+//! through the [`ScenarioLoader`] it is handed; nothing below imports it.
 //!
 //! # Adding a test kind (the ball-bar as the example)
 //!
@@ -60,6 +61,8 @@ pub mod rtest;
 pub mod spindle;
 pub mod volumetric;
 
+use std::path::Path;
+
 /// A test kind as the command line sees it.
 #[derive(Clone, Copy)]
 pub struct Kind {
@@ -83,12 +86,26 @@ pub struct Verb {
     /// The subcommand, named after the kind, with its flags and help.
     pub command: fn() -> clap::Command,
     /// Runs it on the parsed flags and returns what to print on standard output; `progress`
-    /// hears about long work.
+    /// hears about long work, `scenarios` loads a scenario the flags name.
     pub run: VerbRun,
 }
 
-/// How a [`Verb`] runs: on the parsed flags, with a progress callback, returning what to print.
-pub type VerbRun = fn(&clap::ArgMatches, &mut dyn FnMut(&str)) -> anyhow::Result<String>;
+/// How a [`Verb`] runs: on the parsed flags, with a progress callback and the layer above's
+/// [`ScenarioLoader`], returning what to print.
+pub type VerbRun =
+    fn(&clap::ArgMatches, &mut dyn FnMut(&str), &dyn ScenarioLoader) -> anyhow::Result<String>;
+
+/// What a verb may ask of the layer above the kinds, where a whole scenario is assembled from
+/// the shared sections and every kind's own ([`crate::app::Scenario`]): a verb whose output
+/// extends a scenario (`discover --extends SCENARIO.toml`) has it loaded through this, so no
+/// kind imports that layer.
+pub trait ScenarioLoader {
+    /// Loads the scenario at `path` and checks it whole, as `mtwin run` would.
+    fn check(&self, path: &Path) -> anyhow::Result<()>;
+    /// Loads the scenario at `path` as [`ScenarioLoader::check`] does and hands back its
+    /// ball-bar test, if it has one.
+    fn ballbar_test(&self, path: &Path) -> anyhow::Result<Option<ballbar::BallbarTest>>;
+}
 
 /// Every test kind, in the order the command line lists them.
 pub const KINDS: &[Kind] = &[

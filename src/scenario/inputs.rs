@@ -25,14 +25,16 @@
 //! is measured from the start of the programme, as the record's `time_min` is from the start
 //! of the test.
 
+pub use super::error_spec::{DriftTermSpec, HeatingTermSpec, TemperatureTermSpec};
+
 use super::ScenarioErrorKind;
 use super::bounds::{self, Bound};
-use super::errors::ErrorSpec;
+use super::error_spec::{ErrorSpec, SpecError};
 use crate::errors::TemperatureRecord;
 use crate::errors::{ContextTerm, Driver, ParameterName};
 use crate::machine::Axis;
 use crate::math::{RAD_PER_URAD, Real};
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 use toml::Spanned;
 
 /// The `[inputs]` section.
@@ -45,83 +47,6 @@ pub(crate) struct RawInputs {
     /// there are none).
     pub(crate) thermal_network_errors: Option<Spanned<bool>>,
 }
-
-/// A term driven by a measured sensor's temperature: `c · (T_lagged − reference)`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TemperatureTermSpec {
-    /// The sensor (a `temp_<sensor>_degc` column of `[inputs] temperatures`).
-    pub sensor: String,
-    /// The temperature at which the term is zero (°C).
-    pub reference_degc: Real,
-    /// Time constant of the structure behind the sensor (min); none by default.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lag_min: Option<Real>,
-    /// Time constant of the sensor behind the structure (min); none by default: the term
-    /// reads `T + τ·dT/dt`, the rate from the record's neighbouring samples
-    /// ([`crate::math::local_rates`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub sensor_lag_min: Option<Real>,
-    /// µm per °C (translations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub um_per_degc: Option<Real>,
-    /// µm per metre of travel per °C: an expansion (translations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub um_per_m_per_degc: Option<Real>,
-    /// µrad per °C (rotations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub urad_per_degc: Option<Real>,
-    /// µrad per metre of travel per °C (rotations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub urad_per_m_per_degc: Option<Real>,
-}
-
-/// A heat source no sensor sees: `c · (1 − e^(−(t − from)/τ))` from `from_min` on.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HeatingTermSpec {
-    /// Time constant (min).
-    pub tau_min: Real,
-    /// When it starts (min from the start); 0 by default.
-    #[serde(default)]
-    pub from_min: Real,
-    /// Final value (µm, translations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub um: Option<Real>,
-    /// Final value per metre of travel (µm/m, translations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub um_per_m: Option<Real>,
-    /// Final value (µrad, rotations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub urad: Option<Real>,
-    /// Final value per metre of travel (µrad/m, rotations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub urad_per_m: Option<Real>,
-}
-
-/// A drift linear in time: `c · (t − from)`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DriftTermSpec {
-    /// When the drift is zero (min from the start); 0 by default.
-    #[serde(default)]
-    pub from_min: Real,
-    /// µm per hour (translations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub um_per_h: Option<Real>,
-    /// µm per metre of travel per hour (translations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub um_per_m_per_h: Option<Real>,
-    /// µrad per hour (rotations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub urad_per_h: Option<Real>,
-    /// µrad per metre of travel per hour (rotations).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub urad_per_m_per_h: Option<Real>,
-}
-
-/// What is wrong with one key: the kind, its path in the `[errors.NAME]` table, the message.
-type SpecError = (ScenarioErrorKind, String, String);
 
 /// The context terms of `[errors.NAME]` (SI), checked: units match the parameter, exactly one
 /// coefficient per term, `_per_m` only on a linear axis's component error, time constants

@@ -42,6 +42,7 @@ use std::fmt;
 
 pub mod bounds;
 pub mod checker;
+pub mod error_spec;
 pub mod errors;
 pub mod inputs;
 pub mod lesson;

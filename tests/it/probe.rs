@@ -717,7 +717,7 @@ fn the_analyze_verb_prints_the_figures_and_stable_json() {
     let verb = mtwin::kinds::probe::cli::KIND.analyze.unwrap();
     let call = |args: &[&str]| {
         let matches = (verb.command)().try_get_matches_from(args).unwrap();
-        (verb.run)(&matches, &mut |_| {})
+        (verb.run)(&matches, &mut |_| {}, &mtwin::app::ScenarioFiles)
     };
     let file = path.to_str().unwrap();
     let json: serde_json::Value =

@@ -2,8 +2,8 @@
 //! `manifest.json` and the `README.md` dataset card. Nothing here depends on the clock, the
 //! host or the path the scenario was given by, so the same command gives the same bytes.
 
+use super::options::Options;
 use super::priors::{Distribution, Law, unit_of_key};
-use super::shard::Options;
 use super::spec::SplitRule;
 use super::table::{ColumnKind, TableSchema};
 use super::{Dataset, SCHEMA_VERSION};

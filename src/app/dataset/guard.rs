@@ -3,7 +3,7 @@
 //! a stray file in a table's folder, which readers of the folder as one dataset would take for
 //! part of the table.
 
-use super::shard::{DatasetError, io_error};
+use super::error::{DatasetError, io_error};
 use super::table::TableSchema;
 use crate::app::folder::{Holds, holds, some_of};
 use std::path::Path;

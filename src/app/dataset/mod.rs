@@ -36,14 +36,18 @@
 //! line with the scenario's own message).
 
 mod card;
+mod error;
 mod guard;
+mod options;
 pub mod priors;
 mod shard;
 pub mod spec;
 mod table;
 
 pub use card::counted;
-pub use shard::{DatasetError, Options, Progress, Summary, generate, record_name};
+pub use error::DatasetError;
+pub use options::Options;
+pub use shard::{Progress, Summary, generate, record_name};
 pub use spec::{Prior, Section, SplitRule};
 pub use table::{ColumnKind, TableSchema};
 

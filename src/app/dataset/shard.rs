@@ -11,95 +11,17 @@
 //! is a function of the command alone, so whoever renames last publishes the same bytes and
 //! every maker succeeds.
 
+use super::error::{DatasetError, io_error, parquet_error};
+use super::options::Options;
 use super::table::{Block, ParquetTable, TableSchema};
 use super::{Case, Dataset, SCHEMA_VERSION, card};
-use crate::app::{RunError, simulate};
+use crate::app::simulate;
 use rayon::prelude::*;
 use serde_json::{Value, json};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::io::Read;
-use std::path::{Path, PathBuf};
-
-/// Why a dataset could not be made.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum DatasetError {
-    /// A case's scenario is not valid (a drawn value outside what the scenario accepts).
-    #[error("case {id}: {message} (bound the prior that drew it)")]
-    Case {
-        /// The case.
-        id: u64,
-        /// The scenario's message.
-        message: String,
-    },
-    /// A case could not be simulated.
-    #[error("case {id}: {source}")]
-    Run {
-        /// The case.
-        id: u64,
-        /// Why.
-        source: RunError,
-    },
-    /// A case's table does not fit the dataset's schema.
-    #[error("case {id}: {table}: {message}")]
-    Table {
-        /// The case.
-        id: u64,
-        /// The table.
-        table: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// The options do not make a layout.
-    #[error("{0}")]
-    Options(String),
-    /// The output folder holds another dataset.
-    #[error("{dir}: {message}")]
-    Layout {
-        /// The folder.
-        dir: String,
-        /// What is there.
-        message: String,
-    },
-    /// A file could not be read or written.
-    #[error("{path}: {message}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The system's message.
-        message: String,
-    },
-}
-
-pub(super) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> DatasetError + '_ {
-    move |e| DatasetError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    }
-}
-
-fn parquet_error(path: &Path) -> impl Fn(parquet::errors::ParquetError) -> DatasetError + '_ {
-    move |e| DatasetError::Io {
-        path: path.display().to_string(),
-        message: format!("cannot write Parquet: {e}"),
-    }
-}
-
-/// What to make.
-#[derive(Clone, Debug)]
-pub struct Options {
-    /// Number of cases.
-    pub count: u64,
-    /// Shard layout.
-    pub shards: u64,
-    /// Only this shard (else every shard).
-    pub only: Option<u64>,
-    /// Worker threads (else all cores).
-    pub threads: Option<usize>,
-    /// The dataset folder.
-    pub out: PathBuf,
-}
+use std::path::Path;
 
 /// What a call did.
 #[derive(Clone, Debug, Default, PartialEq)]

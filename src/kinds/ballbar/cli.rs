@@ -5,8 +5,7 @@
 use super::discovery::discover_ballbar;
 use super::iso230_4::{self, CircularTest};
 use super::table::BallbarTable;
-use crate::app::Scenario;
-use crate::kinds::{Kind, Verb};
+use crate::kinds::{Kind, ScenarioLoader, Verb};
 use crate::machine::Plane;
 use crate::math::{M_PER_MM, Real, trimmed};
 use anyhow::{Context, Result, bail};
@@ -202,7 +201,11 @@ impl CircleArgs {
     }
 }
 
-fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn analyze(
+    matches: &ArgMatches,
+    _progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let args = CircleArgs::from_arg_matches(matches)?;
     let table = BallbarTable::read(&args.file)?;
     let test = args.test(&table)?;
@@ -230,7 +233,11 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     })
 }
 
-fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn discover(
+    matches: &ArgMatches,
+    progress: &mut dyn FnMut(&str),
+    scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let DiscoverArgs {
         circle: args,
         write_model,
@@ -243,8 +250,7 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
     let base = extends
         .as_ref()
         .map(|base| -> Result<_> {
-            let scenario = Scenario::load(base)?;
-            let servo = scenario.ballbar_test.as_ref().map(|t| t.servo.clone());
+            let servo = scenarios.ballbar_test(base)?.map(|t| t.servo);
             Ok((base, servo))
         })
         .transpose()?;

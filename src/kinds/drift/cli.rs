@@ -4,7 +4,7 @@
 use super::iso230_3::drift_report;
 use super::table::DriftTable;
 use crate::io::not_used_line;
-use crate::kinds::{Kind, Verb};
+use crate::kinds::{Kind, ScenarioLoader, Verb};
 use crate::math::trimmed;
 use anyhow::{Result, bail};
 use clap::{ArgMatches, Args, FromArgMatches};
@@ -53,7 +53,11 @@ struct AnalyzeArgs {
     ambient_sensor: Option<String>,
 }
 
-fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn analyze(
+    matches: &ArgMatches,
+    _progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let AnalyzeArgs {
         file,
         json,

@@ -7,8 +7,7 @@ use super::discovery::{PositioningOptions, discover_positioning};
 use super::iso230_2;
 use super::table::PositioningTable;
 use super::thermal_series::thermal_series;
-use crate::app::Scenario;
-use crate::kinds::{Kind, Verb};
+use crate::kinds::{Kind, ScenarioLoader, Verb};
 use anyhow::{Context, Result, bail};
 use clap::{ArgMatches, Args, FromArgMatches};
 use std::path::PathBuf;
@@ -97,7 +96,11 @@ struct DiscoverArgs {
     min_period_mm: f64,
 }
 
-fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn analyze(
+    matches: &ArgMatches,
+    _progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let AnalyzeArgs {
         file,
         json,
@@ -145,7 +148,11 @@ fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<Stri
     })
 }
 
-fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn discover(
+    matches: &ArgMatches,
+    progress: &mut dyn FnMut(&str),
+    scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let args = DiscoverArgs::from_arg_matches(matches)?;
     let file = &args.file;
     if !args.expansion_ppm_per_degc.is_finite() {
@@ -175,7 +182,7 @@ fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<Stri
     if let Some(path) = &args.write_model {
         let base = match &args.extends {
             Some(base) => {
-                Scenario::load(base)?;
+                scenarios.check(base)?;
                 Some(crate::io::relative_path(base, path)?)
             }
             None => None,

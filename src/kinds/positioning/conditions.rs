@@ -19,8 +19,7 @@
 //! reading's target against the targets (within [`TARGET_TOLERANCE`]) and every target against
 //! the readings.
 
-use super::laser::{Mounting, Zeroing};
-use super::table::{PositioningReading, PositioningTable};
+use super::setup::{Mounting, Zeroing};
 use crate::io::{Conditions, TableError};
 use crate::machine::{Axis, axis_unit_to_si};
 use crate::math::{M_PER_MM, Real, Vector, trimmed};
@@ -328,14 +327,16 @@ impl PositioningConditions {
         Conditions::from_pairs(pairs)
     }
 
-    /// Checks the conditions against the rows of `table` (read from `file`, whose preamble
-    /// `stated` gave them, with the axis its `axis` column names, if any, and the lines of its
-    /// rows in `lines`).
+    /// Checks the conditions against the rows of a table (read from `file`, whose preamble
+    /// `stated` gave them, with the axis its `axis` column names, if any, the labels of the
+    /// runs its rows hold in `runs`, the target of each row in `row_targets` and the lines of
+    /// its rows in `lines`).
     pub(crate) fn check(
         &self,
         stated: &Conditions,
         column_axis: Option<Axis>,
-        table: &PositioningTable,
+        runs: &[String],
+        row_targets: &[Real],
         lines: &[Option<u64>],
         file: &str,
     ) -> Result<(), TableError> {
@@ -361,44 +362,40 @@ impl PositioningConditions {
                 format!("axis = {said}, but the rows' axis column says {column}"),
             ));
         }
-        if let Some(runs) = self.runs
-            && runs != table.runs.len()
+        if let Some(stated_runs) = self.runs
+            && stated_runs != runs.len()
         {
             return Err(TableError::new(
                 file,
                 line_of("runs"),
                 format!(
-                    "runs = {runs}, but the rows hold {} run{} ({})",
-                    table.runs.len(),
-                    if table.runs.len() == 1 { "" } else { "s" },
-                    table.runs.join(", ")
+                    "runs = {stated_runs}, but the rows hold {} run{} ({})",
+                    runs.len(),
+                    if runs.len() == 1 { "" } else { "s" },
+                    runs.join(", ")
                 ),
             ));
         }
         if let Some(targets) = &self.targets {
             let near = |a: Real, b: Real| (a - b).abs() <= TARGET_TOLERANCE;
-            let stray = table
-                .readings
+            let stray = row_targets
                 .iter()
                 .zip(lines)
-                .find(|(r, _)| !targets.iter().any(|t| near(*t, r.target)));
-            if let Some((reading, line)) = stray {
+                .find(|(r, _)| !targets.iter().any(|t| near(*t, **r)));
+            if let Some((row_target, line)) = stray {
                 return Err(TableError::new(
                     file,
                     *line,
                     format!(
                         "target_mm {} is not one of the preamble's targets_mm (line {})",
-                        trimmed(reading.target / M_PER_MM, 6),
+                        trimmed(*row_target / M_PER_MM, 6),
                         line_of("targets_mm").unwrap_or_default()
                     ),
                 ));
             }
-            let unvisited = targets.iter().find(|t| {
-                !table
-                    .readings
-                    .iter()
-                    .any(|r: &PositioningReading| near(**t, r.target))
-            });
+            let unvisited = targets
+                .iter()
+                .find(|t| !row_targets.iter().any(|r| near(**t, *r)));
             if let Some(target) = unvisited {
                 return Err(TableError::new(
                     file,
@@ -421,137 +418,5 @@ pub(crate) fn parse_axis(text: &str) -> Option<Axis> {
         "Y" | "y" => Some(Axis::Y),
         "Z" | "z" => Some(Axis::Z),
         _ => None,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const ROWS: &str = "run,direction,target_mm,deviation_um\n\
-                        1,+,0,0.5\n1,+,100,1.5\n1,-,100,2.5\n1,-,0,1.0\n\
-                        2,+,0,0.6\n2,+,100,1.4\n2,-,100,2.4\n2,-,0,1.1\n";
-
-    fn read(preamble: &str) -> Result<PositioningTable, TableError> {
-        PositioningTable::parse(format!("{preamble}{ROWS}").as_bytes(), "p.csv")
-    }
-
-    #[test]
-    fn a_preamble_names_the_axis_runs_and_targets_the_rows_hold() {
-        let table = read(
-            "# a laser export\n# test = iso230_2\n# axis = Y\n# runs = 2\n# targets_mm = 0, 100\n# compensation = air\n",
-        )
-        .unwrap();
-        // No axis column: the axis is the preamble's.
-        assert_eq!(table.axis, Some(Axis::Y));
-        assert_eq!(table.conditions.test, Some(PositioningTest::Iso230_2));
-        assert_eq!(table.conditions.runs, Some(2));
-        assert_eq!(table.conditions.targets, Some(vec![0.0, 0.1]));
-        // Without one, the table reads as before.
-        let bare = read("").unwrap();
-        assert_eq!((bare.axis, bare.conditions), (None, Default::default()));
-        // An export that rounds its targets to 1 µm still matches them.
-        let rounded = read("# targets_mm = 0.0000004, 99.9999996\n").unwrap();
-        assert_eq!(rounded.readings.len(), 8);
-    }
-
-    #[test]
-    fn conditions_the_rows_contradict_are_refused_naming_both() {
-        let axis = PositioningTable::parse(
-            b"# axis = Y\naxis,target_mm,deviation_um\nX,0,1\nX,100,2\n",
-            "p.csv",
-        )
-        .unwrap_err();
-        assert_eq!(
-            axis.to_string(),
-            "p.csv:1: axis = Y, but the rows' axis column says X"
-        );
-        let runs = read("# runs = 3\n").unwrap_err();
-        assert_eq!(
-            runs.to_string(),
-            "p.csv:1: runs = 3, but the rows hold 2 runs (1, 2)"
-        );
-        // The row at 100 mm (line 4: the preamble, the header, then the first row) is stray.
-        let stray = read("# targets_mm = 0, 50\n").unwrap_err();
-        assert_eq!(
-            stray.to_string(),
-            "p.csv:4: target_mm 100 is not one of the preamble's targets_mm (line 1)"
-        );
-        let tested = read("# axis = Y\n# x_mm = 5\n# y_mm = 205\n").unwrap_err();
-        assert_eq!(
-            tested.to_string(),
-            "p.csv:3: y_mm: Y is the axis under test; the preamble's axis positions are the other axes'"
-        );
-        let unvisited = read("# targets_mm = 0, 100, 200\n").unwrap_err();
-        assert_eq!(
-            unvisited.to_string(),
-            "p.csv:1: targets_mm: no reading at 200 mm"
-        );
-    }
-
-    #[test]
-    fn values_of_the_wrong_form_are_refused() {
-        for (line, expected) in [
-            (
-                "# test = iso230_4",
-                "test = iso230_4: expected iso230_2, warmup or iso230_3_linear",
-            ),
-            ("# axis = W", "axis = W: expected X, Y or Z"),
-            (
-                "# runs = 0",
-                "runs = 0: expected a whole number of runs, 1 or more",
-            ),
-            (
-                "# targets_mm = 0, ten",
-                "targets_mm = 0, ten: expected finite numbers separated by commas",
-            ),
-            (
-                "# beam_offset_mm = 0 60",
-                "beam_offset_mm = 0 60: expected three numbers separated by spaces",
-            ),
-            (
-                "# interferometer_on = bed",
-                "interferometer_on = bed: expected workpiece or tool",
-            ),
-            ("# zero = never", "zero = never: expected once or each_run"),
-            ("# y_mm = far", "y_mm = far: expected a finite number"),
-        ] {
-            let error = read(&format!("{line}\n")).unwrap_err();
-            assert_eq!(error.to_string(), format!("p.csv:1: {expected}"));
-        }
-    }
-
-    #[test]
-    fn what_is_written_reads_back() {
-        let mut table = read("").unwrap();
-        table.axis = Some(Axis::Z);
-        table.conditions = PositioningConditions {
-            test: Some(PositioningTest::Warmup),
-            axis: Some(Axis::Z),
-            runs: Some(2),
-            targets: Some(vec![0.0, 0.1]),
-            compensation: Some("air+nde".into()),
-            machine: Some("vmc3".into()),
-            axes: vec![
-                (Axis::X, 380.0 * M_PER_MM),
-                (Axis::Y, 205.5 * M_PER_MM),
-                (Axis::C, 30.0 * crate::math::RAD_PER_DEG),
-            ],
-            beam_offset: Some(Vector::new(0.0, 20.0, 60.0) * M_PER_MM),
-            mounting: Some(Mounting::InterferometerOnTool),
-            zero: Some(Zeroing::EachRun),
-            not_used: Vec::new(),
-        };
-        let mut bytes = Vec::new();
-        table.write_csv(&mut bytes).unwrap();
-        let text = String::from_utf8(bytes).unwrap();
-        assert!(
-            text.starts_with(
-                "# mtwin positioning table (runs between warm-up intervals)\n# test = warmup\n"
-            ),
-            "{text}"
-        );
-        let back = PositioningTable::parse(text.as_bytes(), "p.csv").unwrap();
-        assert_eq!(back, table);
     }
 }

@@ -27,8 +27,9 @@
 //! no periodic nonlinearity of the interferometer optics.
 
 use super::air::{Air, HENE_WAVELENGTH_UM};
-use crate::kinds::positioning::conditions::PositioningConditions;
-use crate::kinds::positioning::table::{PositioningReading, PositioningTable};
+use super::conditions::PositioningConditions;
+pub use super::setup::{Mounting, Zeroing};
+use super::table::{PositioningReading, PositioningTable};
 use crate::machine::Axis;
 use crate::math::{Pose, Real, Vector, standard_normal};
 use crate::program::Visit;
@@ -87,26 +88,6 @@ pub struct Laser {
     pub zero: Zeroing,
     /// Which side carries the interferometer.
     pub mounting: Mounting,
-}
-
-/// Which side carries the interferometer (and the beam with it).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mounting {
-    /// Interferometer on the workpiece side, reflector on the tool at `beam_offset` from the tip.
-    InterferometerOnWorkpiece,
-    /// Interferometer on the tool side, its beam fixed in the tool frame; the reflector is fixed
-    /// on the workpiece where the point `beam_offset` from the tip was at the zero. The
-    /// instrument is set to count positive when the tool moves positively.
-    InterferometerOnTool,
-}
-
-/// When the laser's reading is set to zero.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Zeroing {
-    /// At the first reading of each run.
-    EachRun,
-    /// Once, at the first reading of the test.
-    Once,
 }
 
 impl Laser {

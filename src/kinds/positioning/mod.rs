@@ -8,6 +8,8 @@
 //! | [`scenario`] | `[iso230_2]`, the `[laser]` ([`scenario::laser`]), `[warmup]` and `[iso230_3_linear]` ([`scenario::thermal_tests`], with `[thermal]`) → [`LaserTest`] |
 //! | [`program`] | the ISO 230-2 [`LinearCycle`], the [`LinearMotionTest`], irregular targets |
 //! | [`laser`], [`air`] | the virtual [`Laser`] (set-up, air and material compensation, dead path, noise) |
+//! | [`setup`] | how the laser is set up: [`setup::Mounting`], [`setup::Zeroing`] |
+//! | [`conditions`] | the conditions a table's preamble states ([`conditions::PositioningConditions`]) |
 //! | [`table`] | the `positioning` table ([`PositioningTable`]) |
 //! | [`run`] | the laser test through the twin, or through the thermal twin ([`LaserRun`]) |
 //! | [`iso230_2`] | the ISO 230-2:2014 figures |
@@ -31,6 +33,7 @@ pub mod run;
 pub mod scenario;
 #[cfg(feature = "viz")]
 pub mod scene;
+pub mod setup;
 pub mod stability;
 pub mod table;
 pub mod thermal_series;

@@ -191,7 +191,7 @@ pub fn copied_run(table: &PositioningTable) -> Option<String> {
 /// laser was zeroed once, or says nothing: the laser re-zeroed at each run (or pass), so the
 /// runs share no reference and the spread between them, R and A, is the zeroing's.
 fn zeroed_runs(table: &PositioningTable) -> Option<String> {
-    use crate::kinds::positioning::laser::Zeroing;
+    use crate::kinds::positioning::setup::Zeroing;
     if table.runs.len() < 3 || table.conditions.zero.is_some_and(|z| z != Zeroing::Once) {
         return None;
     }

@@ -20,7 +20,7 @@
 //! target, its direction of travel that of the approach (`+`: positive, so reversal terms
 //! take the approach's sign), the other axes where the table's preamble says they stood (the
 //! line of the test: `y_mm`, `z_mm`, … or [`Setup::axes`]), their direction positive (they
-//! did not move). The zero is where the instrument set it ([`super::laser::Zeroing`]): the
+//! did not move). The zero is where the instrument set it ([`super::setup::Zeroing`]): the
 //! table's first reading (`zero = once`, ISO 230-2 practice, the default for a table that does
 //! not say) or each run's first reading (`zero = each_run`). In an ISO 230-2 or ISO 230-3 test
 //! every run starts at the same target in the same direction, so for a geometric model the two
@@ -39,7 +39,7 @@
 //! geometric: a drifting test shows in the residuals, run by run). Noise and resolution are
 //! the readings' `sigma`.
 
-use super::laser::{Mounting, Zeroing};
+use super::setup::{Mounting, Zeroing};
 use super::table::{Approach, PositioningTable};
 use crate::errors::ErrorModel;
 use crate::estimate::{Quantity, ReadingModel, Readings, ReadingsError};

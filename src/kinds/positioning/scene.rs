@@ -4,8 +4,8 @@
 
 use super::discovery::{PositioningOptions, discover_positioning};
 use super::table::PositioningTable;
-use crate::kinds::positioning::laser::{Mounting, Zeroing};
 use crate::kinds::positioning::run::LaserRun;
+use crate::kinds::positioning::setup::{Mounting, Zeroing};
 use crate::viz::rr;
 
 use crate::kinds::positioning::scenario::LaserTest;

@@ -3,7 +3,7 @@
 
 use super::analysis::evaluate;
 use super::table::ProbeTable;
-use crate::kinds::{Kind, Verb};
+use crate::kinds::{Kind, ScenarioLoader, Verb};
 use crate::math::M_PER_MM;
 use anyhow::{Context, Result, bail};
 use clap::{ArgMatches, Args, FromArgMatches};
@@ -67,7 +67,11 @@ struct ProbeArgs {
     stylus_radius_mm: Option<f64>,
 }
 
-fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn analyze(
+    matches: &ArgMatches,
+    _progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let args = ProbeArgs::from_arg_matches(matches)?;
     let file = args.file.display().to_string();
     let table = ProbeTable::read(&args.file)?;

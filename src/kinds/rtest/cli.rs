@@ -3,7 +3,7 @@
 
 use super::analysis::{Fit, RtestEvaluation, evaluate};
 use super::table::RtestTable;
-use crate::kinds::{Kind, Verb};
+use crate::kinds::{Kind, ScenarioLoader, Verb};
 use anyhow::{Context, Result};
 use clap::{ArgMatches, Args, FromArgMatches};
 use std::path::PathBuf;
@@ -55,7 +55,11 @@ struct RtestArgs {
     svg: Option<PathBuf>,
 }
 
-fn analyze(matches: &ArgMatches, _progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn analyze(
+    matches: &ArgMatches,
+    _progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let args = RtestArgs::from_arg_matches(matches)?;
     let table = RtestTable::read(&args.file)?;
     let evaluation = evaluate(&table).with_context(|| format!("{}", args.file.display()))?;

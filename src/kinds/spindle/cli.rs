@@ -10,7 +10,7 @@ use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
 use super::record::Sensing;
 use super::table::{self, SpindleTable};
 use crate::io::plausible::spread;
-use crate::kinds::{Kind, Verb};
+use crate::kinds::{Kind, ScenarioLoader, Verb};
 use crate::math::Real;
 use anyhow::{Context, Result};
 use clap::{ArgMatches, Args, FromArgMatches};
@@ -108,7 +108,11 @@ struct DiscoverArgs {
     bearing_contact_angle_deg: Real,
 }
 
-fn discover(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn discover(
+    matches: &ArgMatches,
+    progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let args = DiscoverArgs::from_arg_matches(matches)?;
     let table = table::read(&args.file)?;
     let bearing = match (
@@ -197,7 +201,11 @@ struct SpindleArgs {
     centres: Vec<String>,
 }
 
-fn analyze(matches: &ArgMatches, progress: &mut dyn FnMut(&str)) -> Result<String> {
+fn analyze(
+    matches: &ArgMatches,
+    progress: &mut dyn FnMut(&str),
+    _scenarios: &dyn ScenarioLoader,
+) -> Result<String> {
     let args = SpindleArgs::from_arg_matches(matches)?;
     let table = table::read(&args.file)?;
     let mut options = Options::default();

@@ -16,7 +16,7 @@ fn analyze_drift_reports_the_tables_own_ranges_and_stop_criterion() {
     let verb = mtwin::kinds::drift::cli::KIND.analyze.unwrap();
     let path_text = path.to_str().unwrap();
     let matches = (verb.command)().get_matches_from(["drift", path_text, "--json"]);
-    let printed = (verb.run)(&matches, &mut |_| {}).unwrap();
+    let printed = (verb.run)(&matches, &mut |_| {}, &mtwin::app::ScenarioFiles).unwrap();
     let report: serde_json::Value = serde_json::from_str(&printed).unwrap();
     assert_eq!(report["kind"], "drift");
     assert_eq!(report["test"], "iso230_3_spindle");
@@ -199,7 +199,7 @@ fn analyze_drift_reports_the_tables_own_ranges_and_stop_criterion() {
     assert_eq!(truth["speed_rpm_at_readings"][241], 0.0);
     // The text report for people has the stop column (the ETVE's does not).
     let matches = (verb.command)().get_matches_from(["drift", path_text]);
-    let people = (verb.run)(&matches, &mut |_| {}).unwrap();
+    let people = (verb.run)(&matches, &mut |_| {}, &mtwin::app::ScenarioFiles).unwrap();
     assert!(people.contains("stop min"), "{people}");
     // The table reads back whole.
     let back = DriftTable::read(&path).unwrap();

@@ -17,9 +17,8 @@
 //! ```
 
 use crate::kinds::positioning::air::Air;
-use crate::kinds::positioning::laser::{
-    AirCompensation, Laser, MaterialCompensation, Mounting, Zeroing,
-};
+use crate::kinds::positioning::laser::{AirCompensation, Laser, MaterialCompensation};
+use crate::kinds::positioning::setup::{Mounting, Zeroing};
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, RAD_PER_URAD, Real, Vector};
 use crate::scenario::bounds::{self, Bound};

@@ -388,7 +388,7 @@ pub(crate) fn linear_motion_test(
         return Err(context.error(Some(span), ScenarioErrorKind::Value, message));
     }
     let (mut laser, _) = laser_for(context, axis, laser)?;
-    laser.zero = crate::kinds::positioning::laser::Zeroing::Once;
+    laser.zero = crate::kinds::positioning::setup::Zeroing::Once;
     Ok(LaserTest {
         test: PositioningTest::Iso230_3Linear,
         program,
