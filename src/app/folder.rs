@@ -47,6 +47,14 @@ pub fn holds(dir: &Path) -> Holds {
             ));
         }
     }
+    // Listed before `_shards/` is looked for: the shards of one dataset run side by side, and
+    // each creates `_shards/` before it writes anything else, so whatever this listing holds
+    // of another shard's, `_shards/` exists by the time it is looked for below.
+    let mut names: Vec<String> = (std::fs::read_dir(dir).into_iter().flatten())
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|name| !name.starts_with('.'))
+        .collect();
     if dir.join("_shards").is_dir() {
         // A dataset whose manifest is not written yet: its shard records say which.
         let identity = (std::fs::read_dir(dir.join("_shards")).into_iter().flatten())
@@ -61,11 +69,6 @@ pub fn holds(dir: &Path) -> Holds {
             None => "a dataset in the making (`_shards/`, no shard recorded yet)".into(),
         });
     }
-    let mut names: Vec<String> = (std::fs::read_dir(dir).into_iter().flatten())
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|name| !name.starts_with('.'))
-        .collect();
     if names.is_empty() {
         return Holds::Nothing;
     }
