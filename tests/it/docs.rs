@@ -176,7 +176,7 @@ fn run(dir: &Path, shown: &Shown) -> Vec<String> {
     );
     let mut printed: Vec<String> = Vec::new();
     for stream in [&output.stdout, &output.stderr] {
-        let text = String::from_utf8(stream.clone()).unwrap();
+        let text = std::str::from_utf8(stream).unwrap();
         printed.extend(text.lines().map(|l| l.trim_end().to_owned()));
     }
     printed
