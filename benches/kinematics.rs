@@ -14,9 +14,10 @@
 //! through the same 1000 poses so that no branch predictor learns one pose. Every benchmark
 //! reports poses per second (`Throughput::Elements`).
 //!
-//! `benches/pinocchio_fk.py` times Pinocchio's nominal forward kinematics of the same machine
-//! (`forwardKinematics` + `updateFramePlacements`, net of Python's call overhead): the
-//! reference `nominal/single` and `errors/single` compare with.
+//! Pinocchio's nominal forward kinematics of the same machine is timed side by side with
+//! mtwin's pose by `benches/pinocchio_side_by_side.sh` (Pinocchio's C++ against
+//! `benches/pose_timer.rs`, the same loop); `benches/pinocchio_fk.py` is the older comparison
+//! through Pinocchio's Python binding.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use mtwin::app::Scenario;

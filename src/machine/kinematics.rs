@@ -114,8 +114,14 @@ impl JointRotation {
     /// The rotation by `angle` about the unit vector `unit`.
     #[inline(always)]
     pub(crate) fn new(unit: Vector, angle: Real) -> JointRotation {
+        JointRotation::along(unit, coordinate_of(unit), angle)
+    }
+
+    /// [`JointRotation::new`] with `coordinate_of(unit)` known.
+    #[inline(always)]
+    fn along(unit: Vector, coordinate: Option<usize>, angle: Real) -> JointRotation {
         let (sin, cos) = angle.sin_cos();
-        let shape = match coordinate_of(unit) {
+        let shape = match coordinate {
             // DMat3::from_axis_angle's entries with the zero terms of a coordinate axis left
             // out: the diagonal (u_k² = 1)·(1 − cos) + cos, and u_k·sin (with a sign that
             // depends on the coordinate, as in the cross-product matrix of u).
@@ -195,7 +201,7 @@ impl JointRotation {
 /// The coordinate (0, 1, 2) a unit vector lies exactly along, either way; `None` when it is
 /// tilted from all three.
 #[inline(always)]
-fn coordinate_of(unit: Vector) -> Option<usize> {
+pub(crate) fn coordinate_of(unit: Vector) -> Option<usize> {
     match unit.to_array().map(f64::abs) {
         [1.0, 0.0, 0.0] => Some(0),
         [0.0, 1.0, 0.0] => Some(1),
@@ -238,11 +244,11 @@ impl Frame {
         self.pose.translation = moved + self.pose.translation;
     }
 
-    /// `self · Trans(u·q)` for a joint axis `u`.
+    /// `self · Trans(u·q)` for a joint axis `u` along `coordinate` ([`coordinate_of`]).
     #[inline(always)]
-    fn travel(&mut self, unit: Vector, q: Real) {
+    fn travel(&mut self, unit: Vector, coordinate: Option<usize>, q: Real) {
         let travel = unit * q;
-        let moved = match coordinate_of(unit) {
+        let moved = match coordinate {
             Some(k) if self.turned => self.pose.matrix3.col(k) * travel[k],
             Some(k) => Vector::AXES[k] * travel[k],
             None if self.turned => self.pose.matrix3 * travel,
@@ -285,11 +291,11 @@ impl Frame {
         }
     }
 
-    /// `self · origin`: a translation when `origin`'s rotation is exactly the identity (the
-    /// joints of the bundled machines).
+    /// `self · origin`: a translation when `origin`'s rotation is exactly the identity
+    /// (`is_translation`, as for the joints of the bundled machines).
     #[inline(always)]
-    fn place(&mut self, origin: &Pose) {
-        if origin.matrix3 == DMat3::IDENTITY {
+    fn place(&mut self, origin: &Pose, is_translation: bool) {
+        if is_translation {
             self.translate(origin.translation);
         } else {
             self.transform(origin);
@@ -408,7 +414,8 @@ impl Workspace {
             .chain(&machine.work_branch.joints)
         {
             if !joint.axis.is_linear() {
-                self.rotations[joint.slot] = JointRotation::new(joint.unit, position[joint.axis]);
+                self.rotations[joint.slot] =
+                    JointRotation::along(joint.unit, joint.coordinate, position[joint.axis]);
             }
         }
     }
@@ -466,9 +473,9 @@ fn walk(
         turned: false,
     };
     for joint in &branch.joints {
-        frame.place(&joint.origin);
+        frame.place(&joint.origin, joint.origin_is_translation);
         if joint.axis.is_linear() {
-            frame.travel(joint.unit, position[joint.axis]);
+            frame.travel(joint.unit, joint.coordinate, position[joint.axis]);
         }
         world_from_slot[joint.slot] = frame.pose;
         if let Some((motions, kinds)) = motions {
@@ -478,7 +485,7 @@ fn walk(
             frame.turn(&rotations[joint.slot]);
         }
     }
-    frame.place(&branch.end);
+    frame.place(&branch.end, branch.end_is_translation);
     frame.pose
 }
 

@@ -331,6 +331,26 @@ pub(crate) struct ChainJoint {
     /// The joint axis in its joint frame: `±Axis::unit`.
     pub unit: Vector,
     pub slot: usize,
+    /// Whether `origin`'s rotation is exactly the identity (a translation), decided once so
+    /// that the walk does not compare it at every pose.
+    pub origin_is_translation: bool,
+    /// The coordinate (0, 1, 2) `unit` lies exactly along, either way, if any (see
+    /// [`kinematics::coordinate_of`]), decided once.
+    pub coordinate: Option<usize>,
+}
+
+impl ChainJoint {
+    /// The joint at `origin`, moving along or about `unit`, at `slot`.
+    pub(crate) fn new(origin: Pose, axis: Axis, unit: Vector, slot: usize) -> ChainJoint {
+        ChainJoint {
+            origin,
+            axis,
+            unit,
+            slot,
+            origin_is_translation: origin.matrix3 == glam::DMat3::IDENTITY,
+            coordinate: kinematics::coordinate_of(unit),
+        }
+    }
 }
 
 /// A path of joints from the bed to the tool or the workpiece.
@@ -339,6 +359,8 @@ pub(crate) struct Branch {
     pub joints: Vec<ChainJoint>,
     /// From the last moving joint's child frame to the end link (`tool` or `workpiece`).
     pub end: Pose,
+    /// Whether `end`'s rotation is exactly the identity.
+    pub end_is_translation: bool,
 }
 
 /// A validated, immutable machine: share it across threads; keep per-evaluation scratch in a

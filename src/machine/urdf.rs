@@ -344,18 +344,19 @@ impl Machine {
                         .iter()
                         .position(|info| info.axis == axis)
                         .expect("listed");
-                    joints.push(ChainJoint {
-                        origin: pending,
+                    joints.push(ChainJoint::new(
+                        pending,
                         axis,
-                        unit: Vector::from_array(joint.axis.xyz.0),
+                        Vector::from_array(joint.axis.xyz.0),
                         slot,
-                    });
+                    ));
                     pending = Pose::IDENTITY;
                 }
             }
             Branch {
                 joints,
                 end: pending,
+                end_is_translation: pending.matrix3 == glam::DMat3::IDENTITY,
             }
         };
         let mut bodies = Vec::with_capacity(robot.links.len());
