@@ -13,7 +13,8 @@
 //!
 //! and prints one line: `mtwin_nominal_ns_per_pose … mtwin_errors_ns_per_pose … checksum …`.
 //!
-//! Use: `cargo bench --bench pose_timer -- [N]` (default 2 000 000).
+//! Use: `cargo bench --bench pose_timer -- [N] [errors]` (default 2 000 000 poses; `errors`
+//! times the error-model pose only, for a profiler).
 //!
 //! [`Workspace::workpiece_from_tool`]: mtwin::machine::Workspace::workpiece_from_tool
 //! [`ErrorModel::workpiece_from_tool`]: mtwin::errors::ErrorModel::workpiece_from_tool
@@ -77,7 +78,12 @@ fn main() {
         let ns = start.elapsed().as_secs_f64() * 1e9 / poses as f64;
         (ns, sum)
     };
+    // `errors` as an argument: the error-model pose only (for a profiler).
+    let errors_only = std::env::args().any(|arg| arg == "errors");
     let (nominal_ns, _) = time(&mut |state, workspace| {
+        if errors_only {
+            return 0.0;
+        }
         workspace
             .workpiece_from_tool(machine, &state.position, None)
             .translation

@@ -27,9 +27,9 @@ mod urdf;
 pub use body::{Body, Shape, Visual};
 pub use inverse::{InverseKinematicsError, TiltBranch, ToolTarget};
 pub use kinematics::Workspace;
-pub(crate) use kinematics::{JointRotation, MotionKind, then_motion};
+pub(crate) use kinematics::{AxisLine, JointRotation, MotionKind, then_motion};
 #[cfg(test)]
-pub(crate) use kinematics::{plain_workpiece_from_tool, random_position};
+pub(crate) use kinematics::{axis_angle, plain_workpiece_from_tool, random_position};
 pub use plane::Plane;
 pub use urdf::{LARGEST_MACHINE, LARGEST_TURN, MachineError, MachineErrorKind};
 

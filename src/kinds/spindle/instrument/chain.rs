@@ -172,10 +172,10 @@ impl AxisChain {
         let factored = (!time_dependent).then(|| {
             // Everything but the measured slot, through the twin, once.
             let state = MachineState::at(parked);
-            twin.errors
-                .workpiece_from_tool(machine, &mut workspace, &state);
+            let mut motions = twin
+                .errors
+                .slot_motions(machine, &mut workspace, &state, None);
             let before = workspace.world_from_slot()[slot];
-            let mut motions = workspace.slot_motions.clone();
             motions[slot] = Pose::IDENTITY;
             workspace.workpiece_from_tool(machine, &parked, Some(&motions));
             let (tool_end, workpiece_end) = workspace.world_from_ends();
