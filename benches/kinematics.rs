@@ -19,11 +19,12 @@
 //! `benches/pose_timer.rs`, the same loop); `benches/pinocchio_fk.py` is the older comparison
 //! through Pinocchio's Python binding.
 
+mod common;
+
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use mtwin::app::Scenario;
-use mtwin::machine::{Axis, AxisValues, Direction, Machine, MachineState, Workspace};
-use mtwin::math::{Pose, seeded_rng};
-use rand::RngExt;
+use mtwin::machine::{AxisValues, Workspace};
+use mtwin::math::Pose;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -39,30 +40,6 @@ fn load_scenario() -> Scenario {
     Scenario::load(path).unwrap_or_else(|error| panic!("loading {path}: {error}"))
 }
 
-/// `count` deterministic machine states spread over the travel of every axis of `machine`
-/// (continuous axes over one turn), each axis with a random direction of travel.
-fn states(machine: &Machine, count: usize) -> Vec<MachineState> {
-    let mut rng = seeded_rng(1, "bench");
-    (0..count)
-        .map(|_| {
-            let mut state = MachineState::at(AxisValues::ZERO);
-            for info in machine.axes() {
-                if info.axis == Axis::S {
-                    continue;
-                }
-                let (lower, upper) = info.limits.unwrap_or((0.0, std::f64::consts::TAU));
-                state.position[info.axis] = rng.random_range(lower..=upper);
-                state.direction[info.axis.index()] = if rng.random_bool(0.5) {
-                    Direction::Positive
-                } else {
-                    Direction::Negative
-                };
-            }
-            state
-        })
-        .collect()
-}
-
 fn kinematics(c: &mut Criterion) {
     let scenario = load_scenario();
     let machine = &scenario.twin.machine;
@@ -71,7 +48,7 @@ fn kinematics(c: &mut Criterion) {
         !errors.parameters().is_empty(),
         "the scenario should inject errors"
     );
-    let states = states(machine, POSES);
+    let states = common::states(machine, POSES, "bench");
     let positions: Vec<AxisValues> = states.iter().map(|state| state.position).collect();
     let mut workspace = Workspace::new(machine);
     let mut out = vec![Pose::IDENTITY; POSES];

@@ -19,10 +19,10 @@
 //! [`Workspace::workpiece_from_tool`]: mtwin::machine::Workspace::workpiece_from_tool
 //! [`ErrorModel::workpiece_from_tool`]: mtwin::errors::ErrorModel::workpiece_from_tool
 
+mod common;
+
 use mtwin::app::Scenario;
-use mtwin::machine::{Axis, AxisValues, Direction, MachineState, Workspace};
-use mtwin::math::seeded_rng;
-use rand::RngExt;
+use mtwin::machine::{MachineState, Workspace};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -45,25 +45,7 @@ fn main() {
     let machine = &scenario.twin.machine;
     let errors = &scenario.twin.errors;
 
-    let mut rng = seeded_rng(1, "pose timer");
-    let states: Vec<MachineState> = (0..STATES)
-        .map(|_| {
-            let mut state = MachineState::at(AxisValues::ZERO);
-            for info in machine.axes() {
-                if info.axis == Axis::S {
-                    continue;
-                }
-                let (lower, upper) = info.limits.unwrap_or((0.0, std::f64::consts::TAU));
-                state.position[info.axis] = rng.random_range(lower..=upper);
-                state.direction[info.axis.index()] = if rng.random_bool(0.5) {
-                    Direction::Positive
-                } else {
-                    Direction::Negative
-                };
-            }
-            state
-        })
-        .collect();
+    let states = common::states(machine, STATES, "pose timer");
 
     let mut workspace = Workspace::new(machine);
     let mut time = |pose: &mut dyn FnMut(&MachineState, &mut Workspace) -> f64| {
