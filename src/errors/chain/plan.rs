@@ -211,7 +211,8 @@ pub(super) fn line_geometry(linear: bool, direction: Vector, l: &[Real; 6]) -> L
 
 /// Turns the slot motion `relative` (of kind `kind`) into `line · relative`, for an axis whose
 /// line has the fixed geometry `line` at `q`, turning by `rotation` there when rotary.
-#[inline]
+/// (Always inlined: as a plain `#[inline]` in its own module the error pose measured 3 % slower.)
+#[inline(always)]
 pub(super) fn apply_line(
     line: &Line,
     info: &AxisInfo,
