@@ -4,11 +4,17 @@
 //!
 //! - `positioning_discovery/warmup_7x16`: the whole search (leave-one-run-out scoring of every
 //!   testable effect in every round, the pairs, the final refit), on all cores;
-//! - `positioning_discovery/warmup_7x16_one_core`: the same on a one-thread rayon pool.
+//! - `positioning_discovery/warmup_7x16_one_core`: the same on a one-thread rayon pool;
+//! - `positioning_discovery/periodic_5_runs`: a five-run file whose targets differ from run
+//!   to run (a coarse first run of 15, then 24 at random), with lost motion and a 25 mm cyclic
+//!   error: the layout whose period search made discovery take 27 s (issue 36).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mtwin::app::Scenario;
-use mtwin::kinds::positioning::{PositioningOptions, discover_positioning, run::simulate};
+use mtwin::kinds::positioning::{
+    PositioningOptions, PositioningTable, discover_positioning, run::simulate,
+};
+use mtwin::math::{seeded_rng, standard_normal};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -49,7 +55,53 @@ fn warmup_discovery(c: &mut Criterion) {
             })
         })
     });
+    let periodic = scattered_periodic();
+    group.bench_function("periodic_5_runs", |b| {
+        b.iter(|| {
+            discover_positioning(black_box(&periodic), PositioningOptions::default(), |_| {})
+                .expect("discovery runs")
+        })
+    });
     group.finish();
+}
+
+/// Five bidirectional runs of the X axis: 15 targets over 5–695 mm, then four runs of 24 at
+/// random; half a minute a reading, 30 min between runs; the sensor warming by 3 °C; 1 µm of
+/// lost motion and 1.5 µm of a 25 mm cyclic error over a bowed profile, 0.5 µm of noise.
+fn scattered_periodic() -> PositioningTable {
+    let mut rng = seeded_rng(1, "bench targets");
+    let mut runs: Vec<Vec<f64>> = vec![(0..15).map(|k| 5.0 + k as f64 * 690.0 / 14.0).collect()];
+    for _ in 1..5 {
+        let mut targets: Vec<f64> = (0..24)
+            .map(|_| (5.0 + 690.0 * (0.5 + 0.5 * standard_normal(&mut rng).tanh())).round())
+            .collect();
+        targets.sort_by(f64::total_cmp);
+        targets.dedup();
+        runs.push(targets);
+    }
+    let mut csv =
+        String::from("axis,run,direction,target_mm,deviation_um,time_min,temp_x_nut_degc\n");
+    let mut t = 0.0;
+    for (run, targets) in runs.iter().enumerate() {
+        let visits = targets
+            .iter()
+            .map(|&x| (x, 1.0))
+            .chain(targets.iter().rev().map(|&x| (x, -1.0)));
+        for (x, s) in visits {
+            let temperature = 20.0 + 3.0 * (1.0 - (-t / 60.0_f64).exp());
+            let deviation = 0.006 * x - 8e-6 * x * x + 11.7e-3 * x * (temperature - 20.0) - s * 0.5
+                + 1.5 * (std::f64::consts::TAU * x / 25.0).sin()
+                + 0.5 * standard_normal(&mut rng);
+            let sign = if s > 0.0 { "+" } else { "-" };
+            csv.push_str(&format!(
+                "X,{},{sign},{x:.3},{deviation:.3},{t:.2},{temperature:.2}\n",
+                run + 1
+            ));
+            t += 0.5;
+        }
+        t += 30.0;
+    }
+    PositioningTable::parse(csv.as_bytes(), "periodic.csv").expect("a valid table")
 }
 
 criterion_group!(benches, warmup_discovery);

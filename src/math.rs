@@ -237,13 +237,26 @@ pub fn golden_minimum(
 /// One step of a first-order lag with time constant `tau` (s) following a signal that goes
 /// linearly from `from` to `to` over `dt` seconds (exact first-order hold): with
 /// `r = (to − from)/dt`, the lagged value `lagged` becomes `to − τr + (lagged − from + τr)·e^(−dt/τ)`.
-/// With `tau` or `dt` zero the lag catches up at once.
+/// With `tau` zero there is no lag: the value is `to`. With `dt` zero (two readings at the
+/// same time stamp, as in files that carry one stamp per run) no time passes, so the lagged
+/// value holds: `lagged`, the limit of the formula as `dt → 0`. A lag that caught up at once
+/// there would restart at every reading of such a file and could not act at all.
+///
+/// ```
+/// use mtwin::math::first_order_lag;
+/// // No time passes: the state holds, whatever the input did.
+/// assert_eq!(first_order_lag(20.0, 20.0, 25.0, 0.0, 600.0), 20.0);
+/// // No lag: the input itself.
+/// assert_eq!(first_order_lag(20.0, 20.0, 25.0, 60.0, 0.0), 25.0);
+/// ```
 pub fn first_order_lag(lagged: Real, from: Real, to: Real, dt: Real, tau: Real) -> Real {
-    if tau > 0.0 && dt > 0.0 {
-        let ramp = tau * (to - from) / dt;
-        to - ramp + (lagged - from + ramp) * (-dt / tau).exp()
-    } else {
-        to
+    match (tau > 0.0, dt > 0.0) {
+        (false, _) => to,
+        (true, true) => {
+            let ramp = tau * (to - from) / dt;
+            to - ramp + (lagged - from + ramp) * (-dt / tau).exp()
+        }
+        (true, false) => lagged,
     }
 }
 
@@ -272,6 +285,15 @@ pub const RATE_HALF_WINDOW_S: Real = 300.0;
 /// assert!(rates[4..].iter().all(|r| r.abs() < 1e-12));
 /// ```
 pub fn local_rates(times: &[Real], values: &[Real]) -> Vec<Real> {
+    local_lines(times, values)
+        .into_iter()
+        .map(|(_, rate)| rate)
+        .collect()
+}
+
+/// The least-squares line of [`local_rates`] at each sample: its value there (the signal
+/// smoothed over the window) and its slope (unit/s).
+pub fn local_lines(times: &[Real], values: &[Real]) -> Vec<(Real, Real)> {
     let n = times.len();
     assert_eq!(n, values.len(), "one value per time");
     let mut intervals: Vec<Real> = times
@@ -282,7 +304,7 @@ pub fn local_rates(times: &[Real], values: &[Real]) -> Vec<Real> {
     intervals.sort_by(Real::total_cmp);
     let typical = intervals.get(intervals.len() / 2).copied().unwrap_or(0.0);
     let half = RATE_HALF_WINDOW_S.max(1.5 * typical);
-    let mut rates = vec![0.0; n];
+    let mut lines = vec![(0.0, 0.0); n];
     let (mut lo, mut hi) = (0, 0);
     for i in 0..n {
         while times[i] - times[lo] > half {
@@ -300,9 +322,11 @@ pub fn local_rates(times: &[Real], values: &[Real]) -> Vec<Real> {
             stt += dt * dt;
             stv += dt * (values[j] - mean_v);
         }
-        rates[i] = if stt > 0.0 { stv / stt } else { 0.0 };
+        let rate = if stt > 0.0 { stv / stt } else { 0.0 };
+        // The line through the window's centroid, at this sample's time (offset 0).
+        lines[i] = (mean_v - rate * mean_t, rate);
     }
-    rates
+    lines
 }
 
 #[cfg(test)]

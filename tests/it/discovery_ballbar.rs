@@ -34,16 +34,34 @@ struct Hidden {
     servo: f64,
     /// Cyclic error of p: amplitude (m), period (m), phase (rad).
     cyclic_p: (f64, f64, f64),
+    /// Cyclic error of q, the same way.
+    cyclic_q: (f64, f64, f64),
     /// Lobed form: lobes, radial amplitude (m), phase (rad).
     lobes: (u32, f64, f64),
     /// Bar growth rate (m/s).
     drift: f64,
+    /// Centre offset beyond the base trace's 12 and −7 µm (m).
+    extra_centre: [f64; 2],
+    /// Lateral play: the p carriage shifts along q by ±l/2 with p's direction of travel, and
+    /// the q carriage along p with q's (m).
+    lateral_play: [f64; 2],
+    /// Straightness: a bow of p along q, S·(1 − (p/R)²), and of q along p (m).
+    straightness: [f64; 2],
+    /// The ccw circle larger than the cw one by this (m).
+    sense_radius: f64,
+    /// A reversal spike of each axis: height (m) and decay (s); the axis lags behind its
+    /// new direction by h·e^(−Δt/τ) after it reverses.
+    spike: [(f64, f64); 2],
 }
 
 /// The simulated table of one test.
 fn simulate(hidden: &Hidden, seed: u64) -> BallbarTable {
     let mut rng = seeded_rng(seed, "ballbar discovery noise");
-    let (centre, squareness, scale, bar) = ([12.0 * UM, -7.0 * UM], 15e-6, [8e-6, -4e-6], 1.5 * UM);
+    let centre = [
+        12.0 * UM + hidden.extra_centre[0],
+        -7.0 * UM + hidden.extra_centre[1],
+    ];
+    let (squareness, scale, bar) = (15e-6, [8e-6, -4e-6], 1.5 * UM);
     let lag = [0.030 + hidden.servo, 0.030];
     let omega = V / R;
     let dt = 1.0 / RATE;
@@ -78,13 +96,36 @@ fn simulate(hidden: &Hidden, seed: u64) -> BallbarTable {
                 axis[a] =
                     (1.0 + scale[a]) * nominal - direction.signum() * hidden.backlash[a] / 2.0;
             }
-            let (amplitude, period, phase) = hidden.cyclic_p;
-            if period > 0.0 {
-                axis[0] += amplitude * (TAU * command[0] / period + phase).sin();
+            for (a, (amplitude, period, phase)) in
+                [hidden.cyclic_p, hidden.cyclic_q].into_iter().enumerate()
+            {
+                if period > 0.0 {
+                    axis[a] += amplitude * (TAU * command[a] / period + phase).sin();
+                }
+            }
+            // Each axis's direction of travel and the time since it last reversed (p reverses
+            // at 0° and 180° of the axes' own angle, q at 90° and 270°).
+            let actual = [theta(t - lag[0]), theta(t - lag[1])];
+            let direction = [-sigma * actual[0].sin(), sigma * actual[1].cos()];
+            let since = [
+                (sigma * actual[0]).rem_euclid(std::f64::consts::PI) / omega,
+                (sigma * (actual[1] - std::f64::consts::FRAC_PI_2))
+                    .rem_euclid(std::f64::consts::PI)
+                    / omega,
+            ];
+            let mut shift = [0.0; 2];
+            for a in 0..2 {
+                let (height, decay) = hidden.spike[a];
+                if height != 0.0 {
+                    shift[a] -= direction[a].signum() * height * (-since[a] / decay).exp();
+                }
+                shift[1 - a] += direction[a].signum() * hidden.lateral_play[a] / 2.0;
+                let along = axis[a] / R;
+                shift[1 - a] += hidden.straightness[a] * (1.0 - along * along);
             }
             let tool = [
-                axis[0] + squareness * axis[1] + centre[0],
-                axis[1] + centre[1],
+                axis[0] + shift[0] + squareness * axis[1] + centre[0],
+                axis[1] + shift[1] + centre[1],
             ];
             let (lobes, lobe_amplitude, lobe_phase) = hidden.lobes;
             let form = lobe_amplitude * (f64::from(lobes) * th + lobe_phase).sin();
@@ -94,6 +135,7 @@ fn simulate(hidden: &Hidden, seed: u64) -> BallbarTable {
                     sense,
                     angle: th.rem_euclid(TAU) % TAU,
                     deviation: tool[0].hypot(tool[1]) - R
+                        + sigma * hidden.sense_radius / 2.0
                         + form
                         + bar
                         + hidden.drift * time
@@ -300,6 +342,54 @@ fn two_hidden_effects_are_both_found() {
     );
 }
 
+/// Issue 36, item 2: the trace's angles are the programmed ones, so a centre offset seen by
+/// axes 30 ms behind their commands turns by σ·v·ℓ/R (the angle lag ℓ = 30 ms). The full fit
+/// estimates ℓ only on both senses' full circles; a fold holds a 45° sector out, so before
+/// the lag was held every fold was fitted without it and the held-out RMS came out above the
+/// in-sample one by the lag's share (about 0.16 µm RMS here, beside 0.2 µm of noise), which
+/// made real effects fail and noise pass. Now each model's ℓ is estimated once on the whole
+/// trace and held in all its folds: the final (here the base) model's must be the simulated 30 ms within three standard errors
+/// (σ_ℓ = noise / (v/R·|c|·√(n/2)), the derivative column σ·(v/R)·(c_p sin θ − c_q cos θ)
+/// having an RMS of (v/R)·|c|/√2 over the circle), the base model's held-out RMS must be its
+/// in-sample RMS within 2 % (white noise and 5 terms over 7 000 readings: the expected excess
+/// is a few parts in a thousand), and nothing is added to the clean trace.
+#[test]
+fn the_servo_angle_lag_is_estimated_once_and_held_in_every_fold() {
+    let hidden = Hidden {
+        extra_centre: [28.0 * UM, -20.0 * UM],
+        ..Hidden::default()
+    };
+    let centre = (40.0f64 * UM).hypot(27.0 * UM);
+    for seed in 1..=3 {
+        let table = simulate(&hidden, seed);
+        let n = table.readings.len() as f64;
+        let found = discover_ballbar(&table, &xy(), |_| {}).unwrap();
+        let json = found.to_json();
+        let lag_ms = json["validation"]["angle_lag_ms"].as_f64().unwrap();
+        let sigma_ms = NOISE / (V / R * centre * (n / 2.0).sqrt()) * 1e3;
+        let base = &json["baseline"];
+        let (rms, cv) = (
+            base["rms_um"].as_f64().unwrap(),
+            base["cv_rms_um"].as_f64().unwrap(),
+        );
+        println!(
+            "seed {seed}: angle lag {lag_ms} ms (30 ± {:.2}), base RMS {rms} µm, held-out {cv} µm, accepted {:?}",
+            3.0 * sigma_ms,
+            found.accepted()
+        );
+        assert!(
+            (lag_ms - 30.0).abs() <= 3.0 * sigma_ms,
+            "seed {seed}: {lag_ms} ms"
+        );
+        assert!(
+            cv <= 1.02 * rms,
+            "seed {seed}: held-out {cv} against {rms} µm"
+        );
+        assert!(found.accepted().is_empty(), "{}", found.to_text());
+        assert!(found.to_text().contains("held in all its fits"));
+    }
+}
+
 #[test]
 fn a_clean_trace_gets_nothing_added() {
     // The base terms and white noise only, over 20 seeds: every acceptance is a false one.
@@ -414,4 +504,150 @@ fn too_few_readings_are_refused() {
     let bad = CircularTest { feed: 0.0, ..xy() };
     let error = discover_ballbar(&table, &bad, |_| {}).unwrap_err();
     assert!(error.to_string().contains("feed 0 mm/min"), "{error}");
+}
+
+/// Issue 36, item 3: on every shape of trace the reader accepts (both senses or one, full
+/// circles or partial arcs, with a time column or without, when the time is the readings'
+/// order), each effect planted alone in the simulator above, at 10–30 times the noise, is
+/// taken up by its own terms (the fit with it leaves at most half of what the base model
+/// leaves beyond the noise's expected sum of squares n·σ², which the n ≈ 14 000 readings fix
+/// to about 1 %), or the problem names it untestable with a reason. Which are testable is written
+/// here by hand for the full-circle shapes (one sense cannot tell the sense-dependent terms
+/// from the base); on partial arcs the problem's own identifiability decides and the test asks
+/// only that each effect acts or is named.
+#[test]
+fn every_effect_acts_or_is_named_untestable_on_every_trace_shape() {
+    use mtwin::discovery::engine::Problem;
+    use mtwin::kinds::ballbar::discovery::BallbarProblem;
+    let planted = |effect: BallbarEffect| -> Hidden {
+        let h = Hidden::default();
+        match effect {
+            BallbarEffect::ServoMismatch => Hidden { servo: 0.0006, ..h },
+            BallbarEffect::BacklashP => Hidden {
+                backlash: [4.0 * UM, 0.0],
+                ..h
+            },
+            BallbarEffect::BacklashQ => Hidden {
+                backlash: [0.0, 4.0 * UM],
+                ..h
+            },
+            BallbarEffect::LateralPlayP => Hidden {
+                lateral_play: [4.0 * UM, 0.0],
+                ..h
+            },
+            BallbarEffect::LateralPlayQ => Hidden {
+                lateral_play: [0.0, 4.0 * UM],
+                ..h
+            },
+            BallbarEffect::ReversalSpikeP => Hidden {
+                spike: [(6.0 * UM, 0.015), (0.0, 1.0)],
+                ..h
+            },
+            BallbarEffect::ReversalSpikeQ => Hidden {
+                spike: [(0.0, 1.0), (6.0 * UM, 0.015)],
+                ..h
+            },
+            BallbarEffect::StraightnessP => Hidden {
+                straightness: [4.0 * UM, 0.0],
+                ..h
+            },
+            BallbarEffect::StraightnessQ => Hidden {
+                straightness: [0.0, 4.0 * UM],
+                ..h
+            },
+            BallbarEffect::CyclicP => Hidden {
+                cyclic_p: (3.0 * UM, 0.010, 0.4),
+                ..h
+            },
+            BallbarEffect::CyclicQ => Hidden {
+                cyclic_q: (3.0 * UM, 0.010, 0.4),
+                ..h
+            },
+            BallbarEffect::Lobes => Hidden {
+                lobes: (5, 3.0 * UM, 0.3),
+                ..h
+            },
+            BallbarEffect::RadiusDrift => Hidden {
+                drift: 0.05 * UM,
+                ..h
+            },
+            BallbarEffect::SenseRadius => Hidden {
+                sense_radius: 4.0 * UM,
+                ..h
+            },
+        }
+    };
+    let shapes: [(&str, bool, bool, Option<f64>); 5] = [
+        ("full circles, both senses", true, true, None),
+        (
+            "full circles, both senses, no time column",
+            true,
+            false,
+            None,
+        ),
+        ("full circle, ccw only", false, true, None),
+        ("220° arcs, both senses", true, true, Some(220.0)),
+        (
+            "220° arcs, both senses, no time column",
+            true,
+            false,
+            Some(220.0),
+        ),
+    ];
+    for (name, both, timed, arc) in shapes {
+        for effect in BallbarEffect::ALL {
+            let test = xy();
+            let mut table = simulate(&planted(effect), 3);
+            table.readings.retain(|r| {
+                (both || r.sense == Sense::Ccw) && arc.is_none_or(|a| r.angle.to_degrees() <= a)
+            });
+            if !timed {
+                table.readings.iter_mut().for_each(|r| r.time = None);
+            }
+            let problem = BallbarProblem::new(&table, &test).unwrap();
+            let reason = problem
+                .untestable()
+                .iter()
+                .find(|(e, _)| *e == effect)
+                .map(|(_, why)| why.clone());
+            if arc.is_none() {
+                let expected = both
+                    || !matches!(
+                        effect,
+                        BallbarEffect::ServoMismatch
+                            | BallbarEffect::LateralPlayP
+                            | BallbarEffect::LateralPlayQ
+                            | BallbarEffect::SenseRadius
+                    );
+                assert_eq!(
+                    reason.is_none(),
+                    expected,
+                    "{name}: {effect:?}, reason {reason:?}"
+                );
+            }
+            match reason {
+                Some(why) => {
+                    println!("{name}: {effect:?} untestable: {why}");
+                    assert!(!why.is_empty());
+                }
+                None => {
+                    let rss = |effects: &[BallbarEffect]| -> f64 {
+                        let all = vec![true; problem.n_samples()];
+                        let fit = problem.fit(effects, &all);
+                        problem.residuals(&fit).iter().map(|v| v * v).sum()
+                    };
+                    // What each model leaves beyond the noise's own sum of squares.
+                    let noise = problem.n_samples() as f64 * NOISE * NOISE;
+                    let (base, with) = (rss(&[]) - noise, rss(&[effect]) - noise);
+                    println!(
+                        "{name}: {effect:?} excess sum of squares {:.1} → {:.1} µm² (noise {:.1})",
+                        base / UM / UM,
+                        with / UM / UM,
+                        noise / UM / UM
+                    );
+                    assert!(with <= 0.5 * base, "{name}: {effect:?} {base} → {with}");
+                }
+            }
+        }
+    }
 }

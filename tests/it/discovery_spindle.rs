@@ -556,3 +556,92 @@ fn a_flat_probe_column_is_refused_in_words_not_scored() {
         }
     }
 }
+
+/// Issue 36, item 3: on every shape of record the reader accepts (one speed or several, with
+/// a time column or without: every sample then has one time), each effect planted alone at
+/// ten times the noise is taken up by its own terms (the fit with it leaves at most half of
+/// what the base model leaves beyond the noise's expected n·σ²), or the problem names it
+/// untestable with a reason; which are
+/// testable is written here from what the shape holds (a drift needs time, a change with
+/// speed two speeds).
+#[test]
+fn every_effect_acts_or_is_named_untestable_on_every_record_shape() {
+    use mtwin::discovery::engine::Problem;
+    use mtwin::kinds::spindle::discovery::SpindleProblem;
+    let effects = [
+        SpindleEffect::Harmonic(0),
+        SpindleEffect::AsynchronousLine(0),
+        SpindleEffect::Drift,
+        SpindleEffect::SpeedDependence,
+    ];
+    let planted = |effect: SpindleEffect, at: &At, duration: f64| -> f64 {
+        let radial = |amplitude: f64, phase: f64| match at.probe {
+            0 => amplitude * phase.cos(),
+            1 => amplitude * phase.sin(),
+            _ => 0.0,
+        };
+        match effect {
+            SpindleEffect::Harmonic(_) => radial(50e-9, 5.0 * at.theta + 0.7),
+            SpindleEffect::AsynchronousLine(_) => whirl(at, 0.43, 50e-9),
+            SpindleEffect::Drift => {
+                if at.probe == 2 {
+                    100e-9 * at.time / duration
+                } else {
+                    0.0
+                }
+            }
+            SpindleEffect::SpeedDependence => {
+                radial(50e-9 * (at.rpm / 6000.0).powi(2), 2.0 * at.theta - 0.4)
+            }
+        }
+    };
+    for speeds in [&[3000.0][..], &[3000.0, 6000.0][..]] {
+        for timed in [true, false] {
+            let shape = format!("{} speed(s), timed {timed}", speeds.len());
+            for effect in effects {
+                let duration: f64 = speeds.iter().map(|rpm| 10.0 * 60.0 / rpm).sum();
+                let mut r = record(speeds, 10, 64, 7, |at| {
+                    base(at) + planted(effect, at, duration)
+                });
+                if !timed {
+                    r.time.iter_mut().for_each(|t| *t = 0.0);
+                }
+                let problem = SpindleProblem::new(&r, 64, &Options::default()).unwrap();
+                let expected = match effect {
+                    SpindleEffect::Drift => timed,
+                    SpindleEffect::SpeedDependence => speeds.len() > 1,
+                    _ => true,
+                };
+                let reason = problem
+                    .untestable()
+                    .iter()
+                    .find(|(e, _)| *e == effect)
+                    .map(|(_, why)| why.clone());
+                if expected {
+                    assert!(
+                        reason.is_none(),
+                        "{shape}: {effect:?} untestable: {reason:?}"
+                    );
+                    let rss = |effects: &[SpindleEffect]| -> f64 {
+                        let all = vec![true; problem.n_samples()];
+                        let fit = problem.fit(effects, &all);
+                        problem.residuals(&fit).iter().map(|v| v * v).sum()
+                    };
+                    // What each model leaves beyond the noise's own sum of squares.
+                    let noise = problem.n_samples() as f64 * SIGMA * SIGMA;
+                    let (base, with) = (rss(&[]) - noise, rss(&[effect]) - noise);
+                    println!(
+                        "{shape}: {effect:?} excess {base:.3e} → {with:.3e} (noise {noise:.3e})"
+                    );
+                    assert!(with <= 0.5 * base, "{shape}: {effect:?} {base} → {with}");
+                } else {
+                    let reason = reason.unwrap_or_else(|| {
+                        panic!("{shape}: {effect:?} cannot show here but is testable")
+                    });
+                    println!("{shape}: {effect:?} untestable: {reason}");
+                    assert!(!reason.is_empty());
+                }
+            }
+        }
+    }
+}

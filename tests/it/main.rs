@@ -23,6 +23,7 @@ mod discovery;
 mod discovery_ballbar;
 mod discovery_fixtures;
 mod discovery_reports;
+mod discovery_shapes;
 mod discovery_spindle;
 mod docs;
 mod error_dynamics;

@@ -221,3 +221,62 @@ pub const NO_DIAGNOSTIC: &str = "no residual diagnostic points to it; scored all
 pub const MIN_RELATIVE_GAIN: Real = 0.05;
 /// The family-wise false-acceptance probability of one round (all its candidates together).
 pub const ROUND_ALPHA: Real = 0.025;
+
+/// Random signals an effect's terms are tried on ([`inert`]).
+pub const PROBES: usize = 2;
+/// The smallest relative change of a probe's sum of squares that counts as the effect acting.
+/// An effect that can act lowers a random signal's sum of squares by about one part in the
+/// number of samples per term (the chance that it moves by less than 1e-10 of it is about
+/// 1e-4 per probe for a thousand samples); one that cannot leaves it to rounding (1e-14).
+pub const INERT_CHANGE: Real = 1e-10;
+
+/// The signals of [`inert`]: `PROBES` seeded standard-normal vectors of `n` samples times
+/// `scale` (the problem's unit of a typical reading), the same for every file of that length.
+pub fn probe_signals(n: usize, scale: Real) -> Vec<Vec<Real>> {
+    let mut rng = crate::math::seeded_rng(0, "discovery probe signals");
+    (0..PROBES)
+        .map(|_| {
+            (0..n)
+                .map(|_| scale * crate::math::standard_normal(&mut rng))
+                .collect()
+        })
+        .collect()
+}
+
+/// The effects of `candidates` whose terms cannot change the fit on this file: fitted with
+/// the base model to each of `probes` (the problem with a random signal in place of its
+/// measurements, [`probe_signals`]), none moves the sum of squares of any by more than
+/// [`INERT_CHANGE`] of it. A column the file makes zero, constant where the base model already
+/// has a constant, or a searched shape (a time constant, a lag) the file's time stamps cannot
+/// express, is such an effect: scored, it would show a held-out gain of exactly 0 % and read
+/// as evidence that the effect is absent, where the file simply cannot show it.
+pub fn inert<P: Problem + Sync>(probes: &[P], candidates: &[P::Effect]) -> Vec<P::Effect>
+where
+    P::Effect: Sync + Send,
+{
+    use rayon::prelude::*;
+    let sum_of_squares = |problem: &P, effects: &[P::Effect]| -> Real {
+        let all = vec![true; problem.n_samples()];
+        let fit = problem.fit(effects, &all);
+        problem.residuals(&fit).iter().map(|r| r * r).sum()
+    };
+    let base: Vec<Real> = probes.iter().map(|p| sum_of_squares(p, &[])).collect();
+    let acts: Vec<bool> = candidates
+        .par_iter()
+        .map(|&effect| {
+            probes.iter().zip(&base).any(|(probe, &b)| {
+                let with = sum_of_squares(probe, &[effect]);
+                (with - b).abs() > INERT_CHANGE * b
+            })
+        })
+        .collect();
+    candidates
+        .iter()
+        .zip(acts)
+        .filter(|(_, acts)| !acts)
+        .map(|(&e, _)| e)
+        .collect()
+}
+
+/// The reason [`inert`] gives, for reports.
+pub const INERT_REASON: &str = "on this file its terms cannot change the fit (tried on random signals, the base model already holds every shape they take here)";

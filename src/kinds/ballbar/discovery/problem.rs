@@ -11,7 +11,9 @@ use crate::kinds::ballbar::iso230_4::{
 };
 use crate::kinds::ballbar::table::BallbarTable;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real};
+use std::collections::HashMap;
 use std::f64::consts::TAU;
+use std::sync::Mutex;
 
 /// The base model's terms.
 pub(super) const BASE: [Term; 5] = [
@@ -60,6 +62,25 @@ pub struct BallbarProblem {
     pub(super) blocks: Blocks,
     pub(super) testable: Vec<BallbarEffect>,
     pub(super) untestable: Vec<(BallbarEffect, String)>,
+    /// The servo angle lag (s) of each model, by its effects: estimated once, by the model on
+    /// the whole trace ([`CircleData::angle_lag`]; 0 unless both senses cover a full circle),
+    /// and held in every fit of that model, full and per fold. A fold holds a sector out, so
+    /// its readings never cover the circle the estimate needs: estimated per fold, every fold
+    /// would be fitted without the lag the full fit has, and the held-out score would judge
+    /// another servo model than the one reported. Per model, because terms beside the centre
+    /// (a radius drift over a ccw then a cw circle is a sawtooth in the angle) share first
+    /// harmonics with the lag's column.
+    pub(super) angle_lags: AngleLags,
+}
+
+/// The angle lag of each model scored (by its sorted effects).
+#[derive(Debug, Default)]
+pub(super) struct AngleLags(Mutex<HashMap<Vec<BallbarEffect>, Real>>);
+
+impl Clone for AngleLags {
+    fn clone(&self) -> AngleLags {
+        AngleLags::default()
+    }
 }
 
 /// The terms of the base model plus `effects`.
@@ -90,6 +111,7 @@ impl BallbarProblem {
             blocks,
             testable: Vec::new(),
             untestable: Vec::new(),
+            angle_lags: AngleLags::default(),
         };
         for effect in BallbarEffect::ALL {
             match problem.why_untestable(effect) {
@@ -152,6 +174,23 @@ impl BallbarProblem {
             .into_iter()
             .find(|(t, _)| *t == term)
             .map(|(_, reason)| format!("against the base model it {reason}"))
+    }
+
+    /// The servo angle lag (s) of the model with `effects`, estimated on the whole trace and
+    /// held in all its fits (see `angle_lags`).
+    pub fn angle_lag(&self, effects: &[BallbarEffect]) -> Real {
+        let mut key = effects.to_vec();
+        key.sort();
+        if let Some(&lag) = self.angle_lags.0.lock().expect("not poisoned").get(&key) {
+            return lag;
+        }
+        let lag = self.data.full_angle_lag(&self.blocks, &terms(effects));
+        self.angle_lags
+            .0
+            .lock()
+            .expect("not poisoned")
+            .insert(key, lag);
+        lag
     }
 
     /// The effects this table cannot show, with the reason.
@@ -291,11 +330,18 @@ impl Problem for BallbarProblem {
     }
 
     fn fit(&self, effects: &[BallbarEffect], train: &[bool]) -> ModelFit {
+        let terms = terms(effects);
+        let lag = self.angle_lag(effects);
         match self.blocks.included(train) {
             Some(included) => self
                 .data
-                .fit_blocks(&self.blocks, &terms(effects), &included),
-            None => self.data.fit(&terms(effects), train),
+                .fit_blocks_at_lag(&self.blocks, &terms, &included, lag),
+            None => self.data.fit_blocks_at_lag(
+                &Blocks::training(&self.data, train),
+                &terms,
+                &[true, false],
+                lag,
+            ),
         }
     }
 

@@ -205,6 +205,7 @@ impl BallbarDiscovery {
                 "scheme": self.problem.folds.scheme,
                 "folds": self.problem.folds.count,
                 "rule": SEARCH.rule(),
+                "angle_lag_ms": round(self.problem.angle_lag(&self.accepted()) * 1e3),
             },
             "baseline": {
                 "model": "radius + centre offset + squareness + scale mismatch",
@@ -252,9 +253,14 @@ impl BallbarDiscovery {
         );
         let _ = writeln!(
             out,
-            "Held-out data: {}; {}.\n",
+            "Held-out data: {}; {}.",
             self.problem.folds.scheme,
             SEARCH.rule()
+        );
+        let _ = writeln!(
+            out,
+            "Servo angle lag (final model) {} ms: each model's is estimated once on the whole trace and held in all its fits, full and per fold.\n",
+            fixed(self.problem.angle_lag(&self.accepted()) * 1e3, 2)
         );
         let _ = writeln!(
             out,

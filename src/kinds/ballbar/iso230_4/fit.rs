@@ -48,6 +48,29 @@ impl CircleData {
         Fitter::new(self, blocks, included.to_vec()).fit(terms)
     }
 
+    /// The angle lag (s) the fit of `terms` to every reading of `blocks` uses
+    /// ([`CircleData::angle_lag`]), for [`CircleData::fit_blocks_at_lag`] to hold in fits to
+    /// parts of the trace.
+    pub fn full_angle_lag(&self, blocks: &Blocks, terms: &[Term]) -> Real {
+        Fitter::new(self, blocks, vec![true; blocks.count]).angle_lag(terms)
+    }
+
+    /// [`CircleData::fit_blocks`] with the angle lag held at `angle_lag` (s) instead of
+    /// estimated from the fitted readings ([`CircleData::angle_lag`]): so that fits to parts
+    /// of a trace (cross-validation folds, which hold out a sector and so never cover the full
+    /// circle the estimate needs) use the servo model of the whole trace.
+    pub fn fit_blocks_at_lag(
+        &self,
+        blocks: &Blocks,
+        terms: &[Term],
+        included: &[bool],
+        angle_lag: Real,
+    ) -> ModelFit {
+        let mut fitter = Fitter::new(self, blocks, included.to_vec());
+        fitter.held_angle_lag = Some(angle_lag);
+        fitter.fit(terms)
+    }
+
     /// The angle lag ℓ (s) of the position-dependent terms over `rows` (`y` the deviations
     /// there): how far the trace's angles lead the direction the axes actually reach, σ·v·ℓ/R.
     ///
@@ -204,6 +227,9 @@ impl Fitter<'_> {
     /// [`CircleData::angle_lag`] over the fitted readings, its columns (static columns at the
     /// angle lag, and the derivative in it) combinations of the table's static columns.
     fn angle_lag(&self, terms: &[Term]) -> Real {
+        if let Some(lag) = self.held_angle_lag {
+            return lag;
+        }
         let full = (0..2)
             .all(|sense| TAU - self.blocks.largest_gap(sense, &self.included) >= ANGLE_LAG_SPAN);
         if !(full && terms.contains(&Term::CentreP) && terms.contains(&Term::CentreQ)) {

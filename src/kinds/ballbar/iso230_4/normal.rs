@@ -119,6 +119,9 @@ pub(super) struct Fitter<'a> {
     pub(super) lobes: OnceCell<CombinedLobes>,
     /// The last offset series taken (see `spectral.rs`).
     pub(super) last_series: RefCell<Option<(Real, SeriesPair)>>,
+    /// The angle lag (s) every fit holds, when it is not estimated from the fitted readings
+    /// ([`CircleData::fit_blocks_at_lag`]).
+    pub(super) held_angle_lag: Option<Real>,
 }
 
 impl<'a> Fitter<'a> {
@@ -150,6 +153,7 @@ impl<'a> Fitter<'a> {
             centres: RefCell::new(HashMap::new()),
             lobes: OnceCell::new(),
             last_series: RefCell::new(None),
+            held_angle_lag: None,
         }
     }
 

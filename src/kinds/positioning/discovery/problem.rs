@@ -6,11 +6,11 @@ use super::{
     DiscoveryError, MAX_FREQUENCIES, MAX_RUN_FOLDS, MIN_TEMPERATURE_RANGE, PositioningEffect,
     PositioningOptions, SAME_POSITION,
 };
-use crate::discovery::engine::Folds;
+use crate::discovery::engine::{self, Folds};
 use crate::kinds::positioning::table::PositioningTable;
 use crate::machine::Axis;
-use crate::math::local_rates;
 use crate::math::{M_PER_MM, Real};
+use crate::math::{local_lines, local_rates};
 use crate::program::Approach;
 use crate::thermal::first_order_lag;
 
@@ -190,7 +190,28 @@ impl PositioningProblem {
             untestable: Vec::new(),
         };
         problem.sort_effects();
+        problem.set_aside_inert();
         Ok(problem)
+    }
+
+    /// Moves the testable effects whose terms cannot change the fit on this file
+    /// ([`engine::inert`]) to the untestable ones: e.g. a lag on a file whose time stamps
+    /// leave it nothing to act on.
+    fn set_aside_inert(&mut self) {
+        let probes: Vec<PositioningProblem> = engine::probe_signals(self.y.len(), 1e-6)
+            .into_iter()
+            .map(|y| PositioningProblem {
+                y,
+                testable: Vec::new(),
+                untestable: Vec::new(),
+                ..self.clone()
+            })
+            .collect();
+        for effect in engine::inert(&probes, &self.testable) {
+            self.testable.retain(|&e| e != effect);
+            self.untestable.push((effect, engine::INERT_REASON.into()));
+        }
+        self.untestable.sort_by_key(|(e, _)| *e);
     }
 
     /// Splits the library into what this file can and cannot show, with the reason.
@@ -291,6 +312,23 @@ impl PositioningProblem {
             seen.push((x, s));
         }
         false
+    }
+
+    /// This file with its temperature readings smoothed in time: each replaced by the value of
+    /// the least-squares line through the readings within the window of [`local_rates`]
+    /// ([`crate::math::local_lines`]); `None` without times and temperatures.
+    pub(super) fn with_smoothed_temperature(&self) -> Option<PositioningProblem> {
+        let (time, temperature) = (self.time.as_ref()?, self.temperature.as_ref()?);
+        let times: Vec<Real> = self.order.iter().map(|&i| time[i]).collect();
+        let values: Vec<Real> = self.order.iter().map(|&i| temperature[i]).collect();
+        let mut smoothed = vec![0.0; values.len()];
+        for (&i, (level, _)) in self.order.iter().zip(local_lines(&times, &values)) {
+            smoothed[i] = level;
+        }
+        Some(PositioningProblem {
+            temperature: Some(smoothed),
+            ..self.clone()
+        })
     }
 
     /// The effects this file cannot show, with the reason.

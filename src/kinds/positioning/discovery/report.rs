@@ -7,6 +7,10 @@ use crate::math::{M_PER_MM, M_PER_UM, Real};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 
+/// A lag whose gain smoothing the sensor's readings recovers to this share is reported as
+/// smoothing ([`PositioningDiscovery::smoothing_note`]).
+pub const SMOOTHING_SHARE: Real = 0.5;
+
 fn association_json(a: &Option<Association>, slope_unit: &str, scale: Real) -> Value {
     match a {
         None => Value::Null,
@@ -182,6 +186,42 @@ impl PositioningDiscovery {
         fit.effects.contains(&effect).then(|| fit.params(effect))
     }
 
+    /// Whether the final model's lag (`thermal_lag` or `sensor_lag`) gains mostly by smoothing
+    /// the sensor's noise: without the lag, the model refitted to the sensor's readings
+    /// smoothed in time (a local line through the readings within ±5 min, or 1.5 typical
+    /// intervals) recovers at least [`SMOOTHING_SHARE`] of what the lag gains on the raw
+    /// readings (in-sample sums of squares). A structure that truly warms later than its
+    /// sensor is not imitated by smoothing the reading; noise and quantisation of the sensor
+    /// are, and a short lag averages them over neighbouring readings just as well.
+    pub fn smoothing_note(&self) -> Option<String> {
+        let fit = self.selection.last().1;
+        let effect = [PositioningEffect::ThermalLag, PositioningEffect::SensorLag]
+            .into_iter()
+            .find(|e| fit.effects.contains(e))?;
+        let without: Vec<PositioningEffect> = fit
+            .effects
+            .iter()
+            .copied()
+            .filter(|&e| e != effect)
+            .collect();
+        let all = vec![true; self.problem.x.len()];
+        let sum = |r: &[Real]| r.iter().map(|v| v * v).sum::<Real>();
+        let raw = sum(&self.problem.fit_with(&without, &all).residuals);
+        let smoothed_problem = self.problem.with_smoothed_temperature()?;
+        let smoothed = sum(&smoothed_problem.fit_with(&without, &all).residuals);
+        let lagged = sum(&fit.residuals);
+        let gain = raw - lagged;
+        let share = (raw - smoothed) / gain;
+        (gain > 0.0 && share >= SMOOTHING_SHARE).then(|| {
+            format!(
+                "{} (τ {:.1} min) gains mostly by smoothing the sensor's noise: without it, the sensor's readings smoothed in time recover {:.0} % of its gain in sum of squares; read it as noise in the temperature reading, not as a part of the machine warming later than its sensor",
+                effect.id(),
+                fit.params(effect)["tau_min"],
+                100.0 * share
+            )
+        })
+    }
+
     fn baseline_params(&self, fit: &PositioningFit) -> Value {
         let mut params = serde_json::Map::new();
         if self.problem.temperature.is_some() {
@@ -248,6 +288,7 @@ impl PositioningDiscovery {
             "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
             "held_back": self.selection.held_back_json(|e| e.id().into()),
             "alternatives": self.selection.alternatives_json(|e| e.id().into()),
+            "notes": self.smoothing_note().into_iter().collect::<Vec<_>>(),
             "excluded": self.excluded().iter().map(|(e, why)| json!({
                 "effect": e.id(),
                 "reason": why,
@@ -433,6 +474,9 @@ impl PositioningDiscovery {
                     engine::params_text(&final_fit.params(effect))
                 ));
             }
+        }
+        if let Some(note) = self.smoothing_note() {
+            out.push_str(&format!("  Note: {note}.\n"));
         }
         out
     }
