@@ -54,11 +54,13 @@ impl PositioningProblem {
         move |tau: Real| {
             let (columns, known, _) = self.columns(effects, reference, &at(tau));
             let project = |v: Vec<Real>| -> Vec<Real> {
-                let v = DVector::from_vec(v);
-                match &basis {
-                    Some(u) => (&v - u * (u.transpose() * &v)).data.into(),
-                    None => v.data.into(),
+                let mut v = DVector::from_vec(v);
+                if let Some(u) = &basis {
+                    // v − U·(Uᵀv), without forming Uᵀ.
+                    let along = u.tr_mul(&v);
+                    v.gemv(-1.0, u, &along, 1.0);
                 }
+                v.data.into()
             };
             let target = project(rows.iter().map(|&i| self.y[i] - known[i]).collect());
             let mut design = Design::new(rows.len());
