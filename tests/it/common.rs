@@ -144,3 +144,14 @@ pub fn mtwin(args: &[&str]) -> String {
     );
     String::from_utf8(output.stdout).unwrap()
 }
+
+/// The residual sum of squares of a discovery problem's base model plus `effects`, fitted to
+/// every sample.
+pub fn discovery_rss<P: mtwin::discovery::engine::Problem>(
+    problem: &P,
+    effects: &[P::Effect],
+) -> Real {
+    let all = vec![true; problem.n_samples()];
+    let fit = problem.fit(effects, &all);
+    problem.residuals(&fit).iter().map(|v| v * v).sum()
+}

@@ -517,6 +517,7 @@ fn too_few_readings_are_refused() {
 /// only that each effect acts or is named.
 #[test]
 fn every_effect_acts_or_is_named_untestable_on_every_trace_shape() {
+    use crate::common::discovery_rss;
     use mtwin::discovery::engine::Problem;
     use mtwin::kinds::ballbar::discovery::BallbarProblem;
     let planted = |effect: BallbarEffect| -> Hidden {
@@ -631,11 +632,7 @@ fn every_effect_acts_or_is_named_untestable_on_every_trace_shape() {
                     assert!(!why.is_empty());
                 }
                 None => {
-                    let rss = |effects: &[BallbarEffect]| -> f64 {
-                        let all = vec![true; problem.n_samples()];
-                        let fit = problem.fit(effects, &all);
-                        problem.residuals(&fit).iter().map(|v| v * v).sum()
-                    };
+                    let rss = |effects: &[BallbarEffect]| discovery_rss(&problem, effects);
                     // What each model leaves beyond the noise's own sum of squares.
                     let noise = problem.n_samples() as f64 * NOISE * NOISE;
                     let (base, with) = (rss(&[]) - noise, rss(&[effect]) - noise);

@@ -14,8 +14,8 @@
 //! time restarted at every reading of such a file, so `thermal_lag` could not act and was
 //! rejected at +0.0 %; the lag now holds its state when no time passes.
 
+use crate::common::discovery_rss;
 use PositioningEffect as E;
-use mtwin::discovery::engine::Problem;
 use mtwin::kinds::positioning::discovery::PositioningProblem;
 use mtwin::kinds::positioning::{
     PositioningEffect, PositioningOptions, PositioningTable, discover_positioning,
@@ -286,13 +286,6 @@ fn table(shape: &Shape, effect: Option<PositioningEffect>, seed: u64) -> Positio
     PositioningTable::parse(csv.as_bytes(), "shape.csv").expect("a valid file")
 }
 
-/// The residual sum of squares of the base model plus `effects`, fitted to every reading.
-fn rss(problem: &PositioningProblem, effects: &[PositioningEffect]) -> f64 {
-    let all = vec![true; problem.n_samples()];
-    let fit = problem.fit(effects, &all);
-    problem.residuals(&fit).iter().map(|r| r * r).sum()
-}
-
 #[test]
 fn every_effect_acts_or_is_named_untestable_on_every_shape() {
     for shape in &SHAPES {
@@ -312,7 +305,10 @@ fn every_effect_acts_or_is_named_untestable_on_every_shape() {
                 );
                 // What each model leaves beyond the noise's own sum of squares.
                 let noise = table.readings.len() as f64 * (NOISE_UM * 1e-6).powi(2);
-                let (base, with) = (rss(&problem, &[]) - noise, rss(&problem, &[effect]) - noise);
+                let (base, with) = (
+                    discovery_rss(&problem, &[]) - noise,
+                    discovery_rss(&problem, &[effect]) - noise,
+                );
                 println!(
                     "  {:<19} planted: excess {:.1} → {:.1} µm² (noise {:.1})",
                     effect.id(),

@@ -566,6 +566,7 @@ fn a_flat_probe_column_is_refused_in_words_not_scored() {
 /// speed two speeds).
 #[test]
 fn every_effect_acts_or_is_named_untestable_on_every_record_shape() {
+    use crate::common::discovery_rss;
     use mtwin::discovery::engine::Problem;
     use mtwin::kinds::spindle::discovery::SpindleProblem;
     let effects = [
@@ -622,11 +623,7 @@ fn every_effect_acts_or_is_named_untestable_on_every_record_shape() {
                         reason.is_none(),
                         "{shape}: {effect:?} untestable: {reason:?}"
                     );
-                    let rss = |effects: &[SpindleEffect]| -> f64 {
-                        let all = vec![true; problem.n_samples()];
-                        let fit = problem.fit(effects, &all);
-                        problem.residuals(&fit).iter().map(|v| v * v).sum()
-                    };
+                    let rss = |effects: &[SpindleEffect]| discovery_rss(&problem, effects);
                     // What each model leaves beyond the noise's own sum of squares.
                     let noise = problem.n_samples() as f64 * SIGMA * SIGMA;
                     let (base, with) = (rss(&[]) - noise, rss(&[effect]) - noise);
