@@ -189,7 +189,7 @@ impl PositioningDiscovery {
     /// Whether the final model's lag (`thermal_lag` or `sensor_lag`) gains mostly by smoothing
     /// the sensor's noise: without the lag, the model refitted to the sensor's readings
     /// smoothed in time (a local line through the readings within ±5 min, or 1.5 typical
-    /// intervals) recovers at least [`SMOOTHING_SHARE`] of what the lag gains on the raw
+    /// intervals) recovers at least half of what the lag gains on the raw
     /// readings (in-sample sums of squares). A structure that truly warms later than its
     /// sensor is not imitated by smoothing the reading; noise and quantisation of the sensor
     /// are, and a short lag averages them over neighbouring readings just as well.
