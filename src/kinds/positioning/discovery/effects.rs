@@ -122,6 +122,17 @@ impl PositioningEffect {
         )
     }
 
+    /// Whether its columns are built on the temperature rise (and so change with a lag's
+    /// time constant).
+    pub(super) fn uses_rise(self) -> bool {
+        matches!(
+            self,
+            PositioningEffect::ReversalThermal
+                | PositioningEffect::ThermalScale
+                | PositioningEffect::ThermalOffset
+        )
+    }
+
     /// The number of linear coefficients it adds.
     pub(super) fn columns(self) -> usize {
         match self {

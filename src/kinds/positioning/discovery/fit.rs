@@ -2,6 +2,7 @@
 //! training readings, the fitted model and its parameters in file units.
 
 use super::problem::Reference;
+use super::profile::TAU_PROBES;
 use super::{PositioningEffect, PositioningProblem};
 use crate::discovery::least_squares::Design;
 use crate::math::{M_PER_MM, Real};
@@ -63,8 +64,17 @@ impl PositioningProblem {
         reference: &Reference,
         searched: &Searched,
     ) -> (Vec<Vec<Real>>, Vec<Real>, Option<Real>) {
+        let mut columns = self.hats(&reference.knots);
+        let (effect_columns, known, reference_temperature) =
+            self.effect_columns(effects, reference, searched);
+        columns.extend(effect_columns);
+        (columns, known, reference_temperature)
+    }
+
+    /// The profile's columns: every reading's piecewise-linear weights on the `knots`
+    /// (constant beyond the ends).
+    pub(super) fn hats(&self, knots: &[Real]) -> Vec<Vec<Real>> {
         let n = self.x.len();
-        let knots = &reference.knots;
         let mut columns: Vec<Vec<Real>> = vec![vec![0.0; n]; knots.len()];
         for (i, &x) in self.x.iter().enumerate() {
             let j = knots.partition_point(|&k| k <= x);
@@ -78,6 +88,34 @@ impl PositioningProblem {
                 columns[j][i] = w;
             }
         }
+        columns
+    }
+
+    /// Each effect's columns (in order), the known part of the prediction (nominal
+    /// expansion) and the reference temperature: [`PositioningProblem::columns`] without the
+    /// profile's.
+    pub(super) fn effect_columns(
+        &self,
+        effects: &[PositioningEffect],
+        reference: &Reference,
+        searched: &Searched,
+    ) -> (Vec<Vec<Real>>, Vec<Real>, Option<Real>) {
+        let (rise, reference_temperature) = self.rise(effects, reference, searched);
+        let known = self.known(&rise);
+        let columns = self.columns_given(effects, reference, searched, &rise);
+        (columns, known, reference_temperature)
+    }
+
+    /// Every reading's temperature rise over the reference temperature (°C; zero without
+    /// temperatures), the driving temperature lagged as `searched` says for `effects`, and
+    /// the reference temperature: the reference run's mean.
+    pub(super) fn rise(
+        &self,
+        effects: &[PositioningEffect],
+        reference: &Reference,
+        searched: &Searched,
+    ) -> (Vec<Real>, Option<Real>) {
+        let n = self.x.len();
         let driver = self.driver(searched.lag_in(effects), searched.sensor_in(effects));
         let reference_temperature = driver.as_ref().map(|d| {
             let (sum, count) = (0..n)
@@ -89,9 +127,30 @@ impl PositioningProblem {
             (Some(d), Some(t_ref)) => d.iter().map(|t| t - t_ref).collect(),
             _ => vec![0.0; n],
         };
-        let known: Vec<Real> = (0..n)
-            .map(|i| self.options.expansion * self.x[i] * rise[i])
-            .collect();
+        (rise, reference_temperature)
+    }
+
+    /// The known part of every reading's prediction: the nominal expansion for `rise`.
+    pub(super) fn known(&self, rise: &[Real]) -> Vec<Real> {
+        self.x
+            .iter()
+            .zip(rise)
+            .map(|(x, r)| self.options.expansion * x * r)
+            .collect()
+    }
+
+    /// The columns of `effects` (in order) on the temperature rise `rise` (from
+    /// [`PositioningProblem::rise`] for the whole model: `effects` may be a part of it; empty
+    /// when none of `effects` [uses it](PositioningEffect::uses_rise)).
+    pub(super) fn columns_given(
+        &self,
+        effects: &[PositioningEffect],
+        reference: &Reference,
+        searched: &Searched,
+        rise: &[Real],
+    ) -> Vec<Vec<Real>> {
+        let n = self.x.len();
+        let mut columns: Vec<Vec<Real>> = Vec::new();
         let map = |f: &dyn Fn(usize) -> Real| (0..n).map(f).collect::<Vec<Real>>();
         for &effect in effects {
             match effect {
@@ -104,15 +163,17 @@ impl PositioningProblem {
                 }
                 PositioningEffect::ThermalLag | PositioningEffect::SensorLag => {}
                 PositioningEffect::ThermalScale => columns.push(map(&|i| self.x[i] * rise[i])),
-                PositioningEffect::ThermalOffset => columns.push(rise.clone()),
+                PositioningEffect::ThermalOffset => columns.push(rise.to_vec()),
                 PositioningEffect::SecondHeatSource => {
                     let g = self.activity(searched.heat_tau.expect("searched first"));
                     columns.push(map(&|i| self.x[i] * g[i]));
                 }
                 PositioningEffect::Periodic => {
                     let w = TAU / searched.period.expect("searched first");
-                    columns.push(map(&|i| (w * self.x[i]).sin()));
-                    columns.push(map(&|i| (w * self.x[i]).cos()));
+                    let (sin, cos): (Vec<Real>, Vec<Real>) =
+                        self.x.iter().map(|&x| (w * x).sin_cos()).unzip();
+                    columns.push(sin);
+                    columns.push(cos);
                 }
                 PositioningEffect::NonlinearScale => {
                     let xi = |i: usize| (self.x[i] - self.centre) / self.half_range;
@@ -128,7 +189,7 @@ impl PositioningProblem {
                 }
             }
         }
-        (columns, known, reference_temperature)
+        columns
     }
 
     /// The linear fit of `effects` with `searched` fixed: coefficients, every residual and the
@@ -186,25 +247,31 @@ impl PositioningProblem {
                 match effect {
                     PositioningEffect::ThermalLag => {
                         let sse =
-                            self.sse_profile(&active, train, &reference, move |tau| Searched {
-                                lag_tau: Some(tau),
-                                ..held
+                            self.sse_profile(&active, train, &reference, TAU_PROBES, move |tau| {
+                                Searched {
+                                    lag_tau: Some(tau),
+                                    ..held
+                                }
                             });
                         searched.lag_tau = Some(self.search_tau(0.0, sse));
                     }
                     PositioningEffect::SensorLag => {
                         let sse =
-                            self.sse_profile(&active, train, &reference, move |tau| Searched {
-                                sensor_tau: Some(tau),
-                                ..held
+                            self.sse_profile(&active, train, &reference, TAU_PROBES, move |tau| {
+                                Searched {
+                                    sensor_tau: Some(tau),
+                                    ..held
+                                }
                             });
                         searched.sensor_tau = Some(self.search_tau(0.0, sse));
                     }
                     PositioningEffect::SecondHeatSource => {
                         let sse =
-                            self.sse_profile(&active, train, &reference, move |tau| Searched {
-                                heat_tau: Some(tau),
-                                ..held
+                            self.sse_profile(&active, train, &reference, TAU_PROBES, move |tau| {
+                                Searched {
+                                    heat_tau: Some(tau),
+                                    ..held
+                                }
                             });
                         searched.heat_tau = Some(self.search_tau(shortest_heating, sse));
                     }

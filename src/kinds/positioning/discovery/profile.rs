@@ -1,105 +1,168 @@
-//! The training sum of squares as a function of one time constant, for the τ searches
-//! ([`PositioningProblem::sse_profile`]), without a full least squares per trial.
+//! The training sum of squares as a function of one searched value (a time constant, or the
+//! frequency of `periodic`) ([`PositioningProblem::sse_profile`]), without a full least
+//! squares per trial.
 //!
-//! A trial time constant changes only some columns of the design (those built on the lagged
-//! temperature or the heating response) and, for `thermal_lag`, the nominal expansion the
-//! target subtracts; the others (the profile, the lost motion, a time drift …) are the same
-//! at every trial. Their span is computed once, as the left singular vectors of the fixed
-//! columns (each scaled to unit norm) above the same relative rank cut the full solve uses;
-//! a trial then projects only its changing columns and its target off that span and fits
-//! what is left. With P the projection off the fixed span, the least-squares residual of
-//! [F V]·c ≈ t is that of P·V·c ≈ P·t (the fixed coefficients absorb whatever lies in their
-//! span), so the sum of squares is the full solve's up to round-off and rank-cut details; the
-//! fit at the chosen τ is the full solve.
+//! A trial value changes only some columns of the design (those built on the lagged
+//! temperature or the heating response, or the sine and cosine of the cyclic error) and, for
+//! `thermal_lag`, the nominal expansion the target subtracts; the others (the profile, the
+//! lost motion, a time drift …) are the same at every trial. Their span is computed once, as
+//! the left singular vectors of the fixed columns (each scaled to unit norm) above the same
+//! relative rank cut the full solve uses; a trial then projects only its changing columns and
+//! its target off that span and fits what is left. With P the projection off the fixed span,
+//! the least-squares residual of [F V]·c ≈ t is that of P·V·c ≈ P·t (the fixed coefficients
+//! absorb whatever lies in their span), so the sum of squares is the full solve's up to
+//! round-off and rank-cut details; the fit at the chosen value is the full solve.
 
 use super::fit::Searched;
 use super::problem::Reference;
 use super::{PositioningEffect, PositioningProblem};
-use crate::discovery::least_squares::{Design, RANK_TOLERANCE};
+use crate::discovery::least_squares::RANK_TOLERANCE;
 use crate::math::Real;
 use nalgebra::{DMatrix, DVector};
 
 impl PositioningProblem {
     /// The training sum of squares of `effects` on the rows where `train` is true, as a
-    /// function of the time constant `at` puts into the searched values (see the module
-    /// documentation).
+    /// function of the value `at` puts into the searched values (see the module
+    /// documentation). The columns that value changes are those that differ between the two
+    /// `probes` ([`TAU_PROBES`], [`FREQUENCY_PROBES`]).
     pub(super) fn sse_profile<'a>(
         &'a self,
         effects: &'a [PositioningEffect],
         train: &'a [bool],
         reference: &'a Reference,
+        probes: [Real; 2],
         at: impl Fn(Real) -> Searched + 'a,
     ) -> impl Fn(Real) -> Real + 'a {
         let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
-        // Which columns a time constant changes: compare two far apart.
-        let (a, _, _) = self.columns(effects, reference, &at(600.0));
-        let (b, _, _) = self.columns(effects, reference, &at(36_000.0));
-        let fixed: Vec<bool> = a
-            .iter()
-            .zip(&b)
-            .map(|(a, b)| rows.iter().all(|&i| a[i] == b[i]))
-            .collect();
+        let differ = |a: &[Real], b: &[Real]| rows.iter().any(|&i| a[i] != b[i]);
+        // The profile's columns never change; of the effects, those whose columns differ
+        // between the probes do, and the nominal expansion when the temperature's lag does.
+        let (searched_a, searched_b) = (at(probes[0]), at(probes[1]));
+        let (rise_a, _) = self.rise(effects, reference, &searched_a);
+        let (rise_b, _) = self.rise(effects, reference, &searched_b);
+        let known_changes = differ(&self.known(&rise_a), &self.known(&rise_b));
+        let mut fixed_columns = self.hats(&reference.knots);
+        let mut changing: Vec<PositioningEffect> = Vec::new();
+        for &effect in effects {
+            let a = self.columns_given(&[effect], reference, &searched_a, &rise_a);
+            let b = self.columns_given(&[effect], reference, &searched_b, &rise_b);
+            if a.iter().zip(&b).any(|(a, b)| differ(a, b)) {
+                changing.push(effect);
+            } else {
+                fixed_columns.extend(a);
+            }
+        }
         let scaled = |column: &[Real]| -> Option<Vec<Real>> {
             let values: Vec<Real> = rows.iter().map(|&i| column[i]).collect();
             let norm = values.iter().map(|v| v * v).sum::<Real>().sqrt();
             (norm > 0.0).then(|| values.iter().map(|v| v / norm).collect())
         };
-        let kept: Vec<Vec<Real>> = a
-            .iter()
-            .zip(&fixed)
-            .filter(|(_, f)| **f)
-            .filter_map(|(c, _)| scaled(c))
-            .collect();
+        let kept: Vec<Vec<Real>> = fixed_columns.iter().filter_map(|c| scaled(c)).collect();
         let basis = span(&kept, rows.len());
-        move |tau: Real| {
-            let (columns, known, _) = self.columns(effects, reference, &at(tau));
-            let project = |v: Vec<Real>| -> Vec<Real> {
-                let mut v = DVector::from_vec(v);
-                if let Some(u) = &basis {
-                    // v − U·(Uᵀv), without forming Uᵀ.
-                    let along = u.tr_mul(&v);
-                    v.gemv(-1.0, u, &along, 1.0);
-                }
-                v.data.into()
+        let project = move |v: Vec<Real>| -> Vec<Real> {
+            let mut v = DVector::from_vec(v);
+            if let Some(u) = &basis {
+                // v − U·(Uᵀv), without forming Uᵀ.
+                let along = u.tr_mul(&v);
+                v.gemv(-1.0, u, &along, 1.0);
+            }
+            v.data.into()
+        };
+        let on_rows =
+            move |values: &[Real]| -> Vec<Real> { rows.iter().map(|&i| values[i]).collect() };
+        let target_of = |known: &[Real]| -> Vec<Real> {
+            self.y.iter().zip(known).map(|(y, k)| y - k).collect()
+        };
+        let fixed_target =
+            (!known_changes).then(|| project(on_rows(&target_of(&self.known(&rise_a)))));
+        let uses_rise = changing.iter().any(|e| e.uses_rise());
+        move |value: Real| {
+            let searched = at(value);
+            let rise = if known_changes || uses_rise {
+                self.rise(effects, reference, &searched).0
+            } else {
+                Vec::new()
             };
-            let target = project(rows.iter().map(|&i| self.y[i] - known[i]).collect());
-            let mut design = Design::new(rows.len());
-            for (column, _) in columns.iter().zip(&fixed).filter(|(_, f)| !**f) {
-                let original: Vec<Real> = rows.iter().map(|&i| column[i]).collect();
-                let norm = original.iter().map(|v| v * v).sum::<Real>().sqrt();
-                let projected = project(original);
-                let left = projected.iter().map(|v| v * v).sum::<Real>().sqrt();
-                // What the fixed columns already hold is no column of its own (the full
-                // solve's rank cut).
+            let target = match &fixed_target {
+                Some(target) => target.clone(),
+                None => project(on_rows(&target_of(&self.known(&rise)))),
+            };
+            let columns = self.columns_given(&changing, reference, &searched, &rise);
+            // The changing columns off the fixed span, orthonormalised among themselves
+            // (Gram–Schmidt, each orthogonalised twice); a column that the fixed ones and
+            // those before it hold to RANK_TOLERANCE of its norm is none of its own (the
+            // full solve's rank cut). The residual is the target off them all.
+            let mut orthonormal: Vec<Vec<Real>> = Vec::with_capacity(columns.len());
+            for column in &columns {
+                let original: Vec<Real> = on_rows(column);
+                let norm = dot(&original, &original).sqrt();
+                let mut v = project(original);
+                for _ in 0..2 {
+                    for q in &orthonormal {
+                        subtract_along(&mut v, q);
+                    }
+                }
+                let left = dot(&v, &v).sqrt();
                 if left > RANK_TOLERANCE * norm {
-                    design.push(projected);
+                    v.iter_mut().for_each(|x| *x /= left);
+                    orthonormal.push(v);
                 }
             }
-            let c = design.solve(&target);
-            let fitted = design.times(&c);
-            target
-                .iter()
-                .zip(&fitted)
-                .map(|(t, f)| (t - f).powi(2))
-                .sum()
+            let mut residual = target;
+            for q in &orthonormal {
+                subtract_along(&mut residual, q);
+            }
+            dot(&residual, &residual)
         }
     }
 }
 
+/// The dot product of two vectors of one length.
+fn dot(a: &[Real], b: &[Real]) -> Real {
+    a.iter().zip(b).map(|(a, b)| a * b).sum()
+}
+
+/// `v` less its component along the unit vector `q`.
+fn subtract_along(v: &mut [Real], q: &[Real]) {
+    let d = dot(v, q);
+    v.iter_mut().zip(q).for_each(|(v, q)| *v -= d * q);
+}
+
+/// Time constants (s) far apart: the columns a time constant changes differ between them
+/// (10 min and 10 h).
+pub(super) const TAU_PROBES: [Real; 2] = [600.0, 36_000.0];
+
+/// Frequencies (1/m) whose sines differ at every position a file can hold: periods of π mm
+/// and 10·e mm, irrational in millimetres, so that no grid of targets (whole millimetres,
+/// 5 mm steps …) puts both on a whole number of cycles.
+pub(super) const FREQUENCY_PROBES: [Real; 2] =
+    [1e3 / std::f64::consts::PI, 1e2 / std::f64::consts::E];
+
 /// An orthonormal basis (rows × r) of the span of `columns` (each of length `rows`, scaled to
-/// unit norm): the left singular vectors above the rank cut; `None` without columns.
+/// unit norm): the left singular vectors above the rank cut; `None` without columns. Tall
+/// (the usual case), by Householder QR first and the SVD of the small triangle, U = Q·U_R:
+/// the same singular values at a fraction of the cost of bidiagonalising the tall matrix.
 fn span(columns: &[Vec<Real>], rows: usize) -> Option<DMatrix<Real>> {
     if columns.is_empty() || rows == 0 {
         return None;
     }
     let m = DMatrix::from_fn(rows, columns.len(), |i, j| columns[j][i]);
-    let svd = m.svd(true, false);
+    let (q, svd) = if rows > columns.len() {
+        let qr = m.qr();
+        (Some(qr.q()), qr.r().svd(true, false))
+    } else {
+        (None, m.svd(true, false))
+    };
     let u = svd.u.expect("computed");
     let largest = svd.singular_values.max();
     let keep: Vec<usize> = (0..svd.singular_values.len())
         .filter(|&k| svd.singular_values[k] > largest * RANK_TOLERANCE)
         .collect();
-    Some(DMatrix::from_fn(rows, keep.len(), |i, j| u[(i, keep[j])]))
+    let kept = DMatrix::from_fn(u.nrows(), keep.len(), |i, j| u[(i, keep[j])]);
+    Some(match q {
+        Some(q) => q * kept,
+        None => kept,
+    })
 }
 
 #[cfg(test)]
@@ -138,6 +201,30 @@ mod tests {
         PositioningTable::parse(text.as_bytes(), "warmup.csv").unwrap()
     }
 
+    /// Four bidirectional runs of 7 targets in whole millimetres, each run's shifted by 17 mm
+    /// from the last (the first run's are the profile's knots), 2 µm of lost motion, 1 µm of a
+    /// 25 mm cyclic error and a little deterministic scatter.
+    fn scattered() -> PositioningTable {
+        let mut text = String::from("axis,run,direction,target_mm,deviation_um,time_min\n");
+        let mut k = 0;
+        for run in 1..=4 {
+            for (direction, sign) in [("+", 1.0), ("-", -1.0)] {
+                for j in 0..7 {
+                    let x = 5.0 + 125.0 * j as f64 + 17.0 * (run - 1) as f64;
+                    k += 1;
+                    let deviation = 0.004 * x - sign * 1.0
+                        + (std::f64::consts::TAU * x / 25.0).sin()
+                        + 0.05 * ((k * 7919) % 13) as f64 / 13.0;
+                    text.push_str(&format!(
+                        "X,{run},{direction},{x},{deviation:.6},{:.1}\n",
+                        0.5 * k as f64
+                    ));
+                }
+            }
+        }
+        PositioningTable::parse(text.as_bytes(), "scattered.csv").unwrap()
+    }
+
     #[test]
     fn the_profile_equals_the_full_solve_at_every_time_constant() {
         let table = warmup();
@@ -157,7 +244,7 @@ mod tests {
                 lag_tau: Some(tau),
                 ..Searched::default()
             };
-            let profile = problem.sse_profile(&effects, &train, &reference, at);
+            let profile = problem.sse_profile(&effects, &train, &reference, TAU_PROBES, at);
             for tau_min in [1.0, 5.0, 20.0, 60.0, 300.0] {
                 let full = problem
                     .solve(&effects, &train, &reference, &at(tau_min * 60.0))
@@ -166,6 +253,41 @@ mod tests {
                 assert!(
                     (fast - full).abs() <= 1e-9 * full + 1e-24,
                     "fold {fold:?}, τ {tau_min} min: {fast} against {full}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_period_profile_equals_the_full_solve_at_every_frequency() {
+        // Targets in whole millimetres, moved from run to run (off the profile's knots, so the
+        // cyclic term acts): the probes must still find the sine and cosine as the changing
+        // columns.
+        let table = scattered();
+        let problem = PositioningProblem::new(&table, PositioningOptions::default()).unwrap();
+        let effects = [
+            PositioningEffect::Reversal,
+            PositioningEffect::TimeDrift,
+            PositioningEffect::Periodic,
+        ];
+        for fold in [None, Some(1)] {
+            let train: Vec<bool> = match fold {
+                None => vec![true; table.readings.len()],
+                Some(k) => problem.folds.training(k),
+            };
+            let reference = problem.reference(&train);
+            let at = |f: Real| Searched {
+                period: Some(1.0 / f),
+                ..Searched::default()
+            };
+            let profile = problem.sse_profile(&effects, &train, &reference, FREQUENCY_PROBES, at);
+            for period_mm in [7.3, 25.0, 100.0, 333.0] {
+                let f = 1e3 / period_mm;
+                let full = problem.solve(&effects, &train, &reference, &at(f)).2;
+                let fast = profile(f);
+                assert!(
+                    (fast - full).abs() <= 1e-9 * full + 1e-24,
+                    "fold {fold:?}, period {period_mm} mm: {fast} against {full}"
                 );
             }
         }
