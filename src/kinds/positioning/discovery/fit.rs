@@ -246,7 +246,7 @@ impl PositioningProblem {
                 let held = searched;
                 match effect {
                     PositioningEffect::ThermalLag => {
-                        let sse =
+                        let (sse, _) =
                             self.sse_profile(&active, train, &reference, TAU_PROBES, move |tau| {
                                 Searched {
                                     lag_tau: Some(tau),
@@ -256,7 +256,7 @@ impl PositioningProblem {
                         searched.lag_tau = Some(self.search_tau(0.0, sse));
                     }
                     PositioningEffect::SensorLag => {
-                        let sse =
+                        let (sse, _) =
                             self.sse_profile(&active, train, &reference, TAU_PROBES, move |tau| {
                                 Searched {
                                     sensor_tau: Some(tau),
@@ -266,7 +266,7 @@ impl PositioningProblem {
                         searched.sensor_tau = Some(self.search_tau(0.0, sse));
                     }
                     PositioningEffect::SecondHeatSource => {
-                        let sse =
+                        let (sse, _) =
                             self.sse_profile(&active, train, &reference, TAU_PROBES, move |tau| {
                                 Searched {
                                     heat_tau: Some(tau),

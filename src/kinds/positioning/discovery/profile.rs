@@ -25,6 +25,10 @@ impl PositioningProblem {
     /// function of the value `at` puts into the searched values (see the module
     /// documentation). The columns that value changes are those that differ between the two
     /// `probes` ([`TAU_PROBES`], [`FREQUENCY_PROBES`]).
+    ///
+    /// Also, when the value changes no known part (a period, not a lag), the training
+    /// residual of the model without the changing columns (the projected target), one value
+    /// per training row in order: what the period's periodogram searches.
     pub(super) fn sse_profile<'a>(
         &'a self,
         effects: &'a [PositioningEffect],
@@ -32,7 +36,7 @@ impl PositioningProblem {
         reference: &'a Reference,
         probes: [Real; 2],
         at: impl Fn(Real) -> Searched + 'a,
-    ) -> impl Fn(Real) -> Real + 'a {
+    ) -> (impl Fn(Real) -> Real + 'a, Option<Vec<Real>>) {
         let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
         let differ = |a: &[Real], b: &[Real]| rows.iter().any(|&i| a[i] != b[i]);
         // The profile's columns never change; of the effects, those whose columns differ
@@ -76,7 +80,8 @@ impl PositioningProblem {
         let fixed_target =
             (!known_changes).then(|| project(on_rows(&target_of(&self.known(&rise_a)))));
         let uses_rise = changing.iter().any(|e| e.uses_rise());
-        move |value: Real| {
+        let fixed_residual = fixed_target.clone();
+        let sse = move |value: Real| {
             let searched = at(value);
             let rise = if known_changes || uses_rise {
                 self.rise(effects, reference, &searched).0
@@ -113,7 +118,8 @@ impl PositioningProblem {
                 subtract_along(&mut residual, q);
             }
             dot(&residual, &residual)
-        }
+        };
+        (sse, fixed_residual)
     }
 }
 
@@ -244,7 +250,7 @@ mod tests {
                 lag_tau: Some(tau),
                 ..Searched::default()
             };
-            let profile = problem.sse_profile(&effects, &train, &reference, TAU_PROBES, at);
+            let (profile, _) = problem.sse_profile(&effects, &train, &reference, TAU_PROBES, at);
             for tau_min in [1.0, 5.0, 20.0, 60.0, 300.0] {
                 let full = problem
                     .solve(&effects, &train, &reference, &at(tau_min * 60.0))
@@ -280,7 +286,24 @@ mod tests {
                 period: Some(1.0 / f),
                 ..Searched::default()
             };
-            let profile = problem.sse_profile(&effects, &train, &reference, FREQUENCY_PROBES, at);
+            let (profile, fixed_residual) =
+                problem.sse_profile(&effects, &train, &reference, FREQUENCY_PROBES, at);
+            // The fixed part's residual is the model without the cyclic term's.
+            let without = [PositioningEffect::Reversal, PositioningEffect::TimeDrift];
+            let residuals = problem.solve(&without, &train, &reference, &at(1.0)).1;
+            let expected: Vec<Real> = (0..residuals.len())
+                .filter(|&i| train[i])
+                .map(|i| residuals[i])
+                .collect();
+            let fixed_residual = fixed_residual.expect("a period changes no known part");
+            let scale = dot(&expected, &expected).sqrt();
+            for (a, b) in fixed_residual.iter().zip(&expected) {
+                assert!(
+                    (a - b).abs() <= 1e-9 * scale,
+                    "fold {fold:?}: {a} against {b}"
+                );
+            }
+            assert_eq!(fixed_residual.len(), expected.len());
             for period_mm in [7.3, 25.0, 100.0, 333.0] {
                 let f = 1e3 / period_mm;
                 let full = problem.solve(&effects, &train, &reference, &at(f)).2;

@@ -67,7 +67,8 @@ impl PositioningProblem {
     }
 
     /// Searches the period (m): a periodogram of the residual of the model without the cyclic
-    /// term over frequencies from 1/(span) to 1/min_period (4 points per 1/span), then a
+    /// term (from the profile, no fit of its own) over frequencies from 1/(span) to
+    /// 1/min_period (4 points per 1/span), then a
     /// golden-section refinement of the full fit's sum of squares around the peak (through
     /// [`PositioningProblem::sse_profile`]: only the sine and cosine change with the period).
     pub(super) fn search_period(
@@ -77,24 +78,23 @@ impl PositioningProblem {
         reference: &Reference,
         searched: &Searched,
     ) -> Real {
-        let without: Vec<PositioningEffect> = effects
-            .iter()
-            .copied()
-            .filter(|&e| e != PositioningEffect::Periodic)
+        let held = *searched;
+        let (sse, without) =
+            self.sse_profile(effects, train, reference, FREQUENCY_PROBES, move |f| {
+                Searched {
+                    period: Some(1.0 / f),
+                    ..held
+                }
+            });
+        // The residual of the model without the cyclic term on the training rows: the
+        // profile's target off the columns the period does not change.
+        let r = without.expect("a period changes no known part");
+        let x: Vec<Real> = (0..self.x.len())
+            .filter(|&i| train[i])
+            .map(|i| self.x[i])
             .collect();
-        let (_, residuals, _, _) = self.solve(&without, train, reference, searched);
-        let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
-        let x: Vec<Real> = rows.iter().map(|&i| self.x[i]).collect();
-        let r: Vec<Real> = rows.iter().map(|&i| residuals[i]).collect();
         let (step, f_low) = self.frequency_grid();
         let (peak, _) = self.periodogram_peak(&x, &r);
-        let held = *searched;
-        let sse = self.sse_profile(effects, train, reference, FREQUENCY_PROBES, move |f| {
-            Searched {
-                period: Some(1.0 / f),
-                ..held
-            }
-        });
         let (low, high) = ((peak - step).max(f_low / 2.0), peak + step);
         let (refined, value) = golden_minimum(&sse, low, high, 16);
         if value < sse(peak) {
