@@ -204,6 +204,11 @@ pub fn shorten_numbers(text: &str) -> String {
     out
 }
 
+/// The dot product Σ aᵢbᵢ of two slices of one length, summed in order.
+pub fn dot(a: &[Real], b: &[Real]) -> Real {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 /// The minimum of `f` over `[low, high]` by golden-section search (`iterations` shrinks the
 /// bracket by 0.618 each); returns (argument, value).
 pub fn golden_minimum(

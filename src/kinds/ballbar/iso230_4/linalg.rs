@@ -3,16 +3,11 @@
 //! variance inflations from a column-scaled eigen-decomposition, and [`Projection`], a fit of
 //! columns given reading by reading.
 
-use crate::math::Real;
+use crate::math::{Real, dot};
 use nalgebra::DMatrix;
 
 /// Eigenvalues of the column-scaled Gram matrix below this fraction of the largest are zero.
 const EIGEN_TOLERANCE: Real = 1e-13;
-
-/// Dot product.
-pub(super) fn dot(a: &[Real], b: &[Real]) -> Real {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
 
 /// The Gram matrix AᵀA of columns over the same rows.
 pub(super) fn gram(columns: &[&[Real]]) -> DMatrix<Real> {

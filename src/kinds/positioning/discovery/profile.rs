@@ -17,7 +17,7 @@ use super::fit::Searched;
 use super::problem::Reference;
 use super::{PositioningEffect, PositioningProblem};
 use crate::discovery::least_squares::RANK_TOLERANCE;
-use crate::math::Real;
+use crate::math::{Real, dot};
 use nalgebra::{DMatrix, DVector};
 
 impl PositioningProblem {
@@ -121,11 +121,6 @@ impl PositioningProblem {
         };
         (sse, fixed_residual)
     }
-}
-
-/// The dot product of two vectors of one length.
-fn dot(a: &[Real], b: &[Real]) -> Real {
-    a.iter().zip(b).map(|(a, b)| a * b).sum()
 }
 
 /// `v` less its component along the unit vector `q`.
