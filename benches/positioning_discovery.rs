@@ -7,7 +7,9 @@
 //! - `positioning_discovery/warmup_7x16_one_core`: the same on a one-thread rayon pool;
 //! - `positioning_discovery/periodic_5_runs`: a five-run file whose targets differ from run
 //!   to run (a coarse first run of 15, then 24 at random), with lost motion and a 25 mm cyclic
-//!   error: the layout whose period search made discovery take 27 s (issue 36).
+//!   error: the layout whose period search made discovery take 27 s (issue 36);
+//! - `positioning_discovery/periodic_7x21`: the same with seven runs of 21 targets (the first
+//!   evenly spaced), the largest layout issue 36 asks under 1 s.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mtwin::app::Scenario;
@@ -55,34 +57,39 @@ fn warmup_discovery(c: &mut Criterion) {
             })
         })
     });
-    let periodic = scattered_periodic();
-    group.bench_function("periodic_5_runs", |b| {
-        b.iter(|| {
-            discover_positioning(black_box(&periodic), PositioningOptions::default(), |_| {})
-                .expect("discovery runs")
-        })
-    });
+    for (name, runs, first, later) in [("periodic_5_runs", 5, 15, 24), ("periodic_7x21", 7, 21, 21)]
+    {
+        let periodic = scattered_periodic(runs, first, later);
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                discover_positioning(black_box(&periodic), PositioningOptions::default(), |_| {})
+                    .expect("discovery runs")
+            })
+        });
+    }
     group.finish();
 }
 
-/// Five bidirectional runs of the X axis: 15 targets over 5–695 mm, then four runs of 24 at
-/// random; half a minute a reading, 30 min between runs; the sensor warming by 3 °C; 1 µm of
-/// lost motion and 1.5 µm of a 25 mm cyclic error over a bowed profile, 0.5 µm of noise.
-fn scattered_periodic() -> PositioningTable {
+/// `runs` bidirectional runs of the X axis: `first` targets over 5–695 mm, then runs of
+/// `later` at random (whole millimetres, repeats dropped); half a minute a reading, 30 min
+/// between runs; the sensor warming by 3 °C; 1 µm of lost motion and 1.5 µm of a 25 mm cyclic
+/// error over a bowed profile, 0.5 µm of noise.
+fn scattered_periodic(runs: usize, first: usize, later: usize) -> PositioningTable {
     let mut rng = seeded_rng(1, "bench targets");
-    let mut runs: Vec<Vec<f64>> = vec![(0..15).map(|k| 5.0 + k as f64 * 690.0 / 14.0).collect()];
-    for _ in 1..5 {
-        let mut targets: Vec<f64> = (0..24)
+    let step = 690.0 / (first - 1) as f64;
+    let mut runs_targets: Vec<Vec<f64>> = vec![(0..first).map(|k| 5.0 + k as f64 * step).collect()];
+    for _ in 1..runs {
+        let mut targets: Vec<f64> = (0..later)
             .map(|_| (5.0 + 690.0 * (0.5 + 0.5 * standard_normal(&mut rng).tanh())).round())
             .collect();
         targets.sort_by(f64::total_cmp);
         targets.dedup();
-        runs.push(targets);
+        runs_targets.push(targets);
     }
     let mut csv =
         String::from("axis,run,direction,target_mm,deviation_um,time_min,temp_x_nut_degc\n");
     let mut t = 0.0;
-    for (run, targets) in runs.iter().enumerate() {
+    for (run, targets) in runs_targets.iter().enumerate() {
         let visits = targets
             .iter()
             .map(|&x| (x, 1.0))

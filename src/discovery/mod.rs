@@ -12,3 +12,4 @@
 
 pub mod engine;
 pub mod least_squares;
+pub mod nufft;

@@ -648,3 +648,54 @@ fn every_effect_acts_or_is_named_untestable_on_every_trace_shape() {
         }
     }
 }
+
+/// Issue 36, item 5: a term taken as a stand-in must not stay once the true terms explain it.
+/// Lateral play of both axes, 1 µm each: σ·(|sin θ| + |cos θ|)·l/2 is mostly a constant per
+/// sense (its mean over the circle is 4/π of l/2), which `sense_radius` (σ·d/2) alone
+/// describes to within the variation of |sin θ| + |cos θ| (from 1 to √2). The final model must
+/// be the two plays, without `sense_radius` (once a stand-in refitted to −0.001 µm and stayed),
+/// which the report names as the close alternative for each play instead.
+///
+/// The simulator shifts the p carriage along q by +sgn(ṗ)·l/2, the model by −sgn(ṗ)·lp/2
+/// (`Term::LateralPlayP`'s doc): the truth in the model's terms is −1 µm. Standard error of each
+/// play: the column σ·|sin θ|/2 has an RMS of 1/(2√2) per µm, so 0.2 µm of noise over 14 138
+/// readings gives 0.2/(0.354·√14138) = 0.0048 µm, 1.3 times that (0.006 µm) for the two
+/// columns' correlation of 2/π (their shared σ-constant); the tolerance is 5 of those.
+#[test]
+fn a_stand_in_does_not_stay_once_the_true_terms_explain_it() {
+    let hidden = Hidden {
+        lateral_play: [1.0 * UM, 1.0 * UM],
+        ..Hidden::default()
+    };
+    let found = discover_ballbar(&simulate(&hidden, 1), &xy(), |_| {}).unwrap();
+    let mut accepted = found.accepted();
+    accepted.sort();
+    assert_eq!(
+        accepted,
+        [BallbarEffect::LateralPlayP, BallbarEffect::LateralPlayQ],
+        "{}",
+        found.to_text()
+    );
+    for effect in [BallbarEffect::LateralPlayP, BallbarEffect::LateralPlayQ] {
+        let play = found.final_params(effect).unwrap()["lateral_play_um"];
+        assert!((play + 1.0).abs() < 0.03, "{effect:?}: {play} µm");
+    }
+    let json = found.to_json();
+    let alternatives: Vec<(&str, &str)> = json["alternatives"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| {
+            (
+                a["effect"].as_str().unwrap(),
+                a["instead_of"].as_str().unwrap(),
+            )
+        })
+        .collect();
+    for play in ["lateral_play_x", "lateral_play_y"] {
+        assert!(
+            alternatives.contains(&("sense_radius", play)),
+            "{alternatives:?}"
+        );
+    }
+}

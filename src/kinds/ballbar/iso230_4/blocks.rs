@@ -11,9 +11,9 @@
 use super::moments::{
     CentreMoments, DOUBLE_ORDER, LOBE_WIDTH, LobeMoments, LobeSums, LobeTransform, ORDER, Spectrum,
 };
-use super::nufft::Nufft;
 use super::statics::{SIGMA_COS, SIGMA_COS_2, SIGMA_SIN, STATICS, WIDTH, Y};
 use super::{CircleData, Shape, arc_since_reversal, diagnostic_column};
+use crate::discovery::nufft::Nufft;
 use crate::math::Real;
 use rustfft::num_complex::Complex;
 use std::collections::HashMap;

@@ -115,10 +115,10 @@
 // profile (the lag profile), spectral (cyclic and lobe columns by their moments and
 // transforms), normal (least squares from cross products), reversal (the reversal terms at a
 // shape), columns (a fit's columns: dense part and sparse change), blocks (the readings cut
-// into blocks, with the sums fits share), moments (the kinds of those sums), nufft (the
-// non-uniform Fourier transform), statics (the table's static columns), linalg (the
-// least-squares algebra), diagnose (the diagnostics), figures (G, H, F and `evaluate`),
-// report (text and JSON).
+// into blocks, with the sums fits share), moments (the kinds of those sums; their non-uniform
+// Fourier transform is `crate::discovery::nufft`), statics (the table's static columns),
+// linalg (the least-squares algebra), diagnose (the diagnostics), figures (G, H, F and
+// `evaluate`), report (text and JSON).
 mod blocks;
 mod columns;
 mod data;
@@ -132,7 +132,6 @@ mod linalg;
 mod model;
 mod moments;
 mod normal;
-mod nufft;
 mod profile;
 mod report;
 mod reversal;

@@ -18,8 +18,8 @@
 //!   deviation for every lobe count, per block ([`LobeSums`]).
 
 use super::CircleData;
-use super::nufft::Nufft;
 use super::statics::WIDTH;
+use crate::discovery::nufft::Nufft;
 use crate::math::Real;
 use rustfft::num_complex::Complex;
 use std::f64::consts::{PI, TAU};

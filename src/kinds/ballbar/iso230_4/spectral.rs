@@ -1,8 +1,8 @@
 //! Cross products of the cyclic and lobe columns without evaluating them reading by reading
 //! in every fit, from their moments and sums per block (`moments.rs`; see there for the
 //! series), and the cyclic periodogram over the whole frequency grid: a non-uniform discrete
-//! Fourier transform of r·c·e^(2πi·f_low·x) at the positions 2π·step·x (`nufft.rs`),
-//! relative error below 10⁻¹¹ of Σ|r·c|.
+//! Fourier transform of r·c·e^(2πi·f_low·x) at the positions 2π·step·x
+//! (`crate::discovery::nufft`), relative error below 10⁻¹¹ of Σ|r·c|.
 
 use super::blocks::Blocks;
 use super::columns::{Column, Dense};

@@ -59,6 +59,10 @@ pub struct TargetResidual {
     pub count: usize,
 }
 
+/// A periodogram peak removing at most this fraction of the residual's sum of squares is
+/// round-off, not a period.
+const NOTHING_PERIODIC: Real = 1e-12;
+
 /// What is left after a model, and where.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostics {
@@ -66,7 +70,9 @@ pub struct Diagnostics {
     pub rms: Real,
     /// Per target, in order of position.
     pub by_target: Vec<TargetResidual>,
-    /// Strongest cyclic component: period (m), amplitude (m), F statistic (2 and n − 3 dof).
+    /// Strongest cyclic component: period (m), amplitude (m), F statistic (2 and n − 3 dof);
+    /// `None` on 6 readings or fewer, or when the residual has nothing a sinusoid can remove
+    /// (it sums to zero at every position).
     pub periodogram: Option<(Real, Real, Real)>,
     /// F statistic of quadratic + cubic terms in position on the residual.
     pub curvature_f: Option<Real>,
@@ -125,8 +131,14 @@ impl PositioningProblem {
                 }
             })
             .collect();
-        let periodogram = (n > 6).then(|| {
-            let (f, fraction) = self.periodogram_peak(&self.x, r);
+        // No periodogram when a sinusoid removes nothing but round-off (less than
+        // NOTHING_PERIODIC of the sum of squares): when a knot at every target holds each
+        // target's mean, the residual sums to zero at every position and the peak's period
+        // would be whichever frequency the rounding favours.
+        let peak = (n > 6)
+            .then(|| self.periodogram_peak(&vec![true; n], r))
+            .filter(|&(_, fraction)| fraction > NOTHING_PERIODIC);
+        let periodogram = peak.map(|(f, fraction)| {
             let mut design = Design::new(n);
             design.push(self.x.iter().map(|x| (TAU * f * x).sin()).collect());
             design.push(self.x.iter().map(|x| (TAU * f * x).cos()).collect());

@@ -22,13 +22,17 @@
 //! never their deviations). Between readings the temperature is taken to change linearly.
 
 // The files, in reading order: `effects` (the effect library), `problem` (the table prepared
-// for discovery), `fit` (the model's terms and the linear fit), `search` (the searched
-// parameters: time constants and period), `diagnostics` (what a fit leaves and the rules that
-// propose effects from it), `report` (text and JSON) and `fragment` (the model as a scenario).
+// for discovery), `fit` (the model's terms and the linear fit), `profile` (a fit's sum of
+// squares as a function of one searched value), `search` (the searched parameters: time
+// constants and period), `periodogram` (the period search's first step), `diagnostics` (what a
+// fit leaves and the rules that propose effects from it), `report` (text and JSON) and
+// `fragment` (the model as a scenario).
 mod diagnostics;
 mod effects;
 mod fit;
 mod fragment;
+mod memo;
+mod periodogram;
 mod problem;
 mod profile;
 mod report;

@@ -2,6 +2,8 @@
 //! effects the file can show, the reference run and its knots, and the temperature and
 //! activity inputs of the model's terms.
 
+use super::memo::PerTraining;
+use super::periodogram::Spectrum;
 use super::{
     DiscoveryError, MAX_FREQUENCIES, MAX_RUN_FOLDS, MIN_TEMPERATURE_RANGE, PositioningEffect,
     PositioningOptions, SAME_POSITION,
@@ -13,6 +15,7 @@ use crate::math::{M_PER_MM, Real};
 use crate::math::{local_lines, local_rates};
 use crate::program::Approach;
 use crate::thermal::first_order_lag;
+use nalgebra::DMatrix;
 
 /// A positioning table prepared for discovery.
 #[derive(Clone, Debug)]
@@ -40,6 +43,11 @@ pub struct PositioningProblem {
     pub(super) folds: Folds,
     pub(super) testable: Vec<PositioningEffect>,
     pub(super) untestable: Vec<(PositioningEffect, String)>,
+    /// The period search's position-only sums, per training set.
+    pub(super) spectra: PerTraining<Spectrum>,
+    /// The span of the profile's columns on the training rows, with the knots it was taken
+    /// for, per training set ([`PositioningProblem::sse_profile`]).
+    pub(super) hat_spans: PerTraining<(Vec<Real>, Option<DMatrix<Real>>)>,
 }
 
 /// The run a fit is referred to and its knots.
@@ -188,6 +196,8 @@ impl PositioningProblem {
             folds,
             testable: Vec::new(),
             untestable: Vec::new(),
+            spectra: PerTraining::default(),
+            hat_spans: PerTraining::default(),
         };
         problem.sort_effects();
         problem.set_aside_inert();

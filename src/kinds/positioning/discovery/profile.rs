@@ -5,10 +5,11 @@
 //! A trial value changes only some columns of the design (those built on the lagged
 //! temperature or the heating response, or the sine and cosine of the cyclic error) and, for
 //! `thermal_lag`, the nominal expansion the target subtracts; the others (the profile, the
-//! lost motion, a time drift …) are the same at every trial. Their span is computed once, as
-//! the left singular vectors of the fixed columns (each scaled to unit norm) above the same
-//! relative rank cut the full solve uses; a trial then projects only its changing columns and
-//! its target off that span and fits what is left. With P the projection off the fixed span,
+//! lost motion, a time drift …) are the same at every trial. Their span is computed once: the
+//! profile's (the same for every model on a fold, so kept per fold) as the left singular
+//! vectors of its columns (each scaled to unit norm) above the same relative rank cut the full
+//! solve uses, the fixed effects' added to it by Gram–Schmidt with that cut; a trial then
+//! projects only its changing columns and its target off that span and fits what is left. With P the projection off the fixed span,
 //! the least-squares residual of [F V]·c ≈ t is that of P·V·c ≈ P·t (the fixed coefficients
 //! absorb whatever lies in their span), so the sum of squares is the full solve's up to
 //! round-off and rank-cut details; the fit at the chosen value is the full solve.
@@ -45,7 +46,7 @@ impl PositioningProblem {
         let (rise_a, _) = self.rise(effects, reference, &searched_a);
         let (rise_b, _) = self.rise(effects, reference, &searched_b);
         let known_changes = differ(&self.known(&rise_a), &self.known(&rise_b));
-        let mut fixed_columns = self.hats(&reference.knots);
+        let mut fixed_columns = Vec::new();
         let mut changing: Vec<PositioningEffect> = Vec::new();
         for &effect in effects {
             let a = self.columns_given(&[effect], reference, &searched_a, &rise_a);
@@ -61,8 +62,22 @@ impl PositioningProblem {
             let norm = values.iter().map(|v| v * v).sum::<Real>().sqrt();
             (norm > 0.0).then(|| values.iter().map(|v| v / norm).collect())
         };
+        // The profile's span depends on the training set only: taken once per fold.
+        let hat_span = || {
+            let hats = self.hats(&reference.knots);
+            let kept: Vec<Vec<Real>> = hats.iter().filter_map(|c| scaled(c)).collect();
+            (reference.knots.clone(), span(&kept, rows.len()))
+        };
+        let held = self.hat_spans.get(train, hat_span);
+        let fresh;
+        let hat_basis = if held.0 == reference.knots {
+            &held.1
+        } else {
+            fresh = hat_span().1;
+            &fresh
+        };
         let kept: Vec<Vec<Real>> = fixed_columns.iter().filter_map(|c| scaled(c)).collect();
-        let basis = span(&kept, rows.len());
+        let basis = extend(hat_basis.as_ref(), &kept, rows.len());
         let project = move |v: Vec<Real>| -> Vec<Real> {
             let mut v = DVector::from_vec(v);
             if let Some(u) = &basis {
@@ -121,6 +136,46 @@ impl PositioningProblem {
         };
         (sse, fixed_residual)
     }
+}
+
+/// An orthonormal basis (rows × r) of the span of `basis` (orthonormal) and `columns` (each
+/// of length `rows`, unit norm): each column off the basis and the columns before it by
+/// Gram–Schmidt (twice), kept when more than [`RANK_TOLERANCE`] of it is left, as a trial
+/// keeps its changing columns; `None` when nothing spans.
+fn extend(
+    basis: Option<&DMatrix<Real>>,
+    columns: &[Vec<Real>],
+    rows: usize,
+) -> Option<DMatrix<Real>> {
+    let mut added: Vec<Vec<Real>> = Vec::with_capacity(columns.len());
+    for column in columns {
+        let mut v = DVector::from_column_slice(column);
+        for _ in 0..2 {
+            if let Some(u) = basis {
+                let along = u.tr_mul(&v);
+                v.gemv(-1.0, u, &along, 1.0);
+            }
+            for q in &added {
+                subtract_along(v.as_mut_slice(), q);
+            }
+        }
+        let left = v.norm();
+        if left > RANK_TOLERANCE {
+            v /= left;
+            added.push(v.data.into());
+        }
+    }
+    let known = basis.map_or(0, |u| u.ncols());
+    if known + added.len() == 0 || rows == 0 {
+        return None;
+    }
+    Some(DMatrix::from_fn(rows, known + added.len(), |i, j| {
+        if j < known {
+            basis.expect("known columns")[(i, j)]
+        } else {
+            added[j - known][i]
+        }
+    }))
 }
 
 /// `v` less its component along the unit vector `q`.

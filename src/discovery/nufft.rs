@@ -2,6 +2,11 @@
 //! Greengard & Lee, SIAM Review 46 (2004) 443–454: the strengths spread on an oversampled
 //! regular grid with a Gaussian, a fast Fourier transform, then the Gaussian's transform
 //! divided out.
+//!
+//! Used where a periodogram is wanted at many equally spaced frequencies of a few hundred
+//! non-uniform positions: the ball-bar's cyclic and lobe searches and the positioning period
+//! search. Its error is below 1e-11 of Σ|a_j|: the ball-bar's equivalence tests and the
+//! positioning periodogram's test check it against the direct sums.
 
 use crate::math::Real;
 use rustfft::num_complex::Complex;
@@ -14,7 +19,7 @@ const SPREAD: usize = 14;
 
 /// The non-uniform discrete Fourier transform F(m) = Σ_j a_j·e^(i·m·u_j), m = 0 … M − 1, at
 /// fixed positions u_j in [−π, π), by Gaussian gridding.
-pub(super) struct Nufft {
+pub struct Nufft {
     modes: usize,
     /// The first grid point each position spreads to (2·[`SPREAD`] + 1 points on).
     first: Vec<usize>,
@@ -40,7 +45,7 @@ impl std::fmt::Debug for Nufft {
 
 impl Nufft {
     /// The transform at `positions` (rad, in [−π, π)) for `modes` modes.
-    pub(super) fn new(positions: &[Real], modes: usize) -> Nufft {
+    pub fn new(positions: &[Real], modes: usize) -> Nufft {
         let modes = modes.max(1);
         let grid = (2 * modes).next_power_of_two().max(64);
         let ratio = grid as Real / modes as Real;
@@ -85,7 +90,7 @@ impl Nufft {
     }
 
     /// F(m) for the strengths `(j, a_j)` (positions not given have none).
-    pub(super) fn transform(
+    pub fn transform(
         &self,
         strengths: impl Iterator<Item = (usize, Complex<Real>)>,
     ) -> Vec<Complex<Real>> {

@@ -1,0 +1,71 @@
+//! [`PerTraining`]: what a search computes once per training set (a fold's readings) and asks
+//! for many times, every model and every pass.
+
+use std::sync::{Arc, Mutex};
+
+/// Values made once per training set (a mask over the readings), when first asked for. A
+/// clone starts empty: what it holds is a pure function of the problem and the mask.
+pub(super) struct PerTraining<T>(Mutex<Vec<(Vec<bool>, Arc<T>)>>);
+
+impl<T> PerTraining<T> {
+    /// The value for the training set `train`, made by `make` if not yet held. Two threads
+    /// asking at once may both make it; they make the same thing, and the first kept is used.
+    pub(super) fn get(&self, train: &[bool], make: impl FnOnce() -> T) -> Arc<T> {
+        let held = |values: &[(Vec<bool>, Arc<T>)]| {
+            values
+                .iter()
+                .find(|(mask, _)| mask == train)
+                .map(|(_, v)| Arc::clone(v))
+        };
+        if let Some(v) = held(&self.0.lock().expect("not poisoned")) {
+            return v;
+        }
+        let made = Arc::new(make());
+        let mut values = self.0.lock().expect("not poisoned");
+        if let Some(v) = held(&values) {
+            return v;
+        }
+        values.push((train.to_vec(), Arc::clone(&made)));
+        made
+    }
+}
+
+impl<T> Default for PerTraining<T> {
+    fn default() -> PerTraining<T> {
+        PerTraining(Mutex::new(Vec::new()))
+    }
+}
+
+impl<T> Clone for PerTraining<T> {
+    fn clone(&self) -> PerTraining<T> {
+        PerTraining::default()
+    }
+}
+
+impl<T> std::fmt::Debug for PerTraining<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let held = self.0.lock().map_or(0, |v| v.len());
+        write!(f, "PerTraining({held} held)")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn a_value_is_made_once_per_mask_and_a_clone_starts_empty() {
+        let memo: PerTraining<usize> = PerTraining::default();
+        let made = AtomicUsize::new(0);
+        let make = |v: usize| {
+            made.fetch_add(1, Ordering::Relaxed);
+            v
+        };
+        assert_eq!(*memo.get(&[true, false], || make(1)), 1);
+        assert_eq!(*memo.get(&[true, false], || make(2)), 1);
+        assert_eq!(*memo.get(&[false, true], || make(3)), 3);
+        assert_eq!(made.load(Ordering::Relaxed), 2);
+        assert_eq!(*memo.clone().get(&[true, false], || make(4)), 4);
+    }
+}
