@@ -170,10 +170,11 @@ impl PositioningProblem {
                 }
                 PositioningEffect::Periodic => {
                     let w = TAU / searched.period.expect("searched first");
-                    let (sin, cos): (Vec<Real>, Vec<Real>) =
-                        self.x.iter().map(|&x| (w * x).sin_cos()).unzip();
-                    columns.push(sin);
-                    columns.push(cos);
+                    let (positions, index) = &self.positions;
+                    let at: Vec<(Real, Real)> =
+                        positions.iter().map(|&x| (w * x).sin_cos()).collect();
+                    columns.push(index.iter().map(|&k| at[k].0).collect());
+                    columns.push(index.iter().map(|&k| at[k].1).collect());
                 }
                 PositioningEffect::NonlinearScale => {
                     let xi = |i: usize| (self.x[i] - self.centre) / self.half_range;

@@ -43,6 +43,9 @@ pub struct PositioningProblem {
     pub(super) folds: Folds,
     pub(super) testable: Vec<PositioningEffect>,
     pub(super) untestable: Vec<(PositioningEffect, String)>,
+    /// The distinct positions (m, in order) and the index among them of every reading: the
+    /// cyclic term's sines are taken once per position.
+    pub(super) positions: (Vec<Real>, Vec<usize>),
     /// The period search's position-only sums, per training set.
     pub(super) spectra: PerTraining<Spectrum>,
     /// The span of the profile's columns on the training rows, with the knots it was taken
@@ -181,6 +184,7 @@ impl PositioningProblem {
         let mut problem = PositioningProblem {
             axis: table.axis,
             run_labels: table.runs.clone(),
+            positions: distinct(&x),
             x,
             y,
             s,
@@ -469,4 +473,33 @@ pub struct Extrapolation {
     pub below_degc: Real,
     /// How far its warmest reading lies above the training readings' warmest (°C, 0: not).
     pub above_degc: Real,
+}
+
+/// The distinct values of `x` in increasing order (−0 and +0 apart, as `total_cmp` orders
+/// them), and the index among them of every value.
+fn distinct(x: &[Real]) -> (Vec<Real>, Vec<usize>) {
+    let mut values = x.to_vec();
+    values.sort_by(Real::total_cmp);
+    values.dedup_by(|a, b| a.total_cmp(b).is_eq());
+    let index = x
+        .iter()
+        .map(|v| values.partition_point(|p| p.total_cmp(v).is_lt()))
+        .collect();
+    (values, index)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distinct_positions_index_every_reading() {
+        let x = [0.2, -0.0, 0.0, 0.1, 0.2, 0.1];
+        let (values, index) = distinct(&x);
+        assert_eq!(values.len(), 4);
+        for (v, &k) in x.iter().zip(&index) {
+            assert_eq!(values[k].to_bits(), v.to_bits());
+        }
+        assert_eq!(index, [3, 0, 1, 2, 3, 2]);
+    }
 }
