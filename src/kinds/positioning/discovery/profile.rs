@@ -9,10 +9,11 @@
 //! profile's (the same for every model on a fold, so kept per fold) as the left singular
 //! vectors of its columns (each scaled to unit norm) above the same relative rank cut the full
 //! solve uses, the fixed effects' added to it by Gram–Schmidt with that cut; a trial then
-//! projects only its changing columns and its target off that span and fits what is left. With P the projection off the fixed span,
-//! the least-squares residual of [F V]·c ≈ t is that of P·V·c ≈ P·t (the fixed coefficients
-//! absorb whatever lies in their span), so the sum of squares is the full solve's up to
-//! round-off and rank-cut details; the fit at the chosen value is the full solve.
+//! projects only its changing columns and its target off that span and fits what is left.
+//! With P the projection off the fixed span, the least-squares residual of [F V]·c ≈ t is that
+//! of P·V·c ≈ P·t (the fixed coefficients absorb whatever lies in their span), so the sum of
+//! squares is the full solve's up to round-off and rank-cut details; the fit at the chosen
+//! value is the full solve.
 
 use super::fit::Searched;
 use super::problem::Reference;
@@ -364,5 +365,20 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_column_the_span_holds_adds_nothing() {
+        // Basis e₁ of R³; columns e₁ (held), (e₁ + e₂)/√2 (adds e₂) and (e₁ − e₂)/√2 (held by
+        // e₁ and e₂ together): the extended basis is e₁, e₂, orthonormal.
+        let e1 = DMatrix::from_column_slice(3, 1, &[1.0, 0.0, 0.0]);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let columns = vec![vec![1.0, 0.0, 0.0], vec![h, h, 0.0], vec![h, -h, 0.0]];
+        let basis = extend(Some(&e1), &columns, 3).unwrap();
+        assert_eq!(basis.ncols(), 2);
+        let gram = basis.tr_mul(&basis);
+        assert!((gram - DMatrix::<Real>::identity(2, 2)).abs().max() < 1e-15);
+        assert!(basis[(2, 0)].abs() < 1e-15 && basis[(2, 1)].abs() < 1e-15);
+        assert!((basis[(1, 1)].abs() - 1.0).abs() < 1e-15);
     }
 }
