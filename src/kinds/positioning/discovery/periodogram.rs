@@ -13,6 +13,7 @@
 //! the direct sums, tested).
 
 use super::PositioningProblem;
+use super::problem::distinct;
 use crate::discovery::least_squares::RANK_TOLERANCE;
 use crate::discovery::nufft::Nufft;
 use crate::math::Real;
@@ -60,8 +61,6 @@ impl PositioningProblem {
 /// with its number of readings), the trial frequencies `f_low + step·k` (k < `count`), and per
 /// frequency the sums and the eigen-decomposition that depend on the positions only.
 pub(super) struct Spectrum {
-    /// The readings in order of position (then of index): the order residuals are summed in.
-    order: Vec<usize>,
     /// The distinct position (group) of every reading.
     group_of: Vec<usize>,
     /// Each group's position (m) and number of readings.
@@ -95,17 +94,10 @@ impl Spectrum {
     /// The spectrum of the positions `x` (one per reading; repeats make groups) at the
     /// frequencies `f_low + step·k`, k < `count` (1/m).
     pub(super) fn new(x: &[Real], f_low: Real, step: Real, count: usize) -> Spectrum {
-        let mut order: Vec<usize> = (0..x.len()).collect();
-        order.sort_by(|&a, &b| x[a].total_cmp(&x[b]).then(a.cmp(&b)));
-        let (mut positions, mut weights) = (Vec::new(), Vec::<Real>::new());
-        let mut group_of = vec![0; x.len()];
-        for &i in &order {
-            if positions.last() != Some(&x[i]) {
-                positions.push(x[i]);
-                weights.push(0.0);
-            }
-            *weights.last_mut().expect("a group") += 1.0;
-            group_of[i] = positions.len() - 1;
+        let (positions, group_of) = distinct(x);
+        let mut weights = vec![0.0; positions.len()];
+        for &g in &group_of {
+            weights[g] += 1.0;
         }
         let rotation = positions
             .iter()
@@ -130,7 +122,6 @@ impl Spectrum {
             .map(|m| phasor(TAU * m as Real * step * middle))
             .collect();
         let mut spectrum = Spectrum {
-            order,
             group_of,
             x: positions,
             count: weights,
@@ -219,8 +210,8 @@ impl Spectrum {
     /// The fraction of `r`'s sum of squares each trial frequency removes, in order.
     fn fractions(&self, r: &[Real]) -> Vec<Real> {
         let mut sum = vec![0.0; self.x.len()];
-        for &i in &self.order {
-            sum[self.group_of[i]] += r[i];
+        for (&g, r) in self.group_of.iter().zip(r) {
+            sum[g] += r;
         }
         let total: Real = r.iter().map(|v| v * v).sum();
         let r1: Real = sum.iter().sum();

@@ -476,8 +476,9 @@ pub struct Extrapolation {
 }
 
 /// The distinct values of `x` in increasing order (−0 and +0 apart, as `total_cmp` orders
-/// them), and the index among them of every value.
-fn distinct(x: &[Real]) -> (Vec<Real>, Vec<usize>) {
+/// them), and the index among them of every value: the readings' positions, for the cyclic
+/// term's sines and the periodogram's groups.
+pub(super) fn distinct(x: &[Real]) -> (Vec<Real>, Vec<usize>) {
     let mut values = x.to_vec();
     values.sort_by(Real::total_cmp);
     values.dedup_by(|a, b| a.total_cmp(b).is_eq());
