@@ -676,11 +676,29 @@ fn a_stand_in_does_not_stay_once_the_true_terms_explain_it() {
         "{}",
         found.to_text()
     );
+    // Lateral play cannot time a reversal (continuous there): no lag is given, and the
+    // report says why (before, the search's ends were printed: −199.75 and 194.8 ms).
     for effect in [BallbarEffect::LateralPlayP, BallbarEffect::LateralPlayQ] {
-        let play = found.final_params(effect).unwrap()["lateral_play_um"];
+        let params = found.final_params(effect).unwrap();
+        let play = params["lateral_play_um"];
         assert!((play + 1.0).abs() < 0.03, "{effect:?}: {play} µm");
+        assert!(!params.contains_key("reversal_lag_ms"), "{params:?}");
     }
     let json = found.to_json();
+    let notes: Vec<&str> = json["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    for key in ["reversal_lag_x_ms:", "reversal_lag_y_ms:"] {
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.starts_with(key) && n.contains("lateral play cannot")),
+            "{notes:?}"
+        );
+    }
     let alternatives: Vec<(&str, &str)> = json["alternatives"]
         .as_array()
         .unwrap()

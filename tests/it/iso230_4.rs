@@ -686,6 +686,43 @@ fn all_diagnostics_together_are_recovered_through_noise() {
 }
 
 #[test]
+fn lateral_play_alone_measures_the_play_and_does_not_time_the_reversal() {
+    // Lateral play's radial share σ·|sin θ|·l/2 is continuous where p reverses (sin θ = 0
+    // there; |cos θ| for q): moving the reversal by a 30 ms lag (0.2° at 1000 mm/min on a
+    // 150 mm bar) changes it by at most 2·0.0033·l/2 = 3 nm over 7 readings a reversal, far
+    // under the 0.1 µm noise. The play is measured; no lag is given for either axis (before,
+    // the lag followed the noise that an insignificant spike fitted: −136 ± 1.7 ms for q).
+    let machine = Machine {
+        lag: [30e-3, 30e-3],
+        play: [1.0 * UM, 1.0 * UM],
+        ..Machine::default()
+    };
+    for seed in 1..=3 {
+        let table = simulate(&machine, &full_circles(), 0.1 * UM, seed);
+        let e = evaluate(&table, &xy()).unwrap();
+        let d = e.diagnostics.as_ref().unwrap();
+        for (axis, term, letter) in [(0, Term::LateralPlayP, 'x'), (1, Term::LateralPlayQ, 'y')] {
+            let play = d.get(term).unwrap();
+            assert!(
+                (play.value - 1.0 * UM).abs() < 4.0 * play.u,
+                "seed {seed} {term:?}: {} ± {} µm",
+                play.value / UM,
+                play.u / UM
+            );
+            assert_eq!(d.reversal_lag[axis], None, "seed {seed}");
+            let key = format!("reversal_lag_{letter}_ms:");
+            assert!(
+                d.notes
+                    .iter()
+                    .any(|n| n.starts_with(&key) && n.contains("lateral play cannot")),
+                "seed {seed}: {:?}",
+                d.notes
+            );
+        }
+    }
+}
+
+#[test]
 fn partial_arcs_recover_what_is_identifiable_and_flag_the_rest() {
     // YZ: the upper half, θ from 0° to 180°, Y reversing at both ends (never crossed);
     // ZX: θ from 270° through 0° to 90°, X reversing at both ends.

@@ -62,7 +62,8 @@ Ball-bar diagnostics (keys use the plane's axis letters; p = first axis, q = sec
   backlash_p_um           p lags the command by half of it against its travel: steps at 0°/180°
   lateral_play_p_um       the p carriage shifts along q by −sgn(ṗ)·l/2 (toward −q while p travels +): σ·|sin θ|·l/2
   reversal_spike_p_um     peak after p reverses, + outward, with its decay (_decay_ms)
-  reversal_lag_p_ms       time from p's programmed reversal to its actual one (servo lag)
+  reversal_lag_p_ms       time from p's programmed reversal to its actual one (servo lag), when a
+                          significant backlash or spike of p places it (lateral play cannot)
   straightness_p_um       bow of p along q, peak-to-valley over the diameter, middle toward +q: S·sin³θ
   cyclic_p_um             periodic error of p along p, with cyclic_p_period_mm and _phase_deg
 Each comes with its standard uncertainty; what the data cannot separate is reported null

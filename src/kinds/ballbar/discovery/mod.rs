@@ -12,7 +12,9 @@
 //! three that no diagnostic covers: `lobes` (sin kθ, cos kθ, k ≥ 3 searched), `radius_drift`
 //! (the radius changing linearly with time) and `sense_radius` (a ccw − cw radius difference).
 //! Backlash, lateral play and spikes act where their axis actually reverses, its searched
-//! reversal lag after the programmed reversal (reported as `reversal_lag_ms`).
+//! reversal lag after the programmed reversal (reported as `reversal_lag_ms` when the model's
+//! backlash or spike of the axis places it inside the searched range; lateral play alone,
+//! continuous at the reversal, cannot, and the report's `notes` say so).
 //!
 //! **Held-out data.** The covered arc is cut into 8 contiguous angular sectors and a fold
 //! holds out one sector in both senses: neighbouring samples of a trace are correlated, so

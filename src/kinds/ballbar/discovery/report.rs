@@ -6,7 +6,9 @@ use super::problem::{BASE, BallbarProblem, SEARCH};
 use crate::discovery::engine::{
     self, ResidualStep, Score, Selection, params_json, round_json as round,
 };
-use crate::kinds::ballbar::iso230_4::{CircleData, CircularTest, ModelFit};
+use crate::kinds::ballbar::iso230_4::{
+    CircleData, CircularTest, LagLocation, ModelFit, Term, lag_key,
+};
 use crate::machine::Plane;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed};
 use serde_json::{Value, json};
@@ -78,11 +80,64 @@ fn params(
         }
     }
     // Reversal terms are located at the axis's actual reversal: its lag after the
-    // programmed one.
-    if let Some(axis) = term.reversal_axis() {
-        params.insert("reversal_lag_ms", fit.shape.lag[axis] * 1e3);
+    // programmed one, when the fit places it.
+    if let Some(axis) = term.reversal_axis()
+        && let LagLocation::Located { lag, .. } = locate_lag(fit, axis, data)
+    {
+        params.insert("reversal_lag_ms", lag * 1e3);
     }
     params
+}
+
+/// Where `fit` places `axis`'s reversal, by its backlash and spike ([`CircleData::locate_lag`],
+/// σ̂² from the fit's residuals).
+fn locate_lag(fit: &ModelFit, axis: usize, data: &CircleData) -> LagLocation {
+    let locating: Vec<Term> = fit
+        .terms
+        .iter()
+        .copied()
+        .filter(|t| t.reversal_axis() == Some(axis) && t.locates_reversal())
+        .collect();
+    let rss: Real = fit.residuals.iter().map(|r| r * r).sum();
+    let dof = fit
+        .residuals
+        .len()
+        .saturating_sub(fit.coefficients.len())
+        .max(1);
+    data.locate_lag(axis, fit, &locating, rss / dof as Real)
+}
+
+/// Why the final model reports no reversal lag for an axis whose reversal terms it holds.
+fn unlocated_lags(fit: &ModelFit, data: &CircleData) -> Vec<String> {
+    let plane = data.test.plane;
+    (0..2)
+        .filter(|&axis| fit.terms.iter().any(|t| t.reversal_axis() == Some(axis)))
+        .filter_map(|axis| {
+            let letter = if axis == 0 {
+                plane.first()
+            } else {
+                plane.second()
+            };
+            let name = lag_key(plane, axis);
+            match locate_lag(fit, axis, data) {
+                LagLocation::Located { .. } => None,
+                LagLocation::NotLocated { .. }
+                    if !fit.terms.iter().any(|t| {
+                        t.reversal_axis() == Some(axis) && t.locates_reversal()
+                    }) =>
+                {
+                    Some(format!(
+                        "{name}: no backlash or reversal spike of {letter} in the model to time its reversal by (lateral play cannot: it is continuous at the reversal): not reported"
+                    ))
+                }
+                LagLocation::NotLocated { from, to } => Some(format!(
+                    "{name}: the model fits as well (within σ̂²) for any lag from {:.1} to {:.1} ms, which reaches the end of the range searched: the trace does not place {letter}'s reversal, not reported",
+                    from * 1e3,
+                    to * 1e3
+                )),
+            }
+        })
+        .collect()
 }
 
 impl BallbarDiscovery {
@@ -224,6 +279,7 @@ impl BallbarDiscovery {
                 "effect": e.id(plane),
                 "reason": why,
             })).collect::<Vec<_>>(),
+            "notes": unlocated_lags(final_fit, data),
             "final": {
                 "model": self.model_name(self.selection.steps.len()),
                 "params": Value::Object(final_params),
@@ -348,6 +404,9 @@ impl BallbarDiscovery {
                 step.effect.id(plane),
                 engine::params_text(&params(final_fit, step.effect, data))
             );
+        }
+        for note in unlocated_lags(final_fit, data) {
+            let _ = writeln!(out, "  note: {note}");
         }
         out
     }

@@ -5,6 +5,7 @@
 use super::linalg::{gram, gram_pinv};
 use super::model::{spike, take_up_arc};
 use super::report::lag_key;
+use super::search::LagLocation;
 use super::{BasisPoint, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term};
 use crate::machine::Plane;
 use crate::math::{M_PER_UM, Real};
@@ -170,17 +171,25 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
         if members.is_empty() {
             continue;
         }
-        let significant = members.iter().any(|&t| {
-            let (value, u) = amplitude(t, &linear_covariance);
-            u > 0.0 && value.abs() >= data.significance(terms[t]) * u
-        });
-        if significant {
-            *lag = Some((
-                fit.shape.lag[axis],
-                data.lag_uncertainty(axis, &fit, variance),
-            ));
-        } else {
+        let locating: Vec<Term> = members
+            .iter()
+            .filter(|&&t| {
+                let (value, u) = amplitude(t, &linear_covariance);
+                terms[t].locates_reversal()
+                    && u > 0.0
+                    && value.abs() >= data.significance(terms[t]) * u
+            })
+            .map(|&t| terms[t])
+            .collect();
+        if locating.is_empty() {
             notes.push(unlocated_lag(plane, axis));
+            continue;
+        }
+        match data.locate_lag(axis, &fit, &locating, variance) {
+            LagLocation::Located { lag: value, u } => *lag = Some((value, u)),
+            LagLocation::NotLocated { from, to } => {
+                notes.push(not_located_lag(plane, axis, &locating, from, to, data));
+            }
         }
     }
     let full_covariance = covariance(&derivatives);
@@ -244,6 +253,7 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
     for (axis, lag) in reversal_lag.iter_mut().enumerate() {
         let located = estimates.iter().any(|(t, e)| {
             t.reversal_axis() == Some(axis)
+                && t.locates_reversal()
                 && e.u > 0.0
                 && e.value.abs() >= data.significance(*t) * e.u
         });
@@ -285,8 +295,35 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
 /// The note for an axis whose reversal lag is not reported.
 fn unlocated_lag(plane: Plane, axis: usize) -> String {
     format!(
-        "{}: no significant backlash, lateral play or spike of {} to time the reversal by: not reported",
+        "{}: no significant backlash or reversal spike of {} to time the reversal by (lateral play cannot: it is continuous at the reversal): not reported",
         lag_key(plane, axis),
+        if axis == 0 {
+            plane.first()
+        } else {
+            plane.second()
+        }
+    )
+}
+
+/// The note for an axis whose significant reversal terms do not place its reversal.
+fn not_located_lag(
+    plane: Plane,
+    axis: usize,
+    locating: &[Term],
+    from: Real,
+    to: Real,
+    data: &CircleData,
+) -> String {
+    let names: Vec<String> = locating.iter().map(|t| t.key(plane)).collect();
+    let (low, high) = data.ranges.lag;
+    format!(
+        "{}: {} fits as well (within σ̂²) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
+        lag_key(plane, axis),
+        names.join(" and "),
+        from * 1e3,
+        to * 1e3,
+        low * 1e3,
+        high * 1e3,
         if axis == 0 {
             plane.first()
         } else {

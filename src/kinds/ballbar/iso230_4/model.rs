@@ -106,6 +106,15 @@ impl Term {
         }
     }
 
+    /// Whether the term can place its axis's reversal: backlash steps there (or starts taking
+    /// up its play), a spike starts there. Lateral play cannot: its radial share σ·|sin θ|·l/2
+    /// (p; |cos θ| for q) is continuous at the axis's reversal, where sin θ (cos θ) is zero,
+    /// so moving the reversal changes it only in second order, by less than the noise of any
+    /// real trace, and a lag fitted to it follows the noise.
+    pub fn locates_reversal(self) -> bool {
+        self.reversal_axis().is_some() && !matches!(self, Term::LateralPlayP | Term::LateralPlayQ)
+    }
+
     /// Whether the term changes sign with the sense (needs both senses).
     pub fn sense_dependent(self) -> bool {
         matches!(

@@ -8,8 +8,8 @@ use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed};
 use serde_json::{Value, json};
 use std::fmt::Write;
 
-/// The report key of `axis`'s reversal lag (`reversal_lag_x_ms`).
-pub(super) fn lag_key(plane: Plane, axis: usize) -> String {
+/// The report key of `axis`'s reversal lag (`reversal_lag_x_ms`): 0 is p, 1 is q.
+pub fn lag_key(plane: Plane, axis: usize) -> String {
     let letter = if axis == 0 {
         plane.first()
     } else {

@@ -384,26 +384,92 @@ impl Fitter<'_> {
     }
 }
 
+/// What a trace says of an axis's reversal lag ([`CircleData::locate_lag`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LagLocation {
+    /// The fitted lag (s) and its standard uncertainty: half the width of the profile-likelihood
+    /// interval where the residual sum of squares stays within σ̂² of its value at the lag
+    /// (Δχ² = 1). For a step sampled every Δt it is at least about Δt/2: the data cannot place
+    /// the step better.
+    Located {
+        /// The fitted lag (s).
+        lag: Real,
+        /// Its standard uncertainty (s).
+        u: Real,
+    },
+    /// The residual sum of squares stays within σ̂² of its value at the fitted lag from `from`
+    /// to `to` (s), and that interval reaches an end of the searched range: the trace does not
+    /// place the reversal, and the fitted lag is not a measurement. Lateral play alone does
+    /// this: its column σ·|sin θ| is continuous at the axis's reversal, so moving the reversal
+    /// by δ changes it by at most about 2·(v·δ/R)·l/2 over an arc of v·δ (a few nanometres for
+    /// 30 ms at 1000 mm/min on a 150 mm bar).
+    NotLocated {
+        /// The interval's start (s).
+        from: Real,
+        /// The interval's end (s).
+        to: Real,
+    },
+}
+
 impl CircleData {
-    /// The standard uncertainty of `axis`'s reversal lag in `fit` (s): half the width of the
-    /// profile-likelihood interval where the residual sum of squares stays within `variance`
-    /// (σ̂²) of its minimum (Δχ² = 1), each side found by bisection. For a step sampled every
-    /// Δt it is at least about Δt/2: the data cannot place the step better.
-    pub(super) fn lag_uncertainty(&self, axis: usize, fit: &ModelFit, variance: Real) -> Real {
+    /// Where `axis`'s reversal is, as the fit `fit` places it, located by its reversal terms
+    /// `locating` (the axis's others left out of the model: a term that is not significant
+    /// fits noise wherever the lag puts it, and must not lend the lag a precision it does not
+    /// have). The profile of the residual sum of squares over the lag, the other terms' columns
+    /// refitted at each lag, is searched on each side of the fitted lag for where it rises by
+    /// `variance` (σ̂²): [`LagLocation::Located`] when it does so inside the searched range on
+    /// both sides, [`LagLocation::NotLocated`] when it does not.
+    pub fn locate_lag(
+        &self,
+        axis: usize,
+        fit: &ModelFit,
+        locating: &[Term],
+        variance: Real,
+    ) -> LagLocation {
         let blocks = Blocks::training(self, &vec![true; self.len()]);
         let fitter = Fitter::new(self, &blocks, vec![true, false]);
-        let (moving, fixed): (Vec<Term>, Vec<Term>) = fit
+        let fixed: Vec<Term> = fit
             .terms
             .iter()
             .copied()
-            .partition(|t| t.reversal_axis() == Some(axis));
+            .filter(|t| t.reversal_axis() != Some(axis))
+            .collect();
+        let moving: Vec<Term> = locating
+            .iter()
+            .copied()
+            .filter(|t| t.reversal_axis() == Some(axis) && fit.terms.contains(t))
+            .collect();
+        let (low, high) = self.ranges.lag;
+        if moving.is_empty() {
+            return LagLocation::NotLocated {
+                from: low,
+                to: high,
+            };
+        }
         let columns = fitter.columns(&fixed, &fit.shape);
         let profile = LagProfile::new(&fitter, axis, &moving, &columns, &fit.shape);
-        let best = fit.shape.lag[axis];
+        // The fitted lag is this profile's minimum when every reversal term of the axis
+        // locates it; otherwise the lag is searched again without the others.
+        let every = fit
+            .terms
+            .iter()
+            .filter(|t| t.reversal_axis() == Some(axis))
+            .all(|t| moving.contains(t));
+        let best = if every {
+            fit.shape.lag[axis]
+        } else {
+            fitter.search_lag(&profile)
+        };
         let target = profile.rss(best) + variance;
-        let (low, high) = self.ranges.lag;
         let (from, to) = interval(|g| profile.rss(g), best, target, low, high);
-        (to - from) / 2.0
+        if from <= low || to >= high {
+            LagLocation::NotLocated { from, to }
+        } else {
+            LagLocation::Located {
+                lag: best,
+                u: (to - from) / 2.0,
+            }
+        }
     }
 
     /// How many standard uncertainties a searched amplitude must reach to be significant: the
