@@ -717,3 +717,34 @@ fn a_stand_in_does_not_stay_once_the_true_terms_explain_it() {
         );
     }
 }
+
+#[test]
+fn a_spike_slower_than_any_searched_stays_in_the_model_without_values() {
+    // A 3 µm spike of X decaying over 500 ms, beyond the 200 ms the decay search reaches: the
+    // effect explains much of the trace and is accepted, but its height and decay, at the end
+    // of the range, are not measurements (analyze printed 200.00 ± 1.72 ms, 3.58 ± 0.02 µm).
+    let hidden = Hidden {
+        spike: [(3.0 * UM, 0.5), (0.0, 0.0)],
+        ..Hidden::default()
+    };
+    let found = discover_ballbar(&simulate(&hidden, 1), &xy(), |_| {}).unwrap();
+    assert!(
+        found.accepted().contains(&BallbarEffect::ReversalSpikeP),
+        "{}",
+        found.to_text()
+    );
+    let params = found.final_params(BallbarEffect::ReversalSpikeP).unwrap();
+    assert!(
+        !params.contains_key("amplitude_um") && !params.contains_key("decay_ms"),
+        "{params:?}"
+    );
+    let json = found.to_json();
+    assert!(
+        json["notes"].as_array().unwrap().iter().any(|n| n
+            .as_str()
+            .unwrap()
+            .starts_with("reversal_spike_x: its decay reaches the longest searched")),
+        "{}",
+        json["notes"]
+    );
+}

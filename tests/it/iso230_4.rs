@@ -574,10 +574,27 @@ fn each_diagnostic_alone_is_recovered_with_small_cross_talk() {
         let table = simulate(&machine, &full_circles(), 0.0, 0);
         let e = evaluate(&table, &xy()).unwrap();
         let d = e.diagnostics.as_ref().unwrap();
-        assert!(d.unidentifiable.is_empty(), "{:?}", d.unidentifiable);
+        // Noise-free, any searched term is significant; one that fits the rounding at the end
+        // of its searched range is withdrawn (no number, so no cross-talk).
+        let withdrawn = |t: Term| {
+            d.unidentifiable
+                .iter()
+                .any(|(w, why)| *w == t && why.contains("searched"))
+        };
+        assert!(
+            d.unidentifiable
+                .iter()
+                .all(|(t, _)| *t != term && withdrawn(*t)),
+            "{:?}",
+            d.unidentifiable
+        );
         print!("{:>16}", short(term));
         for t in terms {
-            let v = value(&e, t).unwrap();
+            let v = if withdrawn(t) {
+                0.0
+            } else {
+                value(&e, t).unwrap()
+            };
             print!("{:>12.4}", v * gain(t) / UM);
             if t == term {
                 assert!(
@@ -718,6 +735,59 @@ fn lateral_play_alone_measures_the_play_and_does_not_time_the_reversal() {
                 "seed {seed}: {:?}",
                 d.notes
             );
+        }
+    }
+}
+
+#[test]
+fn a_spike_outside_the_searched_decays_is_withdrawn_with_the_reason() {
+    // At 250 Hz the decays searched run from two sampling intervals (8 ms) to 200 ms. A 2 ms
+    // spike of 3 µm is seen by one reading at most (e^(−2) of it 4 ms on): the fit had put its
+    // decay at 8.00 ± 0.91 ms and its height at 1.06 µm. A 500 ms one, longer than any the
+    // fit can take: 200.00 ± 1.72 ms and 3.58 ± 0.02 µm. Neither is a measurement. The spike
+    // the other tests inject (5 µm, 20 ms), inside the range, keeps its values within their
+    // tolerances (the control).
+    for (spike, end) in [
+        ((3.0 * UM, 2e-3), Some("shortest")),
+        ((3.0 * UM, 0.5), Some("longest")),
+        (SPIKE_P, None),
+    ] {
+        let machine = Machine {
+            spike: [spike, (0.0, 1.0)],
+            ..Machine::default()
+        };
+        for seed in 1..=2 {
+            let table = simulate(&machine, &full_circles(), 0.1 * UM, seed);
+            let e = evaluate(&table, &xy()).unwrap();
+            let d = e.diagnostics.as_ref().unwrap();
+            let withdrawn = d
+                .unidentifiable
+                .iter()
+                .find(|(t, _)| *t == Term::ReversalSpikeP);
+            match end {
+                Some(end) => {
+                    assert!(
+                        d.get(Term::ReversalSpikeP).is_none(),
+                        "{spike:?}, seed {seed}: {:?}",
+                        d.get(Term::ReversalSpikeP)
+                    );
+                    let (_, reason) = withdrawn.unwrap();
+                    assert!(reason.contains(end), "{reason}");
+                }
+                None => {
+                    assert!(withdrawn.is_none(), "seed {seed}: {withdrawn:?}");
+                    let estimate = d.get(Term::ReversalSpikeP).unwrap();
+                    let (decay, _) = estimate.shape.unwrap();
+                    assert!(
+                        (decay / SPIKE_P.1 - 1.0).abs() < 0.1
+                            && (estimate.value - SPIKE_P.0).abs()
+                                <= tolerance(Term::ReversalSpikeP, SPIKE_P.0),
+                        "seed {seed}: {} µm, {} ms",
+                        estimate.value / UM,
+                        decay * 1e3
+                    );
+                }
+            }
         }
     }
 }

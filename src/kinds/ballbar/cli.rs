@@ -66,8 +66,8 @@ Ball-bar diagnostics (keys use the plane's axis letters; p = first axis, q = sec
                           significant backlash or spike of p places it (lateral play cannot)
   straightness_p_um       bow of p along q, peak-to-valley over the diameter, middle toward +q: S·sin³θ
   cyclic_p_um             periodic error of p along p, with cyclic_p_period_mm and _phase_deg
-Each comes with its standard uncertainty; what the data cannot separate is reported null
-with the reason.";
+Each comes with its standard uncertainty; what the data cannot separate, and a decay or
+period at an end of the range searched, is reported null with the reason.";
 
 /// The table, and the conditions of the circular test where its preamble lacks them.
 #[derive(Args)]

@@ -37,6 +37,8 @@ fn params(
         effect,
         BallbarEffect::ReversalSpikeQ | BallbarEffect::CyclicQ
     ));
+    // A shape at an end of its range measures nothing (the report's notes say why).
+    let measured = data.shape_at_range_end(term, &fit.shape).is_none();
     match effect {
         BallbarEffect::ServoMismatch => {
             params.insert("servo_mismatch_ms", c[0] * 1e3);
@@ -53,14 +55,14 @@ fn params(
         BallbarEffect::LateralPlayP | BallbarEffect::LateralPlayQ => {
             params.insert("lateral_play_um", um(c[0]));
         }
-        BallbarEffect::ReversalSpikeP | BallbarEffect::ReversalSpikeQ => {
+        BallbarEffect::ReversalSpikeP | BallbarEffect::ReversalSpikeQ if measured => {
             params.insert("amplitude_um", um(c[0]));
             params.insert("decay_ms", fit.shape.decay[which] * 1e3);
         }
         BallbarEffect::StraightnessP | BallbarEffect::StraightnessQ => {
             params.insert("straightness_um", um(c[0]));
         }
-        BallbarEffect::CyclicP | BallbarEffect::CyclicQ => {
+        BallbarEffect::CyclicP | BallbarEffect::CyclicQ if measured => {
             params.insert("amplitude_um", um(c[0].hypot(c[1])));
             params.insert("period_mm", fit.shape.period[which] / M_PER_MM);
             params.insert("phase_deg", c[1].atan2(c[0]) / RAD_PER_DEG);
@@ -78,6 +80,7 @@ fn params(
         BallbarEffect::SenseRadius => {
             params.insert("ccw_minus_cw_um", um(c[0]));
         }
+        _ => {}
     }
     // Reversal terms are located at the axis's actual reversal: its lag after the
     // programmed one, when the fit places it.
@@ -107,10 +110,20 @@ fn locate_lag(fit: &ModelFit, axis: usize, data: &CircleData) -> LagLocation {
     data.locate_lag(axis, fit, &locating, rss / dof as Real)
 }
 
-/// Why the final model reports no reversal lag for an axis whose reversal terms it holds.
-fn unlocated_lags(fit: &ModelFit, data: &CircleData) -> Vec<String> {
+/// What the final model's parameters leave out, and why: a searched shape at an end of its
+/// range (the effect's values), a reversal lag the model does not place.
+fn notes(fit: &ModelFit, data: &CircleData) -> Vec<String> {
     let plane = data.test.plane;
-    (0..2)
+    let ends = BallbarEffect::ALL.iter().filter_map(|&effect| {
+        let term = effect.term();
+        fit.terms.contains(&term).then_some(())?;
+        let reason = data.shape_at_range_end(term, &fit.shape)?;
+        Some(format!(
+            "{}: {reason}: its values are not reported",
+            effect.id(plane)
+        ))
+    });
+    let lags = (0..2)
         .filter(|&axis| fit.terms.iter().any(|t| t.reversal_axis() == Some(axis)))
         .filter_map(|axis| {
             let letter = if axis == 0 {
@@ -136,8 +149,8 @@ fn unlocated_lags(fit: &ModelFit, data: &CircleData) -> Vec<String> {
                     to * 1e3
                 )),
             }
-        })
-        .collect()
+        });
+    ends.chain(lags).collect()
 }
 
 impl BallbarDiscovery {
@@ -279,7 +292,7 @@ impl BallbarDiscovery {
                 "effect": e.id(plane),
                 "reason": why,
             })).collect::<Vec<_>>(),
-            "notes": unlocated_lags(final_fit, data),
+            "notes": notes(final_fit, data),
             "final": {
                 "model": self.model_name(self.selection.steps.len()),
                 "params": Value::Object(final_params),
@@ -405,7 +418,7 @@ impl BallbarDiscovery {
                 engine::params_text(&params(final_fit, step.effect, data))
             );
         }
-        for note in unlocated_lags(final_fit, data) {
+        for note in notes(final_fit, data) {
             let _ = writeln!(out, "  note: {note}");
         }
         out

@@ -262,6 +262,20 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
             notes.push(unlocated_lag(plane, axis));
         }
     }
+    // A significant searched term whose shape lies at an end of its range measures nothing:
+    // its value and shape are withdrawn, with the reason.
+    estimates.retain(|(term, estimate)| {
+        match estimate
+            .shape
+            .and_then(|_| data.shape_at_range_end(*term, &fit.shape))
+        {
+            Some(reason) => {
+                unidentifiable.push((*term, reason));
+                false
+            }
+            None => true,
+        }
+    });
     // Backlash drawn as real play: say so, with the arc the carriage stood still over.
     for (axis, term) in [(0, Term::BacklashP), (1, Term::BacklashQ)] {
         let gap = fit.shape.play[axis];
@@ -317,9 +331,10 @@ fn not_located_lag(
     let names: Vec<String> = locating.iter().map(|t| t.key(plane)).collect();
     let (low, high) = data.ranges.lag;
     format!(
-        "{}: {} fits as well (within σ̂²) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
+        "{}: {} fit{} as well (within σ̂²) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
         lag_key(plane, axis),
         names.join(" and "),
+        if names.len() == 1 { "s" } else { "" },
         from * 1e3,
         to * 1e3,
         low * 1e3,

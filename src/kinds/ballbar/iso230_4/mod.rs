@@ -97,7 +97,12 @@
 //! period is the best of the M periods searched (4 per 1/(2R) in frequency): noise alone
 //! passes 2u at one of them nearly always, so the threshold is √(2·ln(M/0.05)) u (4.5 u for
 //! R = 150 mm, M = 1185), which the largest of M noise amplitudes exceeds at most 5 % of the
-//! time; below it the period is null ([`CircleData::significance`]).
+//! time; below it the period is null ([`CircleData::significance`]). A significant spike or
+//! cyclic term whose decay or period the search ends at an end of its range (the residual
+//! still falling toward it: a spike shorter than the sampling resolves or longer than 200 ms,
+//! a wavelength beyond R/2 or under 4 sample spacings) is listed as not identifiable, with the
+//! reason, rather than reported: its height is that of the wrong shape
+//! ([`CircleData::shape_at_range_end`]).
 //!
 //! **Uncertainties** are standard uncertainties σ̂·√((JᵀJ)⁻¹)ⱼⱼ, σ̂² = RSS/(n − k), J the fit's
 //! columns plus the derivatives in the decays and periods of significant terms. They assume

@@ -472,6 +472,52 @@ impl CircleData {
         }
     }
 
+    /// Why `term`'s searched shape in `shape` is not a measurement, when it lies at an end of
+    /// its searched range (within 0.1 % of a decay, in logarithm, or of a grid step of the
+    /// frequency: the searches end within 3e-5 and 2e-4 of a bound their minimum runs into):
+    /// the residual still falls toward the end, so the trace's feature lies beyond what the
+    /// term can take, and its height is that of the wrong shape. `None` for the other terms
+    /// and for shapes inside their ranges.
+    pub fn shape_at_range_end(&self, term: Term, shape: &Shape) -> Option<String> {
+        match term {
+            Term::ReversalSpikeP | Term::ReversalSpikeQ => {
+                let decay = shape.decay[usize::from(term == Term::ReversalSpikeQ)];
+                let (shortest, longest) = self.ranges.decay;
+                if (decay / longest).ln().abs() < 1e-3 {
+                    Some(format!(
+                        "its decay reaches the longest searched ({:.1} ms): the trace's feature decays more slowly than a reversal spike the fit can follow, so neither its height nor its decay is measured",
+                        longest * 1e3
+                    ))
+                } else if (decay / shortest).ln().abs() < 1e-3 {
+                    Some(format!(
+                        "its decay reaches the shortest searched ({:.1} ms, two sampling intervals): the spike dies out faster than the trace is sampled, so its height at the reversal cannot be read",
+                        shortest * 1e3
+                    ))
+                } else {
+                    None
+                }
+            }
+            Term::CyclicP | Term::CyclicQ => {
+                let frequency = 1.0 / shape.period[usize::from(term == Term::CyclicQ)];
+                let grid = self.frequency_grid();
+                if (frequency - grid.low).abs() < 1e-3 * grid.step {
+                    Some(format!(
+                        "its period reaches the longest searched ({:.1} mm, half the radius): the trace's feature is of longer wavelength than a cyclic error the fit can take, so neither its amplitude nor its period is measured",
+                        1e3 / grid.low
+                    ))
+                } else if (frequency - grid.high).abs() < 1e-3 * grid.step {
+                    Some(format!(
+                        "its period reaches the shortest searched ({:.2} mm, four sample spacings): shorter than the trace resolves (it may be aliased), so neither its amplitude nor its period is measured",
+                        1e3 / grid.high
+                    ))
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        }
+    }
+
     /// How many standard uncertainties a searched amplitude must reach to be significant: the
     /// level √(2·ln(M/0.05)) that noise alone exceeds at any of the M shapes the search tests
     /// with probability at most 5 % (Bonferroni; for a cyclic term A/u is Rayleigh-distributed,
