@@ -342,6 +342,7 @@ fn a_heat_source_the_sensor_misses_is_found_with_its_time_constant() {
             );
             let b = param(d, PositioningEffect::SecondHeatSource, "expansion_um_per_m");
             within(b, 12.0, 1.8, "expansion");
+            assert!(d.range_end_notes().is_empty(), "{:?}", d.range_end_notes());
         },
     );
 }
@@ -767,3 +768,33 @@ fn old_rule_accepts(before_um: &[f64], after_um: &[f64]) -> bool {
 }
 
 mod runs_and_folds;
+
+#[test]
+fn a_heat_source_slower_than_the_file_is_not_given_a_time_constant() {
+    // 200 µm/m growing with a 3000 min time constant, in a file of about 3.5 h: the file shows
+    // the start of the response, 200·t/τ, and no end. The search runs into its longest time
+    // constant (twice the span, 419 min) and the fit scales the expansion to match the rate
+    // (34.7 µm/m): neither is a measurement, and the report must say so.
+    let tau = 3000.0 * 60.0;
+    for seed in 1..=2 {
+        let d = discover(
+            &Plan::iso(6, seed)
+                .table(move |a| 200.0 * a.x_mm * 1e-3 * (1.0 - (-a.t_s / tau).exp())),
+        );
+        assert_eq!(
+            d.accepted().first(),
+            Some(&PositioningEffect::SecondHeatSource),
+            "{}",
+            d.to_text()
+        );
+        let notes = d.range_end_notes();
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.starts_with("second_heat_source: tau_min")
+                    && n.contains("end of the range searched")),
+            "seed {seed}: {notes:?}"
+        );
+        assert!(d.to_text().contains("Note: second_heat_source: tau_min"));
+    }
+}

@@ -222,6 +222,36 @@ impl PositioningDiscovery {
         })
     }
 
+    /// The final model's time constants that lie at an end of their searched range, each
+    /// with why it is not a measurement.
+    pub fn range_end_notes(&self) -> Vec<String> {
+        let fit = self.selection.last().1;
+        let all = vec![true; self.problem.x.len()];
+        [
+            (PositioningEffect::ThermalLag, fit.searched.lag_tau, 0.0),
+            (PositioningEffect::SensorLag, fit.searched.sensor_tau, 0.0),
+            (
+                PositioningEffect::SecondHeatSource,
+                fit.searched.heat_tau,
+                fit.searched
+                    .heat_tau
+                    .map_or(0.0, |_| self.problem.shortest_heating_tau(&all)),
+            ),
+        ]
+        .into_iter()
+        .filter(|(effect, _, _)| fit.effects.contains(effect))
+        .filter_map(|(effect, tau, shortest)| {
+            let tau = tau?;
+            let why = self.problem.tau_at_range_end(tau, shortest)?;
+            Some(format!(
+                "{}: tau_min = {:.1} {why}",
+                effect.id(),
+                tau / 60.0
+            ))
+        })
+        .collect()
+    }
+
     fn baseline_params(&self, fit: &PositioningFit) -> Value {
         let mut params = serde_json::Map::new();
         if self.problem.temperature.is_some() {
@@ -288,7 +318,11 @@ impl PositioningDiscovery {
             "rejected": engine::rejected_json(&self.selection.rejected, |e| e.id().into()),
             "held_back": self.selection.held_back_json(|e| e.id().into()),
             "alternatives": self.selection.alternatives_json(|e| e.id().into()),
-            "notes": self.smoothing_note().into_iter().collect::<Vec<_>>(),
+            "notes": self
+                .smoothing_note()
+                .into_iter()
+                .chain(self.range_end_notes())
+                .collect::<Vec<_>>(),
             "excluded": self.excluded().iter().map(|(e, why)| json!({
                 "effect": e.id(),
                 "reason": why,
@@ -475,7 +509,11 @@ impl PositioningDiscovery {
                 ));
             }
         }
-        if let Some(note) = self.smoothing_note() {
+        for note in self
+            .smoothing_note()
+            .into_iter()
+            .chain(self.range_end_notes())
+        {
             out.push_str(&format!("  Note: {note}.\n"));
         }
         out

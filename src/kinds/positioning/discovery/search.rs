@@ -40,11 +40,33 @@ impl PositioningProblem {
         (first_trained - start) / 3.0
     }
 
+    /// The range (s) a time constant is searched over: from `shortest` (at least 1 min) to
+    /// twice the file's span.
+    pub(super) fn tau_range(&self, shortest: Real) -> (Real, Real) {
+        let high = (2.0 * self.time_span()).max(120.0);
+        (shortest.clamp(60.0, 0.5 * high), high)
+    }
+
+    /// Why the time constant `tau` (s), searched from `shortest` ([`Self::search_tau`]), is not
+    /// a measurement, when it lies at an end of its range (within 0.1 % in logarithm; the
+    /// search ends within 2e-4 of a bound its minimum runs into): the residual still falls
+    /// toward the end, so the file holds no time constant the search can take.
+    pub(super) fn tau_at_range_end(&self, tau: Real, shortest: Real) -> Option<String> {
+        let (low, high) = self.tau_range(shortest);
+        if (tau / high).ln().abs() < 1e-3 {
+            Some("is the end of the range searched (twice the file's span): the file shows no end to the response, so the time constant is not measured (it is at least this long), nor the size of what it scales; these are the model's values, which --write-model writes".to_string())
+        } else if (tau / low).ln().abs() < 1e-3 {
+            Some("is the shortest searched: the response is faster than the file resolves, so the time constant is not measured (it is at most this long); these are the model's values, which --write-model writes".to_string())
+        } else {
+            None
+        }
+    }
+
     /// Searches a time constant (s) on a log grid from `shortest` (at least 1 min) to twice the
     /// file's span, then refines by golden section between the best point's neighbours.
     pub(super) fn search_tau(&self, shortest: Real, sse: impl Fn(Real) -> Real) -> Real {
-        let high = (2.0 * self.time_span()).max(120.0);
-        let (low, high) = (shortest.clamp(60.0, 0.5 * high).ln(), high.ln());
+        let (low, high) = self.tau_range(shortest);
+        let (low, high) = (low.ln(), high.ln());
         let grid: Vec<Real> = (0..TAU_GRID)
             .map(|k| low + (high - low) * k as Real / (TAU_GRID - 1) as Real)
             .collect();
