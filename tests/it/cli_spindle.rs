@@ -754,3 +754,93 @@ fn malformed_tables_are_refused_with_file_and_line_and_nothing_on_stdout() {
 // independent model.
 
 mod foreign_and_discovery;
+
+#[test]
+fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
+    // Three probes 120° apart see only the multiples of 3 (tests/it/spindle_chain: every
+    // k ≢ 0 mod 3 from 2 up is blind). The bundled multi-probe record's motion along X has
+    // 2, 3 and 4 UPR (0.10, 0.04, 0.02 µm) and its sphere 2, 3 and 7 UPR (20, 35, 12 nm):
+    // with 120° probes the motion's LSC value was printed from 3 UPR alone as if it were the
+    // motion's. Now both values are null with the reason, and what the seen harmonics give is
+    // labelled so: 2 × 0.04 = 0.08 µm of motion and 2 × 35 nm = 0.07 µm of form, noise-free.
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = std::fs::read_to_string(root().join("scenarios/vmc3_spindle_multiprobe.toml"))
+        .unwrap()
+        .replace(
+            "machine = \"../models/",
+            &format!("machine = \"{}/models/", root().display()),
+        )
+        .replace("revolutions = 20", "revolutions = 2")
+        .replace("noise_nm = 1.0", "noise_nm = 0.0")
+        .replace("resolution_nm = 0.1", "resolution_nm = 0.0")
+        .replace("azimuth_deg = 57.29577951308232", "azimuth_deg = 120.0")
+        .replace("azimuth_deg = 180.0", "azimuth_deg = 240.0");
+    // Drop the fourth probe (the last block).
+    let scenario = &scenario[..scenario.rfind("[[spindle.probe]]").unwrap()];
+    let path = dir.path().join("three_probes.toml");
+    std::fs::write(&path, scenario).unwrap();
+    let out = dir.path().join("out");
+    let output = mtwin(&[
+        "run".as_ref(),
+        path.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let json = analyze_json(&out.join("spindle.csv"), &[]);
+    let separation = array(&json["separations"])
+        .iter()
+        .find(|s| s["method"] == "multi-probe")
+        .expect("a multi-probe separation");
+    assert_eq!(separation["probes"], serde_json::json!(["p1", "p2", "p3"]));
+    assert!(
+        separation["motion_synchronous_um"].is_null(),
+        "{separation}"
+    );
+    assert!(separation["form_range_um"].is_null(), "{separation}");
+    let why = separation["not_determined"].as_str().unwrap();
+    assert!(why.contains("cannot see harmonics 2, 4, 5, 7"), "{why}");
+    // The probes read the motion's 2 and 4 UPR and the form's 2 and 7 UPR there, nothing else.
+    assert_eq!(
+        separation["unknown"],
+        serde_json::json!([2, 4, 7]),
+        "{separation}"
+    );
+    let motion = number(&separation["motion_synchronous_seen_um"]);
+    let form = number(&separation["form_range_seen_um"]);
+    assert!((motion - 0.08).abs() < 2e-4, "motion seen {motion}");
+    assert!((form - 0.07).abs() < 2e-4, "form seen {form}");
+    let printed = text(&analyze(&out.join("spindle.csv"), &[]).stdout);
+    assert!(
+        printed.contains("artefact form and separated synchronous motion not determined"),
+        "{printed}"
+    );
+
+    // The control: a fourth probe at 217.7° leaves only 500 and 502 UPR blind, where the
+    // probes read nothing: the values are given.
+    let four = format!(
+        "{scenario}[[spindle.probe]]\nname = \"p4\"\nkind = \"radial\"\nazimuth_deg = 217.72395214971282\n"
+    );
+    std::fs::write(&path, four).unwrap();
+    let out = dir.path().join("out4");
+    let output = mtwin(&[
+        "run".as_ref(),
+        path.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let json = analyze_json(&out.join("spindle.csv"), &[]);
+    let separation = array(&json["separations"])
+        .iter()
+        .find(|s| s["method"] == "multi-probe")
+        .unwrap();
+    assert_eq!(
+        separation["blind"],
+        serde_json::json!([500, 502]),
+        "{separation}"
+    );
+    assert_eq!(separation["unknown"], serde_json::json!([]), "{separation}");
+    assert!(separation["not_determined"].is_null(), "{separation}");
+    assert!(number(&separation["motion_synchronous_um"]) > 0.0);
+}

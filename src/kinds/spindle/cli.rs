@@ -5,7 +5,7 @@ use super::analysis::motion::{Direction, ErrorMotionValues, decompose};
 use super::analysis::polar::Centre;
 use super::discovery::bearing::Bearing;
 use super::discovery::{DEFAULT_BASE_HARMONICS, Options as DiscoveryOptions, discover_spindle};
-use super::evaluate::{Evaluation, Options, Test, compact_list, evaluate};
+use super::evaluate::{Evaluation, Options, Separated, Test, compact_list, evaluate};
 use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
 use super::record::Sensing;
 use super::table::{self, SpindleTable};
@@ -176,7 +176,10 @@ JSON keys (--json):
   speeds[]: test, unit, points[]: speed_rpm, synchronous, asynchronous (preferred centre)
   separations[]: method (reversal|multi-probe), probes[], speed_rpm, form_range_um,
     form_um[] (outward, on ψ = 360°·m/M), motion_synchronous_um (LSC value of the separated
-    motion along the first probe), blind[] (harmonics the layout cannot see)
+    motion along X, azimuth 0°), blind[] (harmonics the layout cannot see), unknown[] (those
+    of them where a probe reads more than its noise); with any unknown harmonic the two values
+    are null, not_determined says why, and form_range_seen_um and motion_synchronous_seen_um
+    give them over the harmonics seen
   notes[]
   cautions[]: what the record says against its units and labels (a total over 100 µm: nm in
     the µm columns; every one under 5 nm: mm in them; a probe stuck or spiking; two probes on
@@ -371,14 +374,23 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
         .separations
         .iter()
         .map(|s| {
+            // A layout blind to some harmonics knows neither the form nor the motion there:
+            // their values are not determined, and what the seen harmonics give is labelled so.
+            let form = round(spread(s.form.iter().copied()) * 1e6);
+            let motion = round(lsc_range(&s.motion_x) * 1e6);
+            let determined = s.unknown.is_empty();
             json!({
                 "method": s.method,
                 "probes": s.probes,
                 "speed_rpm": round(rpm(s.speed)),
-                "form_range_um": round(spread(s.form.iter().copied()) * 1e6),
+                "form_range_um": if determined { form.clone() } else { Value::Null },
                 "form_um": s.form.iter().map(|v| round(v * 1e6)).collect::<Vec<_>>(),
-                "motion_synchronous_um": round(lsc_range(&s.motion_x) * 1e6),
+                "motion_synchronous_um": if determined { motion.clone() } else { Value::Null },
                 "blind": s.blind,
+                "unknown": s.unknown,
+                "not_determined": (!determined).then(|| blind_reason(s)),
+                "form_range_seen_um": (!determined).then_some(form),
+                "motion_synchronous_seen_um": (!determined).then_some(motion),
             })
         })
         .collect();
@@ -389,6 +401,16 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
         "separations": separations,
         "notes": evaluation.notes,
     })
+}
+
+/// Why a separation gives no form or motion value: harmonics its layout cannot see at which
+/// the probes read something.
+fn blind_reason(s: &Separated) -> String {
+    format!(
+        "the probe layout cannot see harmonics {}, and at {} the probes read more than their noise: form or motion is there, and which is unknown",
+        compact_list(&s.blind),
+        compact_list(&s.unknown)
+    )
 }
 
 /// The range of a synchronous profile with its first harmonic removed (the LSC value).
@@ -493,19 +515,36 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
         }
     }
     for s in &evaluation.separations {
-        out += &format!(
-            "\n{} {} at {:.0} min⁻¹: artefact form {:.4} µm peak to valley; separated \
-             synchronous motion {:.4} µm (LSC)",
-            s.method,
-            s.probes.join("+"),
-            rpm(s.speed),
+        let (form, motion) = (
             spread(s.form.iter().copied()) * 1e6,
-            lsc_range(&s.motion_x) * 1e6
+            lsc_range(&s.motion_x) * 1e6,
         );
-        if !s.blind.is_empty() {
-            out += &format!("; blind to harmonics {}", compact_list(&s.blind));
+        if s.unknown.is_empty() {
+            out += &format!(
+                "\n{} {} at {:.0} min⁻¹: artefact form {form:.4} µm peak to valley; separated \
+                 synchronous motion along X {motion:.4} µm (LSC)",
+                s.method,
+                s.probes.join("+"),
+                rpm(s.speed),
+            );
+            if !s.blind.is_empty() {
+                out += &format!(
+                    "; blind to harmonics {}, where no probe reads more than its noise",
+                    compact_list(&s.blind)
+                );
+            }
+            out += "\n";
+        } else {
+            out += &format!(
+                "\n{} {} at {:.0} min⁻¹: artefact form and separated synchronous motion not \
+                 determined: {} (over the harmonics the layout sees: form {form:.4} µm peak to \
+                 valley, motion along X {motion:.4} µm LSC)\n",
+                s.method,
+                s.probes.join("+"),
+                rpm(s.speed),
+                blind_reason(s),
+            );
         }
-        out += "\n";
     }
     for note in &evaluation.notes {
         out += &format!("\nnote: {note}\n");

@@ -142,6 +142,9 @@ pub struct Separated {
     pub motion_y: Vec<Real>,
     /// Harmonics the layout cannot see (multi-probe).
     pub blind: Vec<usize>,
+    /// Those of `blind` at which a probe reads more than its noise: form or motion is there
+    /// and unknown, so neither's value is determined ([`separation::blind_with_content`]).
+    pub unknown: Vec<usize>,
 }
 
 /// Everything `analyze spindle` reports on one record.
@@ -581,6 +584,7 @@ fn reversals(segments: &[Segment]) -> Result<Vec<Separated>, EvaluateError> {
                 motion_x: result.motion,
                 motion_y: Vec::new(),
                 blind: Vec::new(),
+                unknown: Vec::new(),
             });
         }
     }
@@ -660,6 +664,7 @@ fn multiprobe(
                 form: result.form,
                 motion_x: result.motion_x,
                 motion_y: result.motion_y,
+                unknown: separation::blind_with_content(&profiles, &result.blind),
                 blind: result.blind,
             });
         }

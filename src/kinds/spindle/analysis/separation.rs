@@ -482,6 +482,57 @@ pub fn blind_harmonics(azimuths: &[Real], model: Model, k_max: usize, limit: Rea
         .collect()
 }
 
+/// The harmonics of `blind` at which some probe's synchronous profile (`profiles`, one per
+/// probe on the θ grid) holds more than its noise: where form or motion is present but the
+/// layout cannot tell which, so neither is known.
+///
+/// At a blind harmonic the design has a null combination of form and motion that no probe
+/// reads; a form and a motion that cancel in every probe is a coincidence of no physical
+/// source, so a blind harmonic at which every probe reads only noise holds neither. The
+/// noise level of each probe is taken from the median amplitude of its harmonics 2 up to
+/// Nyquist (most of which hold none): for a Rayleigh amplitude of scale σ the median is
+/// σ·√(2 ln 2), and noise alone exceeds σ·√(2 ln(N/0.05)) at any of the N = probes × blind
+/// harmonics tested with probability at most 5 %. Amplitudes under 1 pm count as none
+/// (rounding in a noise-free record).
+pub fn blind_with_content<R: AsRef<[Real]>>(profiles: &[R], blind: &[usize]) -> Vec<usize> {
+    if blind.is_empty() || profiles.is_empty() {
+        return Vec::new();
+    }
+    let tests = (profiles.len() * blind.len()) as Real;
+    let factor = (2.0 * (tests / 0.05).ln()).sqrt() / (2.0 * std::f64::consts::LN_2).sqrt();
+    let mut planner = FftPlanner::<Real>::new();
+    let spectra: Vec<(Vec<Real>, Real)> = profiles
+        .iter()
+        .map(|profile| {
+            let profile = profile.as_ref();
+            let m = profile.len();
+            let mut buffer: Vec<rustfft::num_complex::Complex<Real>> = profile
+                .iter()
+                .map(|&v| rustfft::num_complex::Complex::new(v, 0.0))
+                .collect();
+            planner.plan_fft_forward(m).process(&mut buffer);
+            let amplitudes: Vec<Real> = buffer
+                .iter()
+                .take(m.div_ceil(2))
+                .map(|c| 2.0 * c.norm() / m as Real)
+                .collect();
+            let mut noise: Vec<Real> = amplitudes.iter().skip(2).copied().collect();
+            noise.sort_by(Real::total_cmp);
+            let median = noise.get(noise.len() / 2).copied().unwrap_or(0.0);
+            (amplitudes, (factor * median).max(1e-12))
+        })
+        .collect();
+    blind
+        .iter()
+        .copied()
+        .filter(|&k| {
+            spectra
+                .iter()
+                .any(|(amplitudes, level)| amplitudes.get(k).is_some_and(|a| a > level))
+        })
+        .collect()
+}
+
 /// Whether a condition number is within the limit (false for NaN and infinity).
 fn within(condition: Real, limit: Real) -> bool {
     condition <= limit
