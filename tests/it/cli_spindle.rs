@@ -777,21 +777,28 @@ fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
         .replace("azimuth_deg = 180.0", "azimuth_deg = 240.0");
     // Drop the fourth probe (the last block).
     let scenario = &scenario[..scenario.rfind("[[spindle.probe]]").unwrap()];
-    let path = dir.path().join("three_probes.toml");
-    std::fs::write(&path, scenario).unwrap();
-    let out = dir.path().join("out");
-    let output = mtwin(&[
-        "run".as_ref(),
-        path.as_os_str(),
-        "--out".as_ref(),
-        out.as_os_str(),
-    ]);
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    let json = analyze_json(&out.join("spindle.csv"), &[]);
-    let separation = array(&json["separations"])
-        .iter()
-        .find(|s| s["method"] == "multi-probe")
-        .expect("a multi-probe separation");
+    // Runs `scenario` under `name` and analyzes it: the record, and its multi-probe separation.
+    let separated = |name: &str, scenario: &str| -> (PathBuf, Value) {
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&path, scenario).unwrap();
+        let out = dir.path().join(name);
+        let output = mtwin(&[
+            "run".as_ref(),
+            path.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        let record = out.join("spindle.csv");
+        let json = analyze_json(&record, &[]);
+        let separation = array(&json["separations"])
+            .iter()
+            .find(|s| s["method"] == "multi-probe")
+            .expect("a multi-probe separation")
+            .clone();
+        (record, separation)
+    };
+    let (record, separation) = separated("three_probes", scenario);
     assert_eq!(separation["probes"], serde_json::json!(["p1", "p2", "p3"]));
     assert!(
         separation["motion_synchronous_um"].is_null(),
@@ -810,7 +817,7 @@ fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
     let form = number(&separation["form_range_seen_um"]);
     assert!((motion - 0.08).abs() < 2e-4, "motion seen {motion}");
     assert!((form - 0.07).abs() < 2e-4, "form seen {form}");
-    let printed = text(&analyze(&out.join("spindle.csv"), &[]).stdout);
+    let printed = text(&analyze(&record, &[]).stdout);
     assert!(
         printed.contains("artefact form and separated synchronous motion not determined"),
         "{printed}"
@@ -821,20 +828,7 @@ fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
     let four = format!(
         "{scenario}[[spindle.probe]]\nname = \"p4\"\nkind = \"radial\"\nazimuth_deg = 217.72395214971282\n"
     );
-    std::fs::write(&path, four).unwrap();
-    let out = dir.path().join("out4");
-    let output = mtwin(&[
-        "run".as_ref(),
-        path.as_os_str(),
-        "--out".as_ref(),
-        out.as_os_str(),
-    ]);
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    let json = analyze_json(&out.join("spindle.csv"), &[]);
-    let separation = array(&json["separations"])
-        .iter()
-        .find(|s| s["method"] == "multi-probe")
-        .unwrap();
+    let (_, separation) = separated("four_probes", &four);
     assert_eq!(
         separation["blind"],
         serde_json::json!([500, 502]),
