@@ -92,15 +92,19 @@ fn params(
     params
 }
 
-/// Where `fit` places `axis`'s reversal, by its backlash and spike ([`CircleData::locate_lag`],
-/// σ̂² from the fit's residuals).
-fn locate_lag(fit: &ModelFit, axis: usize, data: &CircleData) -> LagLocation {
-    let locating: Vec<Term> = fit
-        .terms
+/// The terms of `fit` that can place `axis`'s reversal: its backlash and spike.
+fn locating(fit: &ModelFit, axis: usize) -> Vec<Term> {
+    fit.terms
         .iter()
         .copied()
         .filter(|t| t.reversal_axis() == Some(axis) && t.locates_reversal())
-        .collect();
+        .collect()
+}
+
+/// Where `fit` places `axis`'s reversal, by its backlash and spike ([`CircleData::locate_lag`],
+/// σ̂² from the fit's residuals).
+fn locate_lag(fit: &ModelFit, axis: usize, data: &CircleData) -> LagLocation {
+    let locating = locating(fit, axis);
     let rss: Real = fit.residuals.iter().map(|r| r * r).sum();
     let dof = fit
         .residuals
@@ -134,11 +138,7 @@ fn notes(fit: &ModelFit, data: &CircleData) -> Vec<String> {
             let name = lag_key(plane, axis);
             match locate_lag(fit, axis, data) {
                 LagLocation::Located { .. } => None,
-                LagLocation::NotLocated { .. }
-                    if !fit.terms.iter().any(|t| {
-                        t.reversal_axis() == Some(axis) && t.locates_reversal()
-                    }) =>
-                {
+                LagLocation::NotLocated { .. } if locating(fit, axis).is_empty() => {
                     Some(format!(
                         "{name}: no backlash or reversal spike of {letter} in the model to time its reversal by (lateral play cannot: it is continuous at the reversal): not reported"
                     ))

@@ -516,9 +516,8 @@ pub fn blind_with_content<R: AsRef<[Real]>>(profiles: &[R], blind: &[usize]) -> 
                 .take(m.div_ceil(2))
                 .map(|c| 2.0 * c.norm() / m as Real)
                 .collect();
-            let mut noise: Vec<Real> = amplitudes.iter().skip(2).copied().collect();
-            noise.sort_by(Real::total_cmp);
-            let median = noise.get(noise.len() / 2).copied().unwrap_or(0.0);
+            let median = crate::io::plausible::median(amplitudes.iter().skip(2).copied().collect())
+                .unwrap_or(0.0);
             (amplitudes, (factor * median).max(1e-12))
         })
         .collect();
