@@ -255,10 +255,12 @@ const TEST_KEYS: [&str; 8] = [
     "values",
     "lines",
 ];
-const VALUE_KEYS: [&str; 9] = [
+const VALUE_KEYS: [&str; 11] = [
     "centre",
     "offset",
+    "total_own_offset",
     "total",
+    "total_own_centre",
     "synchronous",
     "asynchronous",
     "fundamental",
@@ -303,6 +305,7 @@ fn run_then_analyze_reports_the_documented_keys_and_the_values_of_the_table() {
             "samples_per_revolution",
             "segments",
             "speeds",
+            "speed_shifts",
             "separations",
             "notes",
             "cautions",
@@ -387,13 +390,19 @@ fn run_then_analyze_reports_the_documented_keys_and_the_values_of_the_table() {
             for v in values {
                 assert_eq!(keys(v), set(&VALUE_KEYS), "{name}");
                 assert_eq!(array(&v["offset"]).len(), 2);
-                for key in &VALUE_KEYS[2..] {
+                assert_eq!(array(&v["total_own_offset"]).len(), 2);
+                for key in &VALUE_KEYS[3..] {
                     assert!(number(&v[*key]) >= 0.0, "{name} {key}: {v}");
                 }
             }
             // MRS is the centre of the minimum radial separation: every other centre's
             // synchronous value is at least its value (to the JSON's rounding).
             let mrs = values.iter().find(|v| v["centre"] == "MRS").unwrap();
+            // The whole cloud's own MRS is no wider than the cloud about the synchronous MRS.
+            assert!(
+                number(&mrs["total_own_centre"]) <= number(&mrs["total"]) + 2e-6,
+                "{name}: {mrs}"
+            );
             for v in values {
                 assert!(
                     number(&v["synchronous"]) >= number(&mrs["synchronous"]) - 2e-6,
@@ -800,11 +809,19 @@ fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
     };
     let (record, separation) = separated("three_probes", scenario);
     assert_eq!(separation["probes"], serde_json::json!(["p1", "p2", "p3"]));
-    assert!(
-        separation["motion_synchronous_um"].is_null(),
-        "{separation}"
-    );
-    assert!(separation["form_range_um"].is_null(), "{separation}");
+    // No synchronous value of the form or of any direction of the motion.
+    assert!(separation["form"]["values"].is_null(), "{separation}");
+    let motions = array(&separation["motion"]);
+    let axes: Vec<&str> = motions
+        .iter()
+        .map(|m| m["axis"].as_str().unwrap())
+        .collect();
+    assert_eq!(axes, ["X", "Y", "rotating"]);
+    for m in motions {
+        assert!(m["values"].is_null(), "{m}");
+        // The asynchronous motion needs no harmonic: noise-free, it is nil.
+        assert_eq!(m["asynchronous_um"], 0.0, "{m}");
+    }
     let why = separation["not_determined"].as_str().unwrap();
     assert!(why.contains("cannot see harmonics 2, 4, 5, 7"), "{why}");
     // The probes read the motion's 2 and 4 UPR and the form's 2 and 7 UPR there, nothing else.
@@ -813,13 +830,22 @@ fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
         serde_json::json!([2, 4, 7]),
         "{separation}"
     );
-    let motion = number(&separation["motion_synchronous_seen_um"]);
-    let form = number(&separation["form_range_seen_um"]);
+    // Over the harmonics seen (LSC first): the motion's 3 UPR and the form's, labelled so.
+    let motion = number(&motions[0]["values_seen"][0]["synchronous"]);
+    let form = number(&separation["form"]["values_seen"][0]["value"]);
+    assert_eq!(motions[0]["values_seen"][0]["centre"], "LSC");
     assert!((motion - 0.08).abs() < 2e-4, "motion seen {motion}");
     assert!((form - 0.07).abs() < 2e-4, "form seen {form}");
+    // The coefficients: null where the layout is blind (2 UPR is the first entry), the seen
+    // 3 UPR of the motion along X is 0.04 µm.
+    let harmonics = &motions[0]["harmonics_um"];
+    assert_eq!(harmonics["from"], 2);
+    assert!(harmonics["a"][0].is_null() && harmonics["b"][0].is_null());
+    let (a3, b3) = (number(&harmonics["a"][1]), number(&harmonics["b"][1]));
+    assert!((a3.hypot(b3) - 0.04).abs() < 1e-4, "3 UPR {a3}, {b3}");
     let printed = text(&analyze(&record, &[]).stdout);
     assert!(
-        printed.contains("artefact form and separated synchronous motion not determined"),
+        printed.contains("not determined: the probe layout cannot see harmonics 2, 4, 5, 7"),
         "{printed}"
     );
 
@@ -836,5 +862,14 @@ fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {
     );
     assert_eq!(separation["unknown"], serde_json::json!([]), "{separation}");
     assert!(separation["not_determined"].is_null(), "{separation}");
-    assert!(number(&separation["motion_synchronous_um"]) > 0.0);
+    let x = &separation["motion"][0];
+    assert!(number(&x["values"][0]["synchronous"]) > 0.0, "{x}");
+    assert!(x["values_seen"].is_null(), "{x}");
+    // Blind 500 and 502 UPR hold no coefficient; 501 UPR does.
+    let a = array(&x["harmonics_um"]["a"]);
+    assert!(
+        a[498].is_null() && a[500].is_null() && a[499].is_number(),
+        "{}",
+        a.len()
+    );
 }

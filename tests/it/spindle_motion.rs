@@ -773,3 +773,5 @@ fn values_about_every_centre_agree_with_one_at_a_time_and_pooled_ranges() {
         );
     }
 }
+
+mod own_centres;

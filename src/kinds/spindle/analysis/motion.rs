@@ -20,12 +20,20 @@
 //! outer plots. In the small-deviation (limaçon) model a centre offset `c` changes the radial
 //! deviation at `θ` by `−(cx cos θ + cy sin θ)`, and a value is the range of what remains:
 //!
-//! - total (§3.8.2): range about `c` of all revolutions pooled;
+//! - total (§3.8.2): range about `c` of all revolutions pooled; and, "specified otherwise"
+//!   (§3.7.7 Note 1), about the total plot's own centre of the same kind: PC and LSC are the
+//!   same centres (the least-squares fit to every revolution is the fit to their mean `S`),
+//!   MRS, MIC and MCC are fitted to the whole cloud, whose extremes at each angle are `O` and
+//!   `I`, so the fit to `O` and `I` pooled is exact;
 //! - synchronous (§3.8.3): range of `S` about `c`;
 //! - asynchronous (§3.8.4): `max_m (O[m] − I[m])`, the widest band at a single angle, the one
 //!   value not based on concentric circles (and independent of the centre in the limaçon model);
 //! - fundamental (§3.8.5): `2·√(a1² + b1²)`, twice the distance from PC to the LSC of `S`;
-//! - residual (§3.8.6): range of `R` about PC (`R` has no 1-UPR term left to centre);
+//! - residual (§3.8.6): the residual plot `R` evaluated about its own centre of each kind.
+//!   About PC it is the range of `R`; about LSC, MRS, MIC and MCC it equals the synchronous
+//!   value about that centre, since `R` differs from `S` by a constant and a 1-UPR term, which a
+//!   fitted centre absorbs (the §2.7 invariant of the digest). The centre of `S` is not used on
+//!   `R`: it would put the fundamental back with its sign reversed;
 //! - inner and outer (§3.8.7, §3.8.8): ranges of `I` and `O` about `c`.
 //!
 //! The preferred centre per direction is ISO 230-7 Tab 1 ([`Direction::preferred_centre`]):
@@ -186,6 +194,9 @@ fn grid(m: usize) -> Vec<Real> {
 #[derive(Clone, Debug)]
 pub struct Grid {
     angles: Angles,
+    /// The grid's angles twice over: the outer contour's then the inner one's, for the total
+    /// plot's own centre.
+    pooled: Angles,
 }
 
 impl Grid {
@@ -200,7 +211,11 @@ impl Grid {
         }
         let angles = Angles::equally_spaced(samples_per_revolution)
             .expect("at least MIN_SAMPLES_PER_REVOLUTION = 3 angles");
-        Ok(Grid { angles })
+        let twice: Vec<Real> = (0..2 * samples_per_revolution)
+            .map(|m| TAU * (m % samples_per_revolution) as Real / samples_per_revolution as Real)
+            .collect();
+        let pooled = Angles::new(&twice).expect("at least 6 finite angles");
+        Ok(Grid { angles, pooled })
     }
 
     /// Number of samples per revolution `M`.
@@ -391,13 +406,19 @@ pub struct ErrorMotionValues {
     pub offset: [Real; 2],
     /// Total value (§3.8.2): range about the centre of all revolutions pooled.
     pub total: Real,
+    /// Total value about the total plot's own centre of this kind (§3.7.7 Note 1 "unless
+    /// specified otherwise"): the same as `total` for PC and LSC.
+    pub total_own_centre: Real,
+    /// That centre's offset `[cx, cy]` from PC.
+    pub total_own_offset: [Real; 2],
     /// Synchronous value (§3.8.3): range of `S` about the centre.
     pub synchronous: Real,
     /// Asynchronous value (§3.8.4): the widest band `max_m (O[m] − I[m])`.
     pub asynchronous: Real,
     /// Fundamental value (§3.8.5): `2·√(a1² + b1²)`.
     pub fundamental: Real,
-    /// Residual synchronous value (§3.8.6): range of the residual about PC.
+    /// Residual synchronous value (§3.8.6): the residual plot about its own centre of this
+    /// kind (about PC its range; about the others the synchronous value, module docs).
     pub residual: Real,
     /// Inner value (§3.8.7): range of `I` about the centre.
     pub inner: Real,
@@ -453,17 +474,14 @@ pub fn values_about_on(
     let contours = Contours::new(r);
     let ([a1, b1], residual) = fundamental(&contours.synchronous, grid);
     let angles = grid.angles();
-    let range = |v: &[Real], c: [Real; 2]| {
-        let (lo, hi) = angles.range_about(v, c);
-        hi - lo
-    };
     let asynchronous = contours
         .outer
         .iter()
         .zip(&contours.inner)
         .map(|(o, i)| o - i)
         .fold(0.0, Real::max);
-    let residual = range(&residual, [0.0, 0.0]);
+    // The total plot's extremes at each angle, for its own MRS, MIC and MCC.
+    let pooled = [contours.outer.as_slice(), &contours.inner].concat();
     centres
         .iter()
         .map(|&centre| {
@@ -472,15 +490,25 @@ pub fn values_about_on(
             let offset = fit.offset;
             let (outer_low, outer_high) = angles.range_about(&contours.outer, offset);
             let (inner_low, inner_high) = angles.range_about(&contours.inner, offset);
+            let total = outer_high - inner_low;
+            let (total_own_offset, total_own_centre) = match centre {
+                Centre::Pc | Centre::Lsc => (offset, total),
+                Centre::Mrs | Centre::Mic | Centre::Mcc => {
+                    let own = grid.pooled.fit(&pooled, centre)?;
+                    (own.offset, own.value())
+                }
+            };
             Ok(ErrorMotionValues {
                 direction,
                 centre,
                 offset,
-                total: outer_high - inner_low,
+                total,
+                total_own_centre,
+                total_own_offset,
                 synchronous: fit.value(),
                 asynchronous,
                 fundamental: 2.0 * a1.hypot(b1),
-                residual,
+                residual: angles.fit(&residual, centre)?.value(),
                 inner: inner_high - inner_low,
                 outer: outer_high - outer_low,
             })

@@ -148,6 +148,28 @@ pub fn spectrum(r: &Revolutions) -> Spectrum {
     }
 }
 
+/// The cosine and sine coefficients `[a_k, b_k]`, k = 1..=k_max (entry `k − 1`), of one
+/// revolution `profile` sampled at `θ_m = 2πm/M`: `p(θ) = a_0 + Σ a_k cos kθ + b_k sin kθ`,
+/// `a_k = (2/M) Σ p_m cos kθ_m`, `b_k = (2/M) Σ p_m sin kθ_m` (one real-input FFT). Exact for
+/// a profile of harmonics below Nyquist; `k_max` must be below `M/2` (panics otherwise, or
+/// for fewer than 3 samples).
+pub fn harmonics(profile: &[Real], k_max: usize) -> Vec<[Real; 2]> {
+    let m = profile.len();
+    assert!(
+        2 * k_max < m,
+        "harmonic {k_max} is not below Nyquist of {m} samples"
+    );
+    let r = Revolutions::new(m, profile.to_vec()).expect("one revolution of at least 3 samples");
+    let scale = 2.0 / m as Real;
+    // X_k = Σ p_m e^{−ikθ_m} = (M/2)(a_k − i b_k).
+    transform(&r, |x| {
+        x[1..=k_max]
+            .iter()
+            .map(|c| [scale * c.re, -scale * c.im])
+            .collect()
+    })
+}
+
 /// `spectrum(r).largest(n, synchronous)` without building the list of all lines: the same
 /// lines in the same order, for a fraction of the cost when `n` is small.
 pub fn largest_lines(r: &Revolutions, n: usize, synchronous: Option<bool>) -> Vec<Line> {

@@ -8,6 +8,7 @@
 //! |---|---|---|
 //! | one radial probe (direction across the axis), fixed | radial, fixed sensitive direction (§5.4.3, formula (3)) | its reading |
 //! | two radial probes at one height, not parallel, fixed | radial, rotating sensitive direction (§5.3.2, formula (1)) | `E_X cos θ + E_Y sin θ`, with `E` solved from both readings |
+//! | the same pair, a direction θ_f asked ([`Options::fixed_directions`]) | radial, fixed sensitive direction between the probes (§5.4.3.2, formula (4)) | `E_X cos θ_f + E_Y sin θ_f` |
 //! | two parallel radial probes at two heights | tilt, fixed sensitive direction (§5.4.5 Method 2, formula (5)) | `(upper − lower) / L` |
 //! | two such pairs at two heights | tilt, rotating sensitive direction (§5.3.3 Method 2) | formula (1) on the differences, `/ L` |
 //! | a probe along the axis, on it | axial (§5.3.4) | its reading |
@@ -29,11 +30,17 @@
 
 use super::analysis::motion::{self, Direction, ErrorMotionValues, Grid, MotionError, Revolutions};
 use super::analysis::polar::Centre;
-use super::analysis::separation::{self, Model, SeparationError};
+use super::analysis::separation::{self, SeparationError};
 use super::analysis::spectrum::{self, Line};
 use super::record::{Sensing, SpindleProbe, SpindleRecord};
 use crate::math::Real;
 use std::f64::consts::TAU;
+
+mod separated;
+mod shift;
+
+pub use separated::{Separated, SeparatedMotion};
+pub use shift::SpeedShift;
 
 /// How far a probe direction may lean and still count as radial or axial (1 mrad).
 const ALIGNED: Real = 1e-3;
@@ -48,6 +55,9 @@ pub struct Options {
     pub centres: Vec<Centre>,
     /// Condition number above which a multi-probe harmonic is blind.
     pub condition_limit: Real,
+    /// Fixed sensitive directions (rad from X) to evaluate from each pair of radial probes at
+    /// one height, by ISO 230-7 formula (4) `ΔX cos θ_f + ΔY sin θ_f` (§5.4.3.2, F(4)).
+    pub fixed_directions: Vec<Real>,
 }
 
 impl Default for Options {
@@ -61,6 +71,7 @@ impl Default for Options {
                 Centre::Mcc,
             ],
             condition_limit: separation::DEFAULT_CONDITION_LIMIT,
+            fixed_directions: Vec::new(),
         }
     }
 }
@@ -123,30 +134,6 @@ pub struct Segment {
     pub tests: Vec<Test>,
 }
 
-/// Artefact form separated from the error motion by one probe (reversal) or a layout
-/// (multi-probe), at one speed.
-#[derive(Clone, Debug)]
-pub struct Separated {
-    /// The method: `reversal` or `multi-probe`.
-    pub method: &'static str,
-    /// The probes used.
-    pub probes: Vec<String>,
-    /// Speed (rad/s).
-    pub speed: Real,
-    /// Artefact form h(ψ) (m, outward positive) on the grid ψ_m = 2πm/M.
-    pub form: Vec<Real>,
-    /// Synchronous error motion along X and Y (m) on the θ grid (reversal: along the probe
-    /// only, in `motion_x`).
-    pub motion_x: Vec<Real>,
-    /// See `motion_x` (empty for a reversal).
-    pub motion_y: Vec<Real>,
-    /// Harmonics the layout cannot see (multi-probe).
-    pub blind: Vec<usize>,
-    /// Those of `blind` at which a probe reads more than its noise: form or motion is there
-    /// and unknown, so neither's value is determined ([`separation::blind_with_content`]).
-    pub unknown: Vec<usize>,
-}
-
 /// Everything `analyze spindle` reports on one record.
 #[derive(Clone, Debug)]
 pub struct Evaluation {
@@ -156,6 +143,8 @@ pub struct Evaluation {
     pub segments: Vec<Segment>,
     /// Form separations.
     pub separations: Vec<Separated>,
+    /// Speed-induced axis shift of each test seen at several speeds.
+    pub shifts: Vec<SpeedShift>,
     /// Things a reader should know (resampling, skipped separations).
     pub notes: Vec<String>,
 }
@@ -221,10 +210,13 @@ pub fn evaluate(
             tests,
         });
     }
-    let mut separations = reversals(&segments)?;
-    separations.extend(multiprobe(record, &segments, options, &mut notes)?);
+    let mut separations = separated::reversals(record, &segments, options)?;
+    separations.extend(separated::multiprobe(
+        record, &segments, options, &mut notes,
+    )?);
     Ok(Evaluation {
         samples_per_revolution: m,
+        shifts: shift::speed_shifts(&segments),
         segments,
         separations,
         notes,
@@ -401,6 +393,32 @@ fn tests(
             ),
         })
         .collect();
+    // The same pairs in each fixed direction asked (formula (4)): a constant direction.
+    let fixed_tests: Vec<Candidate> = pairs
+        .iter()
+        .flat_map(|&(a, b)| {
+            options
+                .fixed_directions
+                .iter()
+                .map(move |&theta_f| (a, b, theta_f))
+        })
+        .map(|(a, b, theta_f)| {
+            let along = vec![theta_f.sin_cos(); m];
+            Candidate {
+                name: format!(
+                    "radial {}+{} fixed {}°",
+                    probes[a].name,
+                    probes[b].name,
+                    degrees_label(theta_f)
+                ),
+                direction: Direction::Radial,
+                sensing: Sensing::Fixed,
+                probes: vec![a, b],
+                height: probes[a].position[2],
+                signal: rotating(&probes[a], &probes[b], &signals[a], &signals[b], &along),
+            }
+        })
+        .collect();
     let mut tilts = Vec::new();
     for (n, &a) in radial.iter().enumerate() {
         for &b in &radial[n + 1..] {
@@ -481,6 +499,7 @@ fn tests(
     singles
         .into_iter()
         .chain(pair_tests)
+        .chain(fixed_tests)
         .chain(tilts)
         .map(|candidate| score(candidate, probes, &grid, options))
         .collect()
@@ -517,9 +536,20 @@ fn xy_pairs(probes: &[SpindleProbe], radial: &[usize]) -> Vec<(usize, usize)> {
     pairs
 }
 
+/// An angle in degrees as a test's name shows it: whole degrees without decimals, otherwise
+/// to 0.001°.
+fn degrees_label(theta: Real) -> String {
+    let deg = theta.to_degrees();
+    if (deg - deg.round()).abs() < 1e-9 {
+        format!("{:.0}", deg.round())
+    } else {
+        format!("{deg:.3}")
+    }
+}
+
 /// Formula (1) of ISO 230-7: `E_X cos θ + E_Y sin θ`, with `E` solved per sample from two
 /// radial readings `r_i = d_i · E`; `directions` holds `(sin θ, cos θ)` of the `M` axis
-/// angles of a revolution.
+/// angles of a revolution (all the same for a fixed direction, formula (4)).
 fn rotating(
     pa: &SpindleProbe,
     pb: &SpindleProbe,
@@ -544,132 +574,6 @@ fn rotating(
         );
     }
     Revolutions::new(m, values).expect("laid out like its probes")
-}
-
-/// Donaldson reversal of each radial probe between the set-ups `normal` and `reversed` at
-/// equal speeds.
-fn reversals(segments: &[Segment]) -> Result<Vec<Separated>, EvaluateError> {
-    let mut out = Vec::new();
-    // Forward records only: the separations' conventions take the axis angle increasing.
-    for normal in segments
-        .iter()
-        .filter(|s| s.setup == "normal" && s.speed >= 0.0)
-    {
-        let Some(reversed) = segments
-            .iter()
-            .find(|s| s.setup == "reversed" && s.speed == normal.speed)
-        else {
-            continue;
-        };
-        for (test, other) in normal.tests.iter().zip(&reversed.tests) {
-            let single_radial = test.direction == Direction::Radial
-                && test.probes.len() == 1
-                && test.sensing == Sensing::Fixed;
-            if !single_radial || other.name != test.name {
-                continue;
-            }
-            let r1 = motion::synchronous(&test.signal);
-            let r2 = motion::synchronous(&other.signal);
-            let result = separation::donaldson_reversal(&r1, &r2).map_err(|source| {
-                EvaluateError::Separation {
-                    what: format!("reversal of {}", test.probes[0]),
-                    source,
-                }
-            })?;
-            out.push(Separated {
-                method: "reversal",
-                probes: test.probes.clone(),
-                speed: normal.speed,
-                form: result.form,
-                motion_x: result.motion,
-                motion_y: Vec::new(),
-                blind: Vec::new(),
-                unknown: Vec::new(),
-            });
-        }
-    }
-    Ok(out)
-}
-
-/// Multi-probe separation (two-direction model) of three or more fixed radial probes at one
-/// height, per segment.
-fn multiprobe(
-    record: &SpindleRecord,
-    segments: &[Segment],
-    options: &Options,
-    notes: &mut Vec<String>,
-) -> Result<Vec<Separated>, EvaluateError> {
-    let mut out = Vec::new();
-    let mut groups: Vec<(Real, Vec<(usize, Real)>)> = Vec::new();
-    for (i, probe) in record.probes.iter().enumerate() {
-        if let (Some(ProbeKind::Radial { azimuth }), Sensing::Fixed) = (kind(probe), probe.sensing)
-        {
-            let z = probe.position[2];
-            match groups.iter_mut().find(|(h, _)| (h - z).abs() < 1e-6) {
-                Some((_, members)) => members.push((i, azimuth)),
-                None => groups.push((z, vec![(i, azimuth)])),
-            }
-        }
-    }
-    for (_, members) in groups.iter().filter(|(_, m)| m.len() >= 3) {
-        let names: Vec<String> = members
-            .iter()
-            .map(|(i, _)| record.probes[*i].name.clone())
-            .collect();
-        let azimuths: Vec<Real> = members.iter().map(|(_, a)| *a).collect();
-        // The probe azimuths of the table describe the normal set-up: a reversed or turned
-        // set-up moves the probes (or the artefact), so only normal, forward records are
-        // separated.
-        let separable =
-            |s: &&Segment| (s.setup.is_empty() || s.setup == "normal") && s.speed >= 0.0;
-        for segment in segments.iter().filter(separable) {
-            let profiles: Vec<Vec<Real>> = members
-                .iter()
-                .map(|(i, _)| {
-                    let test = segment
-                        .tests
-                        .iter()
-                        .find(|t| t.probes == [record.probes[*i].name.clone()])
-                        .expect("every radial probe has its own test");
-                    motion::synchronous(&test.signal)
-                })
-                .collect();
-            let result = separation::separate(
-                &profiles,
-                &azimuths,
-                Model::TwoDirection,
-                separation::Options {
-                    k_max: None,
-                    condition_limit: options.condition_limit,
-                },
-            )
-            .map_err(|source| EvaluateError::Separation {
-                what: format!("multi-probe {}", names.join("+")),
-                source,
-            })?;
-            if !result.blind.is_empty() {
-                let note = format!(
-                    "multi-probe {}: the layout cannot see harmonics {}",
-                    names.join("+"),
-                    compact_list(&result.blind)
-                );
-                if !notes.contains(&note) {
-                    notes.push(note);
-                }
-            }
-            out.push(Separated {
-                method: "multi-probe",
-                probes: names.clone(),
-                speed: segment.speed,
-                form: result.form,
-                motion_x: result.motion_x,
-                motion_y: result.motion_y,
-                unknown: separation::blind_with_content(&profiles, &result.blind),
-                blind: result.blind,
-            });
-        }
-    }
-    Ok(out)
 }
 
 /// `2, 4, 5, 7, …` shortened: at most 12 numbers, then the count of the rest.

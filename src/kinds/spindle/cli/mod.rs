@@ -5,11 +5,10 @@ use super::analysis::motion::{Direction, ErrorMotionValues, decompose};
 use super::analysis::polar::Centre;
 use super::discovery::bearing::Bearing;
 use super::discovery::{DEFAULT_BASE_HARMONICS, Options as DiscoveryOptions, discover_spindle};
-use super::evaluate::{Evaluation, Options, Separated, Test, compact_list, evaluate};
+use super::evaluate::{Evaluation, Options, Test, evaluate};
 use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
 use super::record::Sensing;
 use super::table::{self, SpindleTable};
-use crate::io::plausible::spread;
 use crate::kinds::{Kind, ScenarioLoader, Verb};
 use crate::math::Real;
 use anyhow::{Context, Result};
@@ -17,6 +16,8 @@ use clap::{ArgMatches, Args, FromArgMatches};
 use serde_json::{Value, json};
 use std::f64::consts::TAU;
 use std::path::PathBuf;
+
+mod separations;
 
 /// This kind in the registry.
 pub const KIND: Kind = Kind {
@@ -170,16 +171,27 @@ JSON keys (--json):
   samples_per_revolution
   segments[]: setup, speed_rpm, revolutions, tests[]:
     name, direction (radial|axial|tilt|face), sensing (fixed|rotating), probes[], height_mm,
-    unit (um|urad), values[] (preferred centre first): centre, offset [x, y], total,
-    synchronous, asynchronous, fundamental (2·|1-UPR|), residual, inner, outer;
+    unit (um|urad), values[] (preferred centre first): centre, offset [x, y], total (about
+    the synchronous plot's centre), total_own_centre and total_own_offset (about the total
+    plot's own centre of that kind), synchronous, asynchronous, fundamental (2·|1-UPR|),
+    residual (the residual plot about its own centre), inner, outer;
     lines[]: per_revolution, hz, amplitude, synchronous (one-sided amplitude, largest first)
   speeds[]: test, unit, points[]: speed_rpm, synchronous, asynchronous (preferred centre)
-  separations[]: method (reversal|multi-probe), probes[], speed_rpm, form_range_um,
-    form_um[] (outward, on ψ = 360°·m/M), motion_synchronous_um (LSC value of the separated
-    motion along X, azimuth 0°), blind[] (harmonics the layout cannot see), unknown[] (those
-    of them where a probe reads more than its noise); with any unknown harmonic the two values
-    are null, not_determined says why, and form_range_seen_um and motion_synchronous_seen_um
-    give them over the harmonics seen
+  speed_shifts[]: speed-induced axis shift (§3.10.6) of each fixed-direction test seen at two
+    speeds or more in one set-up and sense: test, unit, backwards, value (max − min of the mean
+    position), points[]: speed_rpm, shift (mean position minus the first speed's)
+  separations[]: method (reversal|multi-probe), probes[], speed_rpm, harmonics_max (K),
+    first_harmonic (how the method treats 1 UPR), blind[] (harmonics the layout cannot see),
+    unknown[] (those of them where a probe reads more than its noise), not_determined (why
+    the synchronous values are null when unknown[] is not empty), form_um[] (outward, on
+    ψ = 360°·m/M),
+    form: first_harmonic_um [a1, b1] (reversal: the centring; null for multi-probe),
+      harmonics_um {from: 2, a[], b[]} (h(ψ) = Σ a_k cos kψ + b_k sin kψ; null where blind),
+      values[] (centre, offset, value: roundness about LSC, PC, MRS, MIC, MCC) or null, then
+      values_seen[] over the harmonics seen;
+    motion[] (reversal: along the probe; multi-probe: X, Y, rotating): axis, azimuth_deg,
+      first_harmonic_um, harmonics_um, asynchronous_um, values[] (as a test's) or null, then
+      values_seen[]
   notes[]
   cautions[]: what the record says against its units and labels (a total over 100 µm: nm in
     the µm columns; every one under 5 nm: mm in them; a probe stuck or spiking; two probes on
@@ -202,6 +214,16 @@ struct SpindleArgs {
     /// 230-7 Tab 1 always comes first).
     #[arg(long, value_delimiter = ',', value_name = "PC,LSC,MRS,MIC,MCC")]
     centres: Vec<String>,
+    /// Also evaluate a fixed sensitive direction at this angle from X (degrees; repeat or
+    /// comma-separate for several), from each pair of radial probes at one height: ISO 230-7
+    /// formula (4), ΔX cos θ_f + ΔY sin θ_f (e.g. 30 for a tool 30° from the X probe).
+    #[arg(
+        long = "direction-deg",
+        value_delimiter = ',',
+        value_name = "DEG",
+        allow_negative_numbers = true
+    )]
+    directions_deg: Vec<Real>,
 }
 
 fn analyze(
@@ -222,6 +244,10 @@ fn analyze(
             })
             .collect::<Result<_>>()?;
     }
+    if let Some(bad) = args.directions_deg.iter().find(|d| !d.is_finite()) {
+        anyhow::bail!("--direction-deg {bad}: expected a finite angle in degrees");
+    }
+    options.fixed_directions = args.directions_deg.iter().map(|d| d.to_radians()).collect();
     progress(&format!(
         "evaluating {} samples of {} probes",
         table.record.len(),
@@ -277,6 +303,8 @@ fn values_json(v: &ErrorMotionValues, scale: Real) -> Value {
         "centre": v.centre.to_string(),
         "offset": [round(v.offset[0] * scale), round(v.offset[1] * scale)],
         "total": round(v.total * scale),
+        "total_own_centre": round(v.total_own_centre * scale),
+        "total_own_offset": [round(v.total_own_offset[0] * scale), round(v.total_own_offset[1] * scale)],
         "synchronous": round(v.synchronous * scale),
         "asynchronous": round(v.asynchronous * scale),
         "fundamental": round(v.fundamental * scale),
@@ -373,24 +401,22 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
     let separations: Vec<Value> = evaluation
         .separations
         .iter()
-        .map(|s| {
-            // A layout blind to some harmonics knows neither the form nor the motion there:
-            // their values are not determined, and what the seen harmonics give is labelled so.
-            let form = round(spread(s.form.iter().copied()) * 1e6);
-            let motion = round(lsc_range(&s.motion_x) * 1e6);
-            let determined = s.unknown.is_empty();
+        .map(separations::json)
+        .collect();
+    let shifts: Vec<Value> = evaluation
+        .shifts
+        .iter()
+        .map(|shift| {
+            let (unit_name, scale) = unit(shift.direction);
             json!({
-                "method": s.method,
-                "probes": s.probes,
-                "speed_rpm": round(rpm(s.speed)),
-                "form_range_um": if determined { form.clone() } else { Value::Null },
-                "form_um": s.form.iter().map(|v| round(v * 1e6)).collect::<Vec<_>>(),
-                "motion_synchronous_um": if determined { motion.clone() } else { Value::Null },
-                "blind": s.blind,
-                "unknown": s.unknown,
-                "not_determined": (!determined).then(|| blind_reason(s)),
-                "form_range_seen_um": (!determined).then_some(form),
-                "motion_synchronous_seen_um": (!determined).then_some(motion),
+                "test": shift.test,
+                "unit": unit_name,
+                "backwards": shift.backwards,
+                "value": round(shift.value * scale),
+                "points": shift.points.iter().map(|(speed, x)| json!({
+                    "speed_rpm": round(rpm(*speed)),
+                    "shift": round(x * scale),
+                })).collect::<Vec<_>>(),
             })
         })
         .collect();
@@ -398,43 +424,10 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
         "samples_per_revolution": evaluation.samples_per_revolution,
         "segments": segments,
         "speeds": speeds,
+        "speed_shifts": shifts,
         "separations": separations,
         "notes": evaluation.notes,
     })
-}
-
-/// Why a separation gives no form or motion value: harmonics its layout cannot see at which
-/// the probes read something.
-fn blind_reason(s: &Separated) -> String {
-    format!(
-        "the probe layout cannot see harmonics {}, and at {} the probes read more than their noise: form or motion is there, and which is unknown",
-        compact_list(&s.blind),
-        compact_list(&s.unknown)
-    )
-}
-
-/// The range of a synchronous profile with its first harmonic removed (the LSC value).
-fn lsc_range(values: &[Real]) -> Real {
-    let m = values.len();
-    if m < 3 {
-        return 0.0;
-    }
-    let (mut a, mut b) = (0.0, 0.0);
-    for (i, v) in values.iter().enumerate() {
-        let t = TAU * i as Real / m as Real;
-        a += v * t.cos();
-        b += v * t.sin();
-    }
-    let (a, b) = (2.0 * a / m as Real, 2.0 * b / m as Real);
-    let residual: Vec<Real> = values
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            let t = TAU * i as Real / m as Real;
-            v - a * t.cos() - b * t.sin()
-        })
-        .collect();
-    spread(residual.iter().copied())
 }
 
 /// The report for people.
@@ -442,7 +435,8 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
     let axis = table.record.axis;
     let mut out = format!(
         "Axis of rotation {axis}: error motion (ISO 230-7), {} samples per revolution\n\
-         values in µm (tilt in µrad); preferred centre first (Tab 1)\n",
+         values in µm (tilt in µrad); preferred centre first (Tab 1); total about the \
+         synchronous plot's centre, tot.own about the total plot's own\n",
         evaluation.samples_per_revolution
     );
     let (described, lines) = super::stated::described(&table.conditions);
@@ -454,12 +448,13 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
             format!("set-up {}, ", segment.setup)
         };
         out += &format!(
-            "\n{setup}{:.0} min⁻¹, {} revolutions\n  {:<30} {:<4} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+            "\n{setup}{:.0} min⁻¹, {} revolutions\n  {:<30} {:<4} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
             rpm(segment.speed),
             segment.revolutions,
             "test",
             "ctr",
             "total",
+            "tot.own",
             "sync",
             "async",
             "fund.",
@@ -471,10 +466,11 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
             let (_, scale) = unit(test.direction);
             for (i, v) in test.values.iter().enumerate() {
                 out += &format!(
-                    "  {:<30} {:<4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4}\n",
+                    "  {:<30} {:<4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4}\n",
                     if i == 0 { test.name.as_str() } else { "" },
                     v.centre.to_string(),
                     v.total * scale,
+                    v.total_own_centre * scale,
                     v.synchronous * scale,
                     v.asynchronous * scale,
                     v.fundamental * scale,
@@ -514,37 +510,25 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
             out += &format!("  {name}: {}\n", cells.join(",  "));
         }
     }
-    for s in &evaluation.separations {
-        let (form, motion) = (
-            spread(s.form.iter().copied()) * 1e6,
-            lsc_range(&s.motion_x) * 1e6,
-        );
-        if s.unknown.is_empty() {
+    if !evaluation.shifts.is_empty() {
+        out += "\nSpeed-induced axis shift (§3.10.6; mean position from the first speed):\n";
+        for shift in &evaluation.shifts {
+            let (_, scale) = unit(shift.direction);
+            let cells: Vec<String> = shift
+                .points
+                .iter()
+                .map(|(speed, x)| format!("{:.0}: {:+.4}", rpm(*speed), x * scale))
+                .collect();
             out += &format!(
-                "\n{} {} at {:.0} min⁻¹: artefact form {form:.4} µm peak to valley; separated \
-                 synchronous motion along X {motion:.4} µm (LSC)",
-                s.method,
-                s.probes.join("+"),
-                rpm(s.speed),
-            );
-            if !s.blind.is_empty() {
-                out += &format!(
-                    "; blind to harmonics {}, where no probe reads more than its noise",
-                    compact_list(&s.blind)
-                );
-            }
-            out += "\n";
-        } else {
-            out += &format!(
-                "\n{} {} at {:.0} min⁻¹: artefact form and separated synchronous motion not \
-                 determined: {} (over the harmonics the layout sees: form {form:.4} µm peak to \
-                 valley, motion along X {motion:.4} µm LSC)\n",
-                s.method,
-                s.probes.join("+"),
-                rpm(s.speed),
-                blind_reason(s),
+                "  {}: {:.4} ({})\n",
+                shift.test,
+                shift.value * scale,
+                cells.join(", ")
             );
         }
+    }
+    for s in &evaluation.separations {
+        out += &separations::text(s);
     }
     for note in &evaluation.notes {
         out += &format!("\nnote: {note}\n");
@@ -675,35 +659,7 @@ pub fn plots(table: &SpindleTable, evaluation: &Evaluation) -> Vec<(String, Vec<
         ));
     }
     for s in &evaluation.separations {
-        let form = &s.form;
-        let (lo, hi) = bounds(form, &angles, [0.0, 0.0]);
-        let svg = polar_svg(
-            &format!(
-                "artefact form by {} ({}), {:.0} min⁻¹",
-                s.method,
-                s.probes.join("+"),
-                rpm(s.speed)
-            ),
-            &[PolarCurve {
-                label: "form (outward)",
-                angles: &angles,
-                values: form,
-                stroke: "#063",
-                width: 1.5,
-            }],
-            [0.0, 0.0],
-            (lo, hi),
-            &[format!("peak to valley {:.4} µm", (hi - lo) * 1e6)],
-        );
-        files.push((
-            format!(
-                "form_{}_{}_{}rpm.svg",
-                slug(s.method),
-                slug(&s.probes.join("_")),
-                rpm(s.speed).round()
-            ),
-            svg.into_bytes(),
-        ));
+        files.extend(separations::plots(s, &angles));
     }
     files
 }

@@ -1,0 +1,411 @@
+//! The form separations of a record (Donaldson reversal, multi-probe) and everything they
+//! separate: the artefact form and the error motion, each as harmonic coefficients and as
+//! values about every centre.
+//!
+//! # What is separated
+//!
+//! - **Reversal** (ISO 230-7 Annex B) of one fixed radial probe at stator azimuth φ between
+//!   the set-ups `normal` and `reversed` at one speed: the form `h(ψ)` and the motion along
+//!   the probe's axis `E_φ = E_X cos φ + E_Y sin φ`. What turns with the artefact comes out as
+//!   form, what stays with the rotor as motion ([`separation::donaldson_reversal`]).
+//! - **Multi-probe** separation of three or more fixed radial probes at one height
+//!   ([`separation::separate`], two-direction model): the form and the motion along X and Y;
+//!   from these, the motion in the rotating sensitive direction, formula (1).
+//!
+//! # First harmonics
+//!
+//! A multi-probe layout cannot tell the form's 1 UPR from a motion (a centring offset turning
+//! with the rotor moves the artefact's centre): harmonic 1 is given to the motion, and the
+//! form is harmonics 2 up. The reversal separates both: the form's 1 UPR is the artefact's
+//! centring on the rotor, the motion's the axis's own 1-UPR motion. Either way the form's
+//! first harmonic is not form: roundness about LSC, MRS, MIC and MCC does not depend on it;
+//! about PC it counts.
+//!
+//! # Asynchronous motion
+//!
+//! The form is synchronous, so what a probe reads beyond its synchronous profile is motion:
+//! revolution by revolution, the motion is its separated synchronous profile plus the
+//! asynchronous part of the readings — for a reversal, of the normal set-up's probe
+//! (`−(r₁ − S₁)`, the probe facing the axis); for a multi-probe layout, the least-squares
+//! displacement `(E_X, E_Y)` of the probes' asynchronous parts at each sample (all probes read
+//! at one time). The values of that signal about each centre are the motion's total,
+//! synchronous, asynchronous, inner, outer, fundamental and residual values.
+//!
+//! # Blind harmonics
+//!
+//! Harmonics the layout cannot see are zero in the form and the motion. Where some probe reads
+//! more than its noise at one of them ([`separation::blind_with_content`]) the separated
+//! synchronous values are not determined; the asynchronous value still is.
+
+use super::{EvaluateError, Options, ProbeKind, Segment, compact_list, kind};
+use crate::kinds::spindle::analysis::motion::{
+    self, Direction, ErrorMotionValues, Grid, Revolutions,
+};
+use crate::kinds::spindle::analysis::polar::{Centre, CentreFit};
+use crate::kinds::spindle::analysis::separation::{self, Model};
+use crate::kinds::spindle::analysis::spectrum;
+use crate::kinds::spindle::record::{Sensing, SpindleRecord};
+use crate::math::Real;
+use std::f64::consts::TAU;
+
+/// Artefact form separated from the error motion by one probe (reversal) or a layout
+/// (multi-probe), at one speed.
+#[derive(Clone, Debug)]
+pub struct Separated {
+    /// The method: `reversal` or `multi-probe`.
+    pub method: &'static str,
+    /// The probes used.
+    pub probes: Vec<String>,
+    /// Speed (rad/s).
+    pub speed: Real,
+    /// Highest harmonic separated: `⌈M/2⌉ − 1`, the highest below Nyquist.
+    pub k_max: usize,
+    /// Artefact form h(ψ) (m, outward positive) on the grid ψ_m = 2πm/M.
+    pub form: Vec<Real>,
+    /// `[a_k, b_k]` of the form, `h(ψ) = Σ a_k cos kψ + b_k sin kψ`, entry `k − 1` for
+    /// k = 1..=k_max (m); zero at blind harmonics, and at 1 for a multi-probe layout.
+    pub form_harmonics: Vec<[Real; 2]>,
+    /// The form about each centre asked, in the order asked (roundness).
+    pub form_values: Vec<CentreFit>,
+    /// Synchronous error motion along X and Y (m) on the θ grid (reversal: along the probe
+    /// only, in `motion_x`).
+    pub motion_x: Vec<Real>,
+    /// See `motion_x` (empty for a reversal).
+    pub motion_y: Vec<Real>,
+    /// The motion, direction by direction, with its values.
+    pub motions: Vec<SeparatedMotion>,
+    /// Harmonics the layout cannot see (multi-probe).
+    pub blind: Vec<usize>,
+    /// Those of `blind` at which a probe reads more than its noise: form or motion is there
+    /// and unknown, so neither's value is determined ([`separation::blind_with_content`]).
+    pub unknown: Vec<usize>,
+}
+
+/// The separated error motion in one direction.
+#[derive(Clone, Debug)]
+pub struct SeparatedMotion {
+    /// `X`, `Y`, `−X`, `−Y`, `φ°` (a fixed direction at that azimuth) or `rotating`.
+    pub axis: String,
+    /// The fixed direction's azimuth from X (rad); `None` for the rotating direction.
+    pub azimuth: Option<Real>,
+    /// `[a_k, b_k]` of the synchronous motion, `E(θ) = Σ a_k cos kθ + b_k sin kθ`, entry
+    /// `k − 1` for k = 1..=k_max (m).
+    pub harmonics: Vec<[Real; 2]>,
+    /// Separated synchronous motion plus the readings' asynchronous part, revolution by
+    /// revolution (m).
+    pub signal: Revolutions,
+    /// Its values about each centre asked (module docs).
+    pub values: Vec<ErrorMotionValues>,
+}
+
+/// The name of a fixed direction at azimuth `phi` (rad): an axis when it is one (within
+/// 1 µrad), else its azimuth in degrees.
+fn axis_name(phi: Real) -> String {
+    let deg = phi.to_degrees().rem_euclid(360.0);
+    let named = [
+        (0.0, "X"),
+        (90.0, "Y"),
+        (180.0, "−X"),
+        (270.0, "−Y"),
+        (360.0, "X"),
+    ];
+    named
+        .iter()
+        .find(|(at, _)| (deg - at).abs() < 1e-6_f64.to_degrees())
+        .map_or_else(|| format!("{deg:.3}°"), |(_, name)| (*name).to_string())
+}
+
+/// The centres asked, the radial preferred one (LSC) first.
+fn centres(options: &Options) -> Vec<Centre> {
+    let preferred = Direction::Radial.preferred_centre();
+    std::iter::once(preferred)
+        .chain(options.centres.iter().copied().filter(|c| *c != preferred))
+        .collect()
+}
+
+/// The values of a separated quantity, with the error's name.
+fn motion_values(
+    what: &str,
+    signal: &Revolutions,
+    centres: &[Centre],
+    grid: &Grid,
+) -> Result<Vec<ErrorMotionValues>, EvaluateError> {
+    motion::values_about_on(signal, Direction::Radial, centres, grid).map_err(|source| {
+        EvaluateError::Motion {
+            test: what.to_string(),
+            source,
+        }
+    })
+}
+
+/// The form's values about each centre.
+fn form_values(
+    what: &str,
+    form: &[Real],
+    centres: &[Centre],
+    grid: &Grid,
+) -> Result<Vec<CentreFit>, EvaluateError> {
+    centres
+        .iter()
+        .map(|&c| {
+            grid.angles()
+                .fit(form, c)
+                .map_err(|source| EvaluateError::Motion {
+                    test: what.to_string(),
+                    source: motion::MotionError::Centre(source),
+                })
+        })
+        .collect()
+}
+
+/// `synchronous[m] + asynchronous[k·M + m]` as revolutions.
+fn with_asynchronous(synchronous: &[Real], asynchronous: &[Real]) -> Revolutions {
+    let m = synchronous.len();
+    let values = asynchronous
+        .chunks_exact(m)
+        .flat_map(|revolution| revolution.iter().zip(synchronous).map(|(a, s)| a + s))
+        .collect();
+    Revolutions::new(m, values).expect("laid out like the probes")
+}
+
+/// Donaldson reversal of each radial probe between the set-ups `normal` and `reversed` at
+/// equal speeds.
+pub(super) fn reversals(
+    record: &SpindleRecord,
+    segments: &[Segment],
+    options: &Options,
+) -> Result<Vec<Separated>, EvaluateError> {
+    let mut out = Vec::new();
+    let centres = centres(options);
+    // Forward records only: the separations' conventions take the axis angle increasing.
+    for normal in segments
+        .iter()
+        .filter(|s| s.setup == "normal" && s.speed >= 0.0)
+    {
+        let Some(reversed) = segments
+            .iter()
+            .find(|s| s.setup == "reversed" && s.speed == normal.speed)
+        else {
+            continue;
+        };
+        for (test, other) in normal.tests.iter().zip(&reversed.tests) {
+            let single_radial = test.direction == Direction::Radial
+                && test.probes.len() == 1
+                && test.sensing == Sensing::Fixed;
+            if !single_radial || other.name != test.name {
+                continue;
+            }
+            let what = format!("reversal of {}", test.probes[0]);
+            let azimuth = match record
+                .probe(&test.probes[0])
+                .map(|i| kind(&record.probes[i]))
+            {
+                Some(Some(ProbeKind::Radial { azimuth })) => azimuth,
+                _ => continue,
+            };
+            let r1 = motion::synchronous(&test.signal);
+            let r2 = motion::synchronous(&other.signal);
+            let result = separation::donaldson_reversal(&r1, &r2).map_err(|source| {
+                EvaluateError::Separation {
+                    what: what.clone(),
+                    source,
+                }
+            })?;
+            let m = r1.len();
+            let grid = Grid::new(m).map_err(|source| EvaluateError::Motion {
+                test: what.clone(),
+                source,
+            })?;
+            let k_max = (m - 1) / 2;
+            // The probe faces the axis: its reading's asynchronous part is minus the motion's.
+            let asynchronous: Vec<Real> = test
+                .signal
+                .values()
+                .chunks_exact(m)
+                .flat_map(|rev| rev.iter().zip(&r1).map(|(v, s)| s - v))
+                .collect();
+            let signal = with_asynchronous(&result.motion, &asynchronous);
+            let motion = SeparatedMotion {
+                axis: axis_name(azimuth),
+                azimuth: Some(azimuth),
+                harmonics: spectrum::harmonics(&result.motion, k_max),
+                values: motion_values(&what, &signal, &centres, &grid)?,
+                signal,
+            };
+            out.push(Separated {
+                method: "reversal",
+                probes: test.probes.clone(),
+                speed: normal.speed,
+                k_max,
+                form_harmonics: spectrum::harmonics(&result.form, k_max),
+                form_values: form_values(&what, &result.form, &centres, &grid)?,
+                form: result.form,
+                motion_x: result.motion,
+                motion_y: Vec::new(),
+                motions: vec![motion],
+                blind: Vec::new(),
+                unknown: Vec::new(),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Multi-probe separation (two-direction model) of three or more fixed radial probes at one
+/// height, per segment.
+pub(super) fn multiprobe(
+    record: &SpindleRecord,
+    segments: &[Segment],
+    options: &Options,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Separated>, EvaluateError> {
+    let mut out = Vec::new();
+    let centres = centres(options);
+    let mut groups: Vec<(Real, Vec<(usize, Real)>)> = Vec::new();
+    for (i, probe) in record.probes.iter().enumerate() {
+        if let (Some(ProbeKind::Radial { azimuth }), Sensing::Fixed) = (kind(probe), probe.sensing)
+        {
+            let z = probe.position[2];
+            match groups.iter_mut().find(|(h, _)| (h - z).abs() < 1e-6) {
+                Some((_, members)) => members.push((i, azimuth)),
+                None => groups.push((z, vec![(i, azimuth)])),
+            }
+        }
+    }
+    for (_, members) in groups.iter().filter(|(_, m)| m.len() >= 3) {
+        let names: Vec<String> = members
+            .iter()
+            .map(|(i, _)| record.probes[*i].name.clone())
+            .collect();
+        let what = format!("multi-probe {}", names.join("+"));
+        let azimuths: Vec<Real> = members.iter().map(|(_, a)| *a).collect();
+        // The probe azimuths of the table describe the normal set-up: a reversed or turned
+        // set-up moves the probes (or the artefact), so only normal, forward records are
+        // separated.
+        let separable =
+            |s: &&Segment| (s.setup.is_empty() || s.setup == "normal") && s.speed >= 0.0;
+        for segment in segments.iter().filter(separable) {
+            let signals: Vec<&Revolutions> = members
+                .iter()
+                .map(|(i, _)| {
+                    &segment
+                        .tests
+                        .iter()
+                        .find(|t| t.probes == [record.probes[*i].name.clone()])
+                        .expect("every radial probe has its own test")
+                        .signal
+                })
+                .collect();
+            let profiles: Vec<Vec<Real>> = signals.iter().map(|s| motion::synchronous(s)).collect();
+            let result = separation::separate(
+                &profiles,
+                &azimuths,
+                Model::TwoDirection,
+                separation::Options {
+                    k_max: None,
+                    condition_limit: options.condition_limit,
+                },
+            )
+            .map_err(|source| EvaluateError::Separation {
+                what: what.clone(),
+                source,
+            })?;
+            if !result.blind.is_empty() {
+                let note = format!(
+                    "{what}: the layout cannot see harmonics {}",
+                    compact_list(&result.blind)
+                );
+                if !notes.contains(&note) {
+                    notes.push(note);
+                }
+            }
+            let m = profiles[0].len();
+            let grid = Grid::new(m).map_err(|source| EvaluateError::Motion {
+                test: what.clone(),
+                source,
+            })?;
+            let [async_x, async_y] = asynchronous_xy(&signals, &profiles, &azimuths);
+            let x = with_asynchronous(&result.motion_x, &async_x);
+            let y = with_asynchronous(&result.motion_y, &async_y);
+            let rotating = rotating(&x, &y);
+            let k_max = result.k_max;
+            let mut motions = Vec::new();
+            for (axis, azimuth, signal) in [
+                ("X", Some(0.0), x),
+                ("Y", Some(TAU / 4.0), y),
+                ("rotating", None, rotating),
+            ] {
+                motions.push(SeparatedMotion {
+                    axis: axis.to_string(),
+                    azimuth,
+                    harmonics: spectrum::harmonics(&motion::synchronous(&signal), k_max),
+                    values: motion_values(&format!("{what} {axis}"), &signal, &centres, &grid)?,
+                    signal,
+                });
+            }
+            out.push(Separated {
+                method: "multi-probe",
+                probes: names.clone(),
+                speed: segment.speed,
+                k_max,
+                form_harmonics: spectrum::harmonics(&result.form, k_max),
+                form_values: form_values(&what, &result.form, &centres, &grid)?,
+                form: result.form,
+                motion_x: result.motion_x,
+                motion_y: result.motion_y,
+                motions,
+                unknown: separation::blind_with_content(&profiles, &result.blind),
+                blind: result.blind,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The asynchronous motion `(E_X, E_Y)` at every sample: the least-squares displacement from
+/// the probes' asynchronous parts `r_j − S_j = −(E_X cos φ_j + E_Y sin φ_j)` (a probe at
+/// azimuth φ faces the axis), revolution-major like the signals.
+fn asynchronous_xy(
+    signals: &[&Revolutions],
+    synchronous: &[Vec<Real>],
+    azimuths: &[Real],
+) -> [Vec<Real>; 2] {
+    // Normal equations of the columns −cos φ_j, −sin φ_j, inverted once.
+    let d: Vec<[Real; 2]> = azimuths.iter().map(|a| [-a.cos(), -a.sin()]).collect();
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for [c, s] in &d {
+        sxx += c * c;
+        sxy += c * s;
+        syy += s * s;
+    }
+    let det = sxx * syy - sxy * sxy;
+    let m = synchronous[0].len();
+    let n = signals[0].values().len();
+    let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
+    for i in 0..n {
+        let (mut bx, mut by) = (0.0, 0.0);
+        for ((signal, sync), [c, s]) in signals.iter().zip(synchronous).zip(&d) {
+            let a = signal.values()[i] - sync[i % m];
+            bx += c * a;
+            by += s * a;
+        }
+        x[i] = (syy * bx - sxy * by) / det;
+        y[i] = (sxx * by - sxy * bx) / det;
+    }
+    [x, y]
+}
+
+/// Formula (1): `E_X cos θ + E_Y sin θ`, sample by sample.
+fn rotating(x: &Revolutions, y: &Revolutions) -> Revolutions {
+    let m = x.samples_per_revolution();
+    let angles = x.angles();
+    let mut values = vec![0.0; x.values().len()];
+    for ((out, xs), ys) in values
+        .chunks_exact_mut(m)
+        .zip(x.values().chunks_exact(m))
+        .zip(y.values().chunks_exact(m))
+    {
+        motion::rotating_radial(xs, ys, &angles, out);
+    }
+    Revolutions::new(m, values).expect("laid out like the probes")
+}
