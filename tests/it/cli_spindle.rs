@@ -763,6 +763,7 @@ fn malformed_tables_are_refused_with_file_and_line_and_nothing_on_stdout() {
 // independent model.
 
 mod foreign_and_discovery;
+mod foreign_separations;
 
 #[test]
 fn a_multi_probe_layout_blind_to_harmonics_gives_no_form_or_motion_value() {

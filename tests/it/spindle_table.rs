@@ -205,6 +205,48 @@ fn a_foreign_export_reads_with_conventional_geometry() {
     );
 }
 
+/// A radial probe given by its angle alone faces the axis from that azimuth: direction
+/// `−(cos φ, sin φ, 0)`, at `NAME_height_mm`; the angle and a direction together are refused
+/// at the angle's line.
+#[test]
+fn a_probe_given_by_its_azimuth_faces_the_axis_from_there() {
+    let rows = "revolution,angle_deg,speed_rpm,p1_um,p2_um,p3_um\n0,0,60,0,0,0\n0,120,60,0,0,0\n0,240,60,0,0,0\n";
+    let text = format!(
+        "# p1_azimuth_deg = 30\n# p2_azimuth_deg = 150\n# p2_height_mm = 12.5\n# p3_azimuth_deg = -90\n{rows}"
+    );
+    let table = parse(text.as_bytes(), "t.csv").unwrap();
+    let r = &table.record;
+    let probe = |name: &str| &r.probes[r.probe(name).unwrap()];
+    let s3 = 3f64.sqrt() / 2.0;
+    for (name, want) in [("p1", [-s3, -0.5]), ("p2", [s3, -0.5]), ("p3", [0.0, 1.0])] {
+        let d = probe(name).direction;
+        assert!(
+            close(d[0], want[0], 1e-15) && close(d[1], want[1], 1e-15) && d[2] == 0.0,
+            "{name}: {d:?}"
+        );
+        assert_eq!(probe(name).sensing, Sensing::Fixed);
+    }
+    assert!(close(probe("p2").position[2], 0.0125, 1e-15));
+    assert_eq!(probe("p1").position, [0.0, 0.0, 0.0]);
+    assert!(table.conditions.unread().is_empty(), "every key read");
+
+    let both = format!(
+        "# p1_azimuth_deg = 30\n# p1_direction = 1 0 0\n# p2_azimuth_deg = 0\n# p3_azimuth_deg = 90\n{rows}"
+    );
+    let error = refused(&both);
+    assert!(
+        error.contains("t.csv:1:") && error.contains("either `p1_azimuth_deg`"),
+        "{error}"
+    );
+    let nan =
+        format!("# p1_azimuth_deg = north\n# p2_azimuth_deg = 0\n# p3_azimuth_deg = 90\n{rows}");
+    let error = refused(&nan);
+    assert!(
+        error.contains("t.csv:1:") && error.contains("expected a finite number"),
+        "{error}"
+    );
+}
+
 #[test]
 fn errors_in_a_crlf_export_name_the_right_line() {
     let text = std::fs::read_to_string(data("foreign_sea.csv")).unwrap();

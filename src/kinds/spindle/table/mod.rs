@@ -42,6 +42,7 @@
 //! | `NAME_direction` | `dx dy dz`: probe `NAME`'s sensitive direction (§5.2 e), a unit vector within 1e-6 (normalised on reading) |
 //! | `NAME_position_mm` | `x y z`: the sensed point on the artefact (mm), axis frame (§5.2 a, k) |
 //! | `NAME_sensing` | `fixed` (default) or `rotating` |
+//! | `NAME_azimuth_deg` | instead of the two keys above, for a radial probe given by its angle alone (multi-probe exports): it sits at this azimuth from X (counter-clockwise seen from +z), faces the axis and reads positive when the surface moves away (ISO 230-7 A.7.2), at height `NAME_height_mm` (default 0) |
 //! | `station_separation_mm` | height of the second radial station (`x2`, `y2`) above the first |
 //! | `face_radius_mm` | radius of the `face` probe's point |
 //! | `bandwidth_hz`, `resolution_nm` | the instrumentation (§5.2 j) |
@@ -619,6 +620,28 @@ fn probe_geometry(
     };
     let given_direction = conditions.triple(&direction_key, file)?;
     let given_position = conditions.triple(&position_key, file)?;
+    let azimuth_key = format!("{name}_azimuth_deg");
+    if let Some(azimuth) = conditions.number(&azimuth_key, file)? {
+        if given_direction.is_some() || given_position.is_some() {
+            let (_, line) = conditions.get(&azimuth_key).unwrap_or(("", header_line));
+            return Err(fail(
+                line,
+                format!(
+                    "probe `{name}`: give either `{azimuth_key}` or `{direction_key}` and                      `{position_key}`, not both"
+                ),
+            ));
+        }
+        let height = conditions
+            .number(&format!("{name}_height_mm"), file)?
+            .unwrap_or(0.0);
+        let (sin, cos) = (azimuth * RAD_PER_DEG).sin_cos();
+        return Ok(SpindleProbe {
+            name: name.to_string(),
+            direction: [-cos, -sin, 0.0],
+            position: [0.0, 0.0, height * M_PER_MM],
+            sensing: Sensing::Fixed,
+        });
+    }
     let default = conventional(name);
     let direction = match (given_direction, &default) {
         (Some(d), _) => {
@@ -694,8 +717,8 @@ fn no_geometry(name: &str, file: &str, header_line: u64) -> TableError {
         Some(header_line),
         format!(
             "column `{name}_um`: no geometry for probe `{name}`: give `{name}_direction = dx dy dz` \
-             and `{name}_position_mm = x y z` in the preamble (names with defaults: x, x1, y, y1, \
-             x2, y2, z, face)"
+             and `{name}_position_mm = x y z`, or `{name}_azimuth_deg` for a radial probe, in the \
+             preamble (names with defaults: x, x1, y, y1, x2, y2, z, face)"
         ),
     )
 }
