@@ -245,7 +245,7 @@ fn first_revolutions(from: &Path, to: &Path, keep: usize, speeds: &[&str]) {
 // 1. The JSON report on mtwin's own record.
 
 const SEGMENT_KEYS: [&str; 4] = ["setup", "speed_rpm", "revolutions", "tests"];
-const TEST_KEYS: [&str; 8] = [
+const TEST_KEYS: [&str; 9] = [
     "name",
     "direction",
     "sensing",
@@ -254,6 +254,7 @@ const TEST_KEYS: [&str; 8] = [
     "unit",
     "values",
     "lines",
+    "uncertainty",
 ];
 const VALUE_KEYS: [&str; 11] = [
     "centre",

@@ -742,3 +742,4 @@ fn a_2_upr_tilt_gives_2_beta_in_the_fixed_tilt_test() {
 mod directions_and_shifts;
 mod separated_values;
 mod separation_and_records;
+mod uncertainty;

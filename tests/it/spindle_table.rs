@@ -417,7 +417,8 @@ fn probe_geometry_comes_from_keys_or_conventional_names() {
     assert_eq!(
         refused("cap3_um,revolution,angle_deg,speed_rpm\n0,0,0,60\n"),
         "t.csv:1: column `cap3_um`: no geometry for probe `cap3`: give `cap3_direction = dx dy dz` \
-         and `cap3_position_mm = x y z` in the preamble (names with defaults: x, x1, y, y1, x2, \
+         and `cap3_position_mm = x y z`, or `cap3_azimuth_deg` for a radial probe, in the \
+         preamble (names with defaults: x, x1, y, y1, x2, \
          y2, z, face)"
     );
     // A direction that is not a unit vector.

@@ -1,6 +1,6 @@
 //! Separations of records written the way other instruments write them — a vendor header,
 //! readings rounded to 1 nm, probes given by their angle alone or by conventional names, noise
-//! — from a model written here, apart from the twin.
+//! — from a model written here, apart from the twin; and the inputs of their uncertainty.
 
 use super::*;
 use rand::{RngExt, SeedableRng};
@@ -289,4 +289,73 @@ fn a_foreign_reversal_export_by_conventional_name_is_separated() {
     // The asynchronous motion of the normal set-up along the probe: the 4.4 UPR line.
     let async_value = number(&motion["asynchronous_um"]);
     assert!((async_value - 0.06).abs() < 0.015, "{async_value}");
+}
+
+/// The Annex F inputs: from the preamble, overridden by the flags; a bad one refused.
+#[test]
+fn the_uncertainty_inputs_come_from_the_preamble_or_the_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(39);
+    let header = "# SEA data export\r\n# device_range_um = 0.05\r\n# drift_um = 0.02\r\n\
+                  revolution,angle_deg,time_s,x_um\r\n";
+    let body = rows(None, 0, &mut |q| vec![reading(PI, q, 0.0, &mut rng)]);
+    let path = dir.path().join("x.csv");
+    std::fs::write(&path, header.to_string() + &body).unwrap();
+    let u = |json: &Value| json["segments"][0]["tests"][0]["uncertainty"].clone();
+
+    // Stated: F.2 and F.3, complete. The readings are rounded to 0.001 µm, but a stated
+    // device term includes the resolution (ISO/TR 230-9 C.3).
+    let stated = u(&analyze_json(&path, &[]));
+    assert_eq!(stated["complete"], true, "{stated}");
+    assert_eq!(stated["k"], 2);
+    let sources: Vec<&str> = array(&stated["contributions"])
+        .iter()
+        .map(|c| c["source"].as_str().unwrap())
+        .collect();
+    assert!(
+        sources[0].contains("F.2") && sources[1].contains("F.3"),
+        "{sources:?}"
+    );
+    // 1.4·√((0.6·0.05)² + (0.6·0.02)²/8): no centring term (the probe is put on the axis).
+    let want = 1.4 * ((0.6f64 * 0.05).powi(2) + (0.6f64 * 0.02).powi(2) / 8.0).sqrt();
+    assert!(
+        (number(&stated["synchronous"]) - want).abs() < 2e-6,
+        "{stated} vs {want}"
+    );
+
+    // The flag overrides the preamble's range.
+    let flagged = u(&analyze_json(
+        &path,
+        &["--device-range-um".as_ref(), "0.5".as_ref()],
+    ));
+    let want = 1.4 * ((0.6f64 * 0.5).powi(2) + (0.6f64 * 0.02).powi(2) / 8.0).sqrt();
+    assert!(
+        (number(&flagged["synchronous"]) - want).abs() < 2e-6,
+        "{flagged}"
+    );
+
+    // Nothing stated: a lower bound, the resolution read from the rounding (1 nm).
+    let bare = dir.path().join("bare.csv");
+    std::fs::write(
+        &bare,
+        "revolution,angle_deg,time_s,x_um\r\n".to_string() + &body,
+    )
+    .unwrap();
+    let lower = u(&analyze_json(&bare, &[]));
+    assert_eq!(lower["complete"], false);
+    assert!(
+        array(&lower["contributions"])[0]["source"]
+            .as_str()
+            .unwrap()
+            .starts_with("resolution 1.000 nm")
+    );
+
+    let refused = analyze(&path, &["--drift-um=-1".as_ref()]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(refused.stdout.is_empty());
+    assert!(
+        text(&refused.stderr).contains("--drift-um"),
+        "{}",
+        text(&refused.stderr)
+    );
 }

@@ -282,3 +282,93 @@ fn a_multi_probe_layout_reports_x_y_and_rotating_motion_with_their_asynchronous_
         );
     }
 }
+
+#[test]
+fn a_misplaced_probe_shows_in_the_layout_s_misfit_and_its_uncertainty_covers_the_error() {
+    // The layout of the multi-probe test, noise-free, a 3-lobe form of 35 nm and 0.10 µm of
+    // 2-UPR motion along X. Exact, the model of form and motion holds the readings: no misfit.
+    // With a probe misplaced or its gain wrong it no longer does: the misfit enters the budget
+    // and the separated values' errors against the injected truth stay within U.
+    let errors = harmonics("EXS", &[harmonic(2, 0.10, 0.0, "um")]);
+    let probes: String = [0.0, 57.29577951308232, 180.0, 217.72395214971282]
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            format!(
+                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
+                i + 1
+            )
+        })
+        .collect();
+    let spindle = format!(
+        "speeds_rpm = [4000.0]\nrevolutions = 4\nsamples_per_revolution = {M}\n\
+         [spindle.artefact]\nkind = \"sphere\"\ndiameter_mm = 25.4\n\
+         form = [{{ per_revolution = 3, amplitude_nm = 35.0, phase_deg = 50.0 }}]\n{probes}"
+    );
+    let s = load("vmc3", &errors, &spindle);
+    let test = s.spindle_test.as_ref().unwrap();
+    let table = run::simulate(&s.twin, test, 1).unwrap();
+    let separated = |table: &mtwin::kinds::spindle::table::SpindleTable| {
+        let ev = evaluate(
+            &table.record,
+            table.samples_per_revolution,
+            &Options::default(),
+        )
+        .unwrap();
+        ev.separations
+            .into_iter()
+            .find(|s| s.method == "multi-probe")
+            .unwrap()
+    };
+    let misfit = |sep: &Separated| {
+        let last = sep.uncertainty.contributions.last().unwrap();
+        assert!(last.source.starts_with("separation"), "{}", last.source);
+        last.u
+    };
+    let exact = separated(&table);
+    assert!(misfit(&exact) < 1e-15, "exact layout: {:e}", misfit(&exact));
+
+    let form_truth = range(&sampled(3.0, 35.0 * NM, 50.0));
+    let motion_truth = range(&sampled(2.0, 0.10 * UM, 0.0));
+    // Four faults a real layout has: a probe 1° or −2° from its stated azimuth, a gain 1 %
+    // high or 2 % low. Each shows in the misfit; U (with Student's factor for the few degrees
+    // of freedom a misfit in two harmonics has) covers the error it makes.
+    let faults: [(&str, Real, Real); 4] = [
+        ("p2", 1.0, 1.0),
+        ("p3", -2.0, 1.0),
+        ("p1", 0.0, 1.01),
+        ("p4", 0.0, 0.98),
+    ];
+    for (name, degrees, gain) in faults {
+        let mut faulty = table.clone();
+        let i = faulty.record.probe(name).unwrap();
+        let d = faulty.record.probes[i].direction;
+        let phi = (-d[1]).atan2(-d[0]) + degrees.to_radians();
+        faulty.record.probes[i].direction = [-phi.cos(), -phi.sin(), 0.0];
+        faulty.record.readings[i]
+            .iter_mut()
+            .for_each(|r| *r *= gain);
+        let off = separated(&faulty);
+        let what = format!("{name} {degrees}° ×{gain}");
+        assert!(
+            misfit(&off) > 1e-10,
+            "{what}: the fault shows: {:e}",
+            misfit(&off)
+        );
+        let form_error = (off.form_values[0].value() - form_truth).abs();
+        let motion_error = (motion(&off, "X").values[0].synchronous - motion_truth).abs();
+        let u = off.uncertainty.synchronous;
+        assert!(
+            form_error <= u,
+            "{what}: form off by {form_error:e}, U {u:e}"
+        );
+        assert!(
+            motion_error <= u,
+            "{what}: motion off by {motion_error:e}, U {u:e}"
+        );
+        assert!(
+            form_error > 1e-10 || motion_error > 1e-10,
+            "{what}: the error is real"
+        );
+    }
+}

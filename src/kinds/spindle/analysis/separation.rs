@@ -317,6 +317,21 @@ pub struct Separation {
     /// redundancy and contributes nothing whatever the data (the fundamental, with two
     /// unknowns, still does). Blind harmonics, k = 0 and k > k_max are not counted.
     pub residual_rms: Real,
+    /// The per-sample RMS error of the form, `E_X` and `E_Y` profiles that the misfit implies
+    /// (m): at each harmonic with more probes than unknowns, the misfit's variance per probe
+    /// `|r_k|²/(P − n)` propagated through the least squares, `(AᴴA)⁻¹`, summed over the
+    /// harmonics (each counts twice, for k and −k). Errors of the readings that the model
+    /// can hold (as many as its unknowns at each harmonic) are not seen; the estimate takes
+    /// them to be as large as those it sees.
+    pub misfit_error_rms: [Real; 3],
+    /// The degrees of freedom of each of those estimates (Welch–Satterthwaite over the
+    /// harmonics, each harmonic's misfit carrying `2(P − n)`): few when the content is in a
+    /// few harmonics, so its coverage factor is Student's, not 2.
+    pub misfit_dof: [Real; 3],
+    /// The harmonics at which the layout has no more probes than unknowns: its misfit is
+    /// zero there whatever the readings' errors, so [`Separation::misfit_error_rms`] holds
+    /// nothing of them.
+    pub unchecked: Vec<usize>,
 }
 
 /// Multi-probe error separation of synchronous profiles.
@@ -389,6 +404,10 @@ pub fn separate<R: AsRef<[Real]>>(
     let mut condition = vec![1.0; k_max + 1];
     let mut blind = Vec::new();
     let mut residual_sq = 0.0;
+    let mut error_ms = [0.0; 3];
+    // Σ v²/ν per profile, for Welch–Satterthwaite.
+    let mut spread = [0.0; 3];
+    let mut unchecked = Vec::new();
     let mut rhs = DVector::from_element(p, zero);
     for k in 1..=k_max {
         let design = HarmonicDesign::new(azimuths, model, k);
@@ -406,7 +425,36 @@ pub fn separate<R: AsRef<[Real]>>(
         };
         // Residual of the scaled system equals that of the unscaled one.
         let fitted = &design.scaled * &x;
-        residual_sq += (&rhs - fitted).norm_squared();
+        let misfit = (&rhs - fitted).norm_squared();
+        residual_sq += misfit;
+        let unknowns = design.scale.len();
+        if p > unknowns {
+            let variance = misfit / (p - unknowns) as Real;
+            let dof = 2.0 * (p - unknowns) as Real;
+            let gains = design.variance_gains();
+            let slots: &[usize] = match (model, k) {
+                (Model::TwoDirection, 1) => &[1, 2],
+                (Model::TwoDirection, _) => &[1, 2, 0],
+                (Model::SingleWhirl, 1) => &[1],
+                (Model::SingleWhirl, _) => &[1, 0],
+            };
+            // Column c estimates profile slots[c] (0 form, 1 E_X, 2 E_Y); a single whirl's
+            // E_Y is −i E_X, as uncertain.
+            for (c, &slot) in slots.iter().enumerate() {
+                let v = 2.0 * variance * gains[c];
+                let targets: &[usize] = if model == Model::SingleWhirl && slot == 1 {
+                    &[1, 2]
+                } else {
+                    std::slice::from_ref(&slots[c])
+                };
+                for &t in targets {
+                    error_ms[t] += v;
+                    spread[t] += v * v / dof;
+                }
+            }
+        } else {
+            unchecked.push(k);
+        }
         let unknowns: Vec<Complex> = x.iter().zip(&design.scale).map(|(y, s)| y / *s).collect();
         let (xk, yk, gk) = match (model, k) {
             (Model::TwoDirection, 1) => (unknowns[0], unknowns[1], zero),
@@ -448,6 +496,15 @@ pub fn separate<R: AsRef<[Real]>>(
         condition,
         // Parseval: harmonics k and M − k each carry |c_k|².
         residual_rms: (2.0 * residual_sq / p as Real).sqrt(),
+        misfit_error_rms: error_ms.map(Real::sqrt),
+        misfit_dof: std::array::from_fn(|i| {
+            if spread[i] > 0.0 {
+                error_ms[i] * error_ms[i] / spread[i]
+            } else {
+                Real::INFINITY
+            }
+        }),
+        unchecked,
     })
 }
 
@@ -597,6 +654,27 @@ impl HarmonicDesign {
             svd: Some(svd),
             condition,
         }
+    }
+
+    /// `[(AᴴA)⁻¹]_cc` of the unscaled design, column by column: the variance of unknown `c`
+    /// per unit variance of each probe's coefficient (`Σ_i |V_ci|²/σ_i²`, over the column
+    /// scale squared).
+    fn variance_gains(&self) -> Vec<Real> {
+        let Some(svd) = &self.svd else {
+            return vec![Real::INFINITY; self.scale.len()];
+        };
+        let v_t = svd.v_t.as_ref().expect("computed with V");
+        (0..self.scale.len())
+            .map(|c| {
+                let sum: Real = svd
+                    .singular_values
+                    .iter()
+                    .enumerate()
+                    .map(|(i, sigma)| v_t[(i, c)].norm_sqr() / (sigma * sigma))
+                    .sum();
+                sum / (self.scale[c] * self.scale[c])
+            })
+            .collect()
     }
 
     /// Least-squares solution of the scaled system, or `None` if it cannot be formed.

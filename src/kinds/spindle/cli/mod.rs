@@ -5,7 +5,7 @@ use super::analysis::motion::{Direction, ErrorMotionValues, decompose};
 use super::analysis::polar::Centre;
 use super::discovery::bearing::Bearing;
 use super::discovery::{DEFAULT_BASE_HARMONICS, Options as DiscoveryOptions, discover_spindle};
-use super::evaluate::{Evaluation, Options, Test, evaluate};
+use super::evaluate::{Budget, Evaluation, Options, Test, TestUncertainty, evaluate};
 use super::plot::{PolarCurve, line_svg, polar_svg, spectrum_svg};
 use super::record::Sensing;
 use super::table::{self, SpindleTable};
@@ -175,6 +175,12 @@ JSON keys (--json):
     the synchronous plot's centre), total_own_centre and total_own_offset (about the total
     plot's own centre of that kind), synchronous, asynchronous, fundamental (2·|1-UPR|),
     residual (the residual plot about its own centre), inner, outer;
+    uncertainty (ISO 230-7 Annex F, k = 2): synchronous (U of the synchronous, fundamental and
+    residual values, F.7), single (of total, asynchronous, inner, outer, F.6), complete,
+    missing[] (what the budget lacks: U is then a lower bound), contributions[]: source, u,
+    averages_over_revolutions (inputs: --device-uncertainty-um, --device-range-um,
+    --drift-um, --roundness-um or the preamble's device_uncertainty_um, device_range_um,
+    drift_um, artefact_roundness_um; resolution_nm or the readings' rounding);
     lines[]: per_revolution, hz, amplitude, synchronous (one-sided amplitude, largest first)
   speeds[]: test, unit, points[]: speed_rpm, synchronous, asynchronous (preferred centre)
   speed_shifts[]: speed-induced axis shift (§3.10.6) of each fixed-direction test seen at two
@@ -191,7 +197,8 @@ JSON keys (--json):
       values_seen[] over the harmonics seen;
     motion[] (reversal: along the probe; multi-probe: X, Y, rotating): axis, azimuth_deg,
       first_harmonic_um, harmonics_um, asynchronous_um, values[] (as a test's) or null, then
-      values_seen[]
+      values_seen[];
+    uncertainty (as a test's: the probes' budget, and a layout's misfit)
   notes[]
   cautions[]: what the record says against its units and labels (a total over 100 µm: nm in
     the µm columns; every one under 5 nm: mm in them; a probe stuck or spiking; two probes on
@@ -224,6 +231,22 @@ struct SpindleArgs {
         allow_negative_numbers = true
     )]
     directions_deg: Vec<Real>,
+    /// Expanded uncertainty (k = 2) of one probe channel from its calibration (ISO 230-7 F.1;
+    /// overrides the preamble's device_uncertainty_um).
+    #[arg(long, value_name = "UM")]
+    device_uncertainty_um: Option<Real>,
+    /// The probe's error range from its maker (F.2: U = 0.6 × range; overrides the preamble's
+    /// device_range_um).
+    #[arg(long, value_name = "UM")]
+    device_range_um: Option<Real>,
+    /// Range of a drift test with the axis stopped, as long as the record (F.3: U = 0.6 × range;
+    /// overrides the preamble's drift_um).
+    #[arg(long, value_name = "UM")]
+    drift_um: Option<Real>,
+    /// The artefact's roundness, peak to valley (overrides the preamble's
+    /// artefact_roundness_um).
+    #[arg(long, value_name = "UM")]
+    roundness_um: Option<Real>,
 }
 
 fn analyze(
@@ -248,6 +271,7 @@ fn analyze(
         anyhow::bail!("--direction-deg {bad}: expected a finite angle in degrees");
     }
     options.fixed_directions = args.directions_deg.iter().map(|d| d.to_radians()).collect();
+    options.budget = budget(&args, &table)?;
     progress(&format!(
         "evaluating {} samples of {} probes",
         table.record.len(),
@@ -282,6 +306,45 @@ fn analyze(
 }
 
 /// µm for lengths, µrad for tilts.
+/// The Annex F inputs: each flag, else its preamble key, in µm (≥ 0).
+fn budget(args: &SpindleArgs, table: &SpindleTable) -> Result<Budget> {
+    let file = args.file.display().to_string();
+    let pick = |flag: Option<Real>, name: &str, key: &str| -> Result<Option<Real>> {
+        let value = match flag {
+            Some(v) => Some(v),
+            None => table.conditions.number(key, &file)?,
+        };
+        match value {
+            Some(v) if !(v.is_finite() && v >= 0.0) => {
+                anyhow::bail!("{name} = {v}: expected a finite number of µm, at least 0")
+            }
+            v => Ok(v.map(|v| v * 1e-6)),
+        }
+    };
+    Ok(Budget {
+        device: pick(
+            args.device_uncertainty_um,
+            "--device-uncertainty-um (or device_uncertainty_um)",
+            "device_uncertainty_um",
+        )?,
+        device_range: pick(
+            args.device_range_um,
+            "--device-range-um (or device_range_um)",
+            "device_range_um",
+        )?,
+        drift: pick(args.drift_um, "--drift-um (or drift_um)", "drift_um")?,
+        roundness: pick(
+            args.roundness_um,
+            "--roundness-um (or artefact_roundness_um)",
+            "artefact_roundness_um",
+        )?,
+        resolution: table
+            .conditions
+            .number("resolution_nm", &file)?
+            .map(|q| q * 1e-9),
+    })
+}
+
 fn unit(direction: Direction) -> (&'static str, Real) {
     match direction {
         Direction::Tilt => ("urad", 1e6),
@@ -336,6 +399,23 @@ fn test_json(test: &Test, speed: Real) -> Value {
             "hz": round(l.per_revolution * speed.abs() / TAU),
             "amplitude": round(l.amplitude * scale),
             "synchronous": l.synchronous,
+        })).collect::<Vec<_>>(),
+        "uncertainty": uncertainty_json(&test.uncertainty, scale),
+    })
+}
+
+/// A test's Annex F budget (k = 2), in its unit.
+fn uncertainty_json(u: &TestUncertainty, scale: Real) -> Value {
+    json!({
+        "k": 2,
+        "synchronous": round(u.synchronous * scale),
+        "single": round(u.single * scale),
+        "complete": u.missing.is_empty(),
+        "missing": u.missing,
+        "contributions": u.contributions.iter().map(|c| json!({
+            "source": c.source,
+            "u": round(c.u * scale),
+            "averages_over_revolutions": c.averages,
         })).collect::<Vec<_>>(),
     })
 }
@@ -494,6 +574,18 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
                 })
                 .collect();
             out += &format!("  {:<30} lines: {}\n", "", lines.join("; "));
+            let u = &test.uncertainty;
+            out += &format!(
+                "  {:<30} U (k = 2): sync, fund., resid. ±{:.4}; total, async, inner, outer ±{:.4}{}\n",
+                "",
+                u.synchronous * scale,
+                u.single * scale,
+                if u.missing.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (a lower bound: {})", u.missing.join("; "))
+                }
+            );
         }
     }
     let series = speed_series(evaluation);

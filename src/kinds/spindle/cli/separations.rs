@@ -1,7 +1,7 @@
 //! The form separations in the report: JSON, text and polar plots of the form and of the
 //! error motion, each with its harmonics and its values about every centre.
 
-use super::{bounds, round, rpm, slug, values_json};
+use super::{bounds, round, rpm, slug, uncertainty_json, values_json};
 use crate::kinds::spindle::evaluate::{Separated, SeparatedMotion, compact_list};
 use crate::kinds::spindle::plot::{PolarCurve, polar_svg};
 use crate::math::Real;
@@ -107,6 +107,7 @@ pub(super) fn json(s: &Separated) -> Value {
         "form": form_json(s),
         "form_um": s.form.iter().map(|v| round(v * UM)).collect::<Vec<_>>(),
         "motion": s.motions.iter().map(|m| motion_json(s, m)).collect::<Vec<_>>(),
+        "uncertainty": uncertainty_json(&s.uncertainty, UM),
     })
 }
 
@@ -186,6 +187,16 @@ pub(super) fn text(s: &Separated) -> String {
     for m in &s.motions {
         out += &format!("  motion {} harmonics: {}\n", m.axis, largest(&m.harmonics));
     }
+    out += &format!(
+        "  U (k = 2): synchronous values ±{:.4}; total, asynchronous ±{:.4}{}\n",
+        s.uncertainty.synchronous * UM,
+        s.uncertainty.single * UM,
+        if s.uncertainty.missing.is_empty() {
+            String::new()
+        } else {
+            format!(" (a lower bound: {})", s.uncertainty.missing.join("; "))
+        }
+    );
     out += &format!("  first harmonic: {}\n", first_harmonic(s));
     out
 }

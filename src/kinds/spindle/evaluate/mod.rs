@@ -38,9 +38,11 @@ use std::f64::consts::TAU;
 
 mod separated;
 mod shift;
+mod uncertainty;
 
 pub use separated::{Separated, SeparatedMotion};
 pub use shift::SpeedShift;
+pub use uncertainty::{Budget, Contribution, TestUncertainty, rounding_step, student_t95};
 
 /// How far a probe direction may lean and still count as radial or axial (1 mrad).
 const ALIGNED: Real = 1e-3;
@@ -58,6 +60,8 @@ pub struct Options {
     /// Fixed sensitive directions (rad from X) to evaluate from each pair of radial probes at
     /// one height, by ISO 230-7 formula (4) `ΔX cos θ_f + ΔY sin θ_f` (§5.4.3.2, F(4)).
     pub fixed_directions: Vec<Real>,
+    /// What the record cannot say about its uncertainty (Annex F).
+    pub budget: Budget,
 }
 
 impl Default for Options {
@@ -72,6 +76,7 @@ impl Default for Options {
             ],
             condition_limit: separation::DEFAULT_CONDITION_LIMIT,
             fixed_directions: Vec::new(),
+            budget: Budget::default(),
         }
     }
 }
@@ -119,6 +124,8 @@ pub struct Test {
     pub values: Vec<ErrorMotionValues>,
     /// The largest spectral lines (synchronous and asynchronous).
     pub lines: Vec<Line>,
+    /// The values' uncertainty (Annex F).
+    pub uncertainty: TestUncertainty,
 }
 
 /// The tests of one set-up at one speed.
@@ -187,6 +194,12 @@ pub fn evaluate(
 ) -> Result<Evaluation, EvaluateError> {
     let m = samples_per_revolution;
     let mut notes = Vec::new();
+    // The resolution: stated, or the step the readings are rounded to.
+    let mut options = options.clone();
+    if options.budget.resolution.is_none() {
+        options.budget.resolution = rounding_step(&record.readings);
+    }
+    let options = &options;
     let mut segments = Vec::new();
     for (start, end) in segment_bounds(record) {
         let signals = probe_signals(record, start, end, m, &mut notes)?;
@@ -312,6 +325,7 @@ struct Candidate {
 fn score(
     candidate: Candidate,
     probes: &[SpindleProbe],
+    centrings: &[Real],
     grid: &Grid,
     options: &Options,
 ) -> Result<Test, EvaluateError> {
@@ -334,7 +348,7 @@ fn score(
         }
     })?;
     let lines = spectrum::largest_lines(&signal, LINES, None);
-    Ok(Test {
+    let mut test = Test {
         name,
         direction,
         sensing,
@@ -343,7 +357,16 @@ fn score(
         signal,
         values,
         lines,
-    })
+        uncertainty: TestUncertainty::default(),
+    };
+    let centring = used.iter().map(|&i| centrings[i]).fold(0.0, Real::max);
+    let used: Vec<&SpindleProbe> = used.iter().map(|&i| &probes[i]).collect();
+    // A tilt's stations: its first and last probes are at the lower and upper heights.
+    let length =
+        (used.len() >= 2).then(|| (used[used.len() - 1].position[2] - used[0].position[2]).abs());
+    test.uncertainty =
+        uncertainty::test_uncertainty(&test, &used, length, centring, &options.budget);
+    Ok(test)
 }
 
 /// The tests of one segment, in report order: single probes, pairs of radial probes at one
@@ -376,6 +399,18 @@ fn tests(
         .map(|k| (sign * TAU * k as Real / m as Real).sin_cos())
         .collect();
     let pairs = xy_pairs(probes, &radial);
+    // Each radial probe's 1-UPR amplitude, the artefact's centring it reads (for the budget).
+    let centrings: Vec<Real> = signals
+        .iter()
+        .zip(&kinds)
+        .map(|(signal, kind)| match kind {
+            Some(ProbeKind::Radial { .. }) => {
+                let [a, b] = spectrum::harmonics(&motion::synchronous(signal), 1)[0];
+                a.hypot(b)
+            }
+            _ => 0.0,
+        })
+        .collect();
     let pair_tests: Vec<Candidate> = pairs
         .iter()
         .map(|&(a, b)| Candidate {
@@ -501,7 +536,7 @@ fn tests(
         .chain(pair_tests)
         .chain(fixed_tests)
         .chain(tilts)
-        .map(|candidate| score(candidate, probes, &grid, options))
+        .map(|candidate| score(candidate, probes, &centrings, &grid, options))
         .collect()
 }
 

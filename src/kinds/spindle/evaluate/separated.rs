@@ -31,12 +31,23 @@
 //! at one time). The values of that signal about each centre are the motion's total,
 //! synchronous, asynchronous, inner, outer, fundamental and residual values.
 //!
+//! # Uncertainty
+//!
+//! A separated value takes the budget of its probes' tests (the largest, for a layout): a
+//! reversal's form and motion are half the sum and the difference of two readings with that
+//! budget, which keeps a probe's gain error whole and halves its noise, so the probe's U is
+//! kept (an upper bound for the noise). A layout adds its misfit: `2 × rms` of what the
+//! probes read that the model of form and motion cannot hold (azimuth and gain errors of the
+//! probes show there). Left out: the artefact's repositioning between the set-ups of a
+//! reversal (a centring change shows as 1 UPR only, which the profile centres remove).
+//!
 //! # Blind harmonics
 //!
 //! Harmonics the layout cannot see are zero in the form and the motion. Where some probe reads
 //! more than its noise at one of them ([`separation::blind_with_content`]) the separated
 //! synchronous values are not determined; the asynchronous value still is.
 
+use super::uncertainty::{Contribution, TestUncertainty, student_t95};
 use super::{EvaluateError, Options, ProbeKind, Segment, compact_list, kind};
 use crate::kinds::spindle::analysis::motion::{
     self, Direction, ErrorMotionValues, Grid, Revolutions,
@@ -79,6 +90,8 @@ pub struct Separated {
     /// Those of `blind` at which a probe reads more than its noise: form or motion is there
     /// and unknown, so neither's value is determined ([`separation::blind_with_content`]).
     pub unknown: Vec<usize>,
+    /// The values' uncertainty (module docs).
+    pub uncertainty: TestUncertainty,
 }
 
 /// The separated error motion in one direction.
@@ -245,6 +258,7 @@ pub(super) fn reversals(
                 motions: vec![motion],
                 blind: Vec::new(),
                 unknown: Vec::new(),
+                uncertainty: test.uncertainty.clone(),
             });
         }
     }
@@ -285,17 +299,17 @@ pub(super) fn multiprobe(
         let separable =
             |s: &&Segment| (s.setup.is_empty() || s.setup == "normal") && s.speed >= 0.0;
         for segment in segments.iter().filter(separable) {
-            let signals: Vec<&Revolutions> = members
+            let tests: Vec<&super::Test> = members
                 .iter()
                 .map(|(i, _)| {
-                    &segment
+                    segment
                         .tests
                         .iter()
                         .find(|t| t.probes == [record.probes[*i].name.clone()])
                         .expect("every radial probe has its own test")
-                        .signal
                 })
                 .collect();
+            let signals: Vec<&Revolutions> = tests.iter().map(|t| &t.signal).collect();
             let profiles: Vec<Vec<Real>> = signals.iter().map(|s| motion::synchronous(s)).collect();
             let result = separation::separate(
                 &profiles,
@@ -343,6 +357,39 @@ pub(super) fn multiprobe(
                     signal,
                 });
             }
+            let widest = tests
+                .iter()
+                .max_by(|a, b| a.uncertainty.single.total_cmp(&b.uncertainty.single))
+                .expect("three probes or more");
+            let mut contributions = widest.uncertainty.contributions.clone();
+            // The widest of the form's and the motion's, with its Student factor.
+            let (rms, dof) = (0..3)
+                .map(|i| (result.misfit_error_rms[i], result.misfit_dof[i]))
+                .fold((0.0, Real::INFINITY), |best, (r, n)| {
+                    if r * student_t95(n) > best.0 * student_t95(best.1) {
+                        (r, n)
+                    } else {
+                        best
+                    }
+                });
+            let t = student_t95(dof);
+            contributions.push(Contribution {
+                source: format!(
+                    "separation: the probes' misfit to the layout's model, propagated: {:.4} µm rms per sample × t95({dof:.1} dof) = {t:.2}",
+                    rms * 1e6
+                ),
+                u: t * rms,
+                averages: false,
+            });
+            let mut missing = widest.uncertainty.missing.clone();
+            if !result.unchecked.is_empty() {
+                missing.push(format!(
+                    "the layout has no more probes than unknowns at harmonics {}: errors of probe azimuth or gain there are not seen",
+                    compact_list(&result.unchecked)
+                ));
+            }
+            let uncertainty =
+                TestUncertainty::combine(contributions, missing, widest.signal.count());
             out.push(Separated {
                 method: "multi-probe",
                 probes: names.clone(),
@@ -356,6 +403,7 @@ pub(super) fn multiprobe(
                 motions,
                 unknown: separation::blind_with_content(&profiles, &result.blind),
                 blind: result.blind,
+                uncertainty,
             });
         }
     }
