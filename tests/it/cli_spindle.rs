@@ -244,7 +244,7 @@ fn first_revolutions(from: &Path, to: &Path, keep: usize, speeds: &[&str]) {
 // ---------------------------------------------------------------------------------------------
 // 1. The JSON report on mtwin's own record.
 
-const SEGMENT_KEYS: [&str; 4] = ["setup", "speed_rpm", "revolutions", "tests"];
+const SEGMENT_KEYS: [&str; 5] = ["setup", "speed_rpm", "revolutions", "pooled", "tests"];
 const TEST_KEYS: [&str; 9] = [
     "name",
     "direction",

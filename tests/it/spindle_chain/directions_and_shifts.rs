@@ -1,5 +1,6 @@
 //! A fixed sensitive direction between two probes (ISO 230-7 formula (4)) and the
-//! speed-induced axis shift (§3.10.6), against closed forms of the injected errors.
+//! speed-induced axis shift (§3.10.6), and the two senses of a rotary table pooled (§6), against
+//! closed forms of the injected errors.
 
 use super::*;
 
@@ -124,4 +125,73 @@ fn the_speed_induced_shift_is_the_change_of_the_mean_position_between_speeds() {
             .shifts
             .is_empty()
     );
+}
+
+#[test]
+fn a_rotary_table_turned_both_ways_is_also_evaluated_as_one_record() {
+    // The C table of trunnion5 at ±5 min⁻¹, exact probes, EXC = 0.2 µm·sin(3θ + 45°), a
+    // function of the axis angle alone. ISO 230-7 §6 turns a table both ways: the pooled
+    // segment lays the backward revolutions back on the axis angle, so its synchronous profile
+    // is the forward one (a mirrored layout would average sin(3θ + 45°) with sin(−3θ + 45°),
+    // a range of 2a·cos 45° instead of 2a) and nothing is asynchronous.
+    let a = 0.2 * UM;
+    let errors = harmonics("EXC", &[harmonic(3, 0.2, 45.0, "um")]);
+    let spindle = "axis = \"C\"\nspeeds_rpm = [5.0, -5.0]\nrevolutions = 3\n\
+                   samples_per_revolution = 240\nx_mm = 325.0\ny_mm = 275.0\nz_mm = 150.0\na_deg = 0.0\n\
+                   [spindle.artefact]\nkind = \"sphere\"\ndiameter_mm = 25.4\nstickout_mm = 100.0\n\
+                   [[spindle.probe]]\nname = \"x\"\nkind = \"radial\"\nazimuth_deg = 0.0\n";
+    let ev = evaluated(&load("trunnion5", &errors, spindle), 1);
+    let setups: Vec<(&str, bool)> = ev
+        .segments
+        .iter()
+        .map(|s| (s.setup.as_str(), s.pooled))
+        .collect();
+    assert_eq!(setups.len(), 3, "{setups:?}");
+    let pooled = ev
+        .segments
+        .iter()
+        .find(|s| s.pooled)
+        .expect("a pooled segment");
+    assert!(pooled.setup.ends_with("(both senses)"), "{}", pooled.setup);
+    assert_eq!(pooled.revolutions, 6);
+    close(pooled.speed, 5.0 * TAU / 60.0, 1e-12, "the forward speed");
+    let x = find(pooled, "radial x");
+    assert_eq!(x.signal.count(), 6);
+    let forward = find(&ev.segments[0], "radial x");
+    for (p, f) in x.values.iter().zip(&forward.values) {
+        close(
+            p.synchronous,
+            f.synchronous,
+            EXACT,
+            &format!("sync about {}", p.centre),
+        );
+        close(
+            p.asynchronous,
+            0.0,
+            EXACT,
+            &format!("async about {}", p.centre),
+        );
+    }
+    close(
+        about(x, Centre::Lsc).synchronous,
+        range(&sampled_3(a)),
+        EXACT,
+        "2a sampled",
+    );
+
+    // A spindle turned both ways is not pooled (§5 tests a spindle one way at three speeds).
+    let s = load(
+        "vmc3",
+        &harmonics("EXS", &[harmonic(3, 0.2, 45.0, "um")]),
+        &sphere("", "").replace("speeds_rpm = [3000.0]", "speeds_rpm = [3000.0, -3000.0]"),
+    );
+    assert!(evaluated(&s, 1).segments.iter().all(|s| !s.pooled));
+}
+
+/// `a·sin(3θ_m + 45°)` on the 240-sample grid.
+fn sampled_3(a: Real) -> Vec<Real> {
+    grid(240)
+        .iter()
+        .map(|t| a * (3.0 * t + 45f64.to_radians()).sin())
+        .collect()
 }

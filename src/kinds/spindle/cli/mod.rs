@@ -169,7 +169,8 @@ axial and face to PC (Tab 1); the fundamental is removed by LSC, MRS, MIC, MCC a
 
 JSON keys (--json):
   samples_per_revolution
-  segments[]: setup, speed_rpm, revolutions, tests[]:
+  segments[]: setup, speed_rpm, revolutions, pooled (a rotary axis's CW and CCW runs at
+    one speed evaluated together, ISO 230-7 §6; set-up ends in \"(both senses)\"), tests[]:
     name, direction (radial|axial|tilt|face), sensing (fixed|rotating), probes[], height_mm,
     unit (um|urad), values[] (preferred centre first): centre, offset [x, y], total (about
     the synchronous plot's centre), total_own_centre and total_own_offset (about the total
@@ -459,6 +460,7 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
                 "setup": s.setup,
                 "speed_rpm": round(rpm(s.speed)),
                 "revolutions": s.revolutions,
+                "pooled": s.pooled,
                 "tests": s.tests.iter().map(|t| test_json(t, s.speed)).collect::<Vec<_>>(),
             })
         })

@@ -21,6 +21,9 @@
 //! and error motion; three or more radial probes at one height are separated by the
 //! multi-probe method, whose blind harmonics are listed.
 //!
+//! A rotary axis (not `S`) turned both ways at one speed also gets the two senses pooled into
+//! one evaluation (`pool`, §6), after the per-direction segments.
+//!
 //! Samples must lie on the index grid `θ_m = 2πm/M` (within 1 µrad); a record sampled off
 //! the grid is resampled first ([`motion::resample`]). A record of an axis turning backwards
 //! (negative speed) is laid out on the angle travelled, `2π − θ`, so that its revolutions run
@@ -36,6 +39,7 @@ use super::record::{Sensing, SpindleProbe, SpindleRecord};
 use crate::math::Real;
 use std::f64::consts::TAU;
 
+mod pool;
 mod separated;
 mod shift;
 mod uncertainty;
@@ -137,6 +141,9 @@ pub struct Segment {
     pub speed: Real,
     /// Revolutions recorded.
     pub revolutions: usize,
+    /// Whether it pools the forward and backward runs of a rotary axis at this speed
+    /// (its set-up then ends in `(both senses)`, its speed is the forward one).
+    pub pooled: bool,
     /// The tests.
     pub tests: Vec<Test>,
 }
@@ -220,16 +227,20 @@ pub fn evaluate(
             setup: record.setup[start].clone(),
             speed: record.speed[start],
             revolutions,
+            pooled: false,
             tests,
         });
     }
+    let pooled = pool::pooled(record, &segments, options)?;
     let mut separations = separated::reversals(record, &segments, options)?;
     separations.extend(separated::multiprobe(
         record, &segments, options, &mut notes,
     )?);
+    let shifts = shift::speed_shifts(&segments);
+    segments.extend(pooled);
     Ok(Evaluation {
         samples_per_revolution: m,
-        shifts: shift::speed_shifts(&segments),
+        shifts,
         segments,
         separations,
         notes,
