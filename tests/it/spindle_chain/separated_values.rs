@@ -29,6 +29,20 @@ fn sampled(k: Real, amplitude: Real, phase_deg: Real) -> Vec<Real> {
         .collect()
 }
 
+/// Four radial probes p1…p4 at 0°, 57.3°, 180° and 217.7° (none of harmonics 2–7 blind).
+fn unequal_layout() -> String {
+    [0.0, 57.29577951308232, 180.0, 217.72395214971282]
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            format!(
+                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
+                i + 1
+            )
+        })
+        .collect()
+}
+
 fn motion<'a>(sep: &'a Separated, axis: &str) -> &'a SeparatedMotion {
     sep.motions
         .iter()
@@ -182,16 +196,7 @@ fn a_multi_probe_layout_reports_x_y_and_rotating_motion_with_their_asynchronous_
         harmonic(2, 0.10, 0.0, "um"),
         harmonics("EYS", &[harmonic(3, 0.07, -45.0, "um")])
     );
-    let probes: String = [0.0, 57.29577951308232, 180.0, 217.72395214971282]
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            format!(
-                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
-                i + 1
-            )
-        })
-        .collect();
+    let probes = unequal_layout();
     let spindle = format!(
         "speeds_rpm = [4000.0]\nrevolutions = 4\nsamples_per_revolution = {M}\n\
          [spindle.artefact]\nkind = \"sphere\"\ndiameter_mm = 25.4\n\
@@ -290,16 +295,7 @@ fn a_misplaced_probe_shows_in_the_layout_s_misfit_and_its_uncertainty_covers_the
     // With a probe misplaced or its gain wrong it no longer does: the misfit enters the budget
     // and the separated values' errors against the injected truth stay within U.
     let errors = harmonics("EXS", &[harmonic(2, 0.10, 0.0, "um")]);
-    let probes: String = [0.0, 57.29577951308232, 180.0, 217.72395214971282]
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            format!(
-                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
-                i + 1
-            )
-        })
-        .collect();
+    let probes = unequal_layout();
     let spindle = format!(
         "speeds_rpm = [4000.0]\nrevolutions = 4\nsamples_per_revolution = {M}\n\
          [spindle.artefact]\nkind = \"sphere\"\ndiameter_mm = 25.4\n\

@@ -648,6 +648,31 @@ fn bounds(values: &[Real], angles: &[Real], offset: [Real; 2]) -> (Real, Real) {
         })
 }
 
+/// A motion's polar curves: every revolution (thin) and the synchronous profile (bold).
+fn motion_curves<'a>(
+    total_angles: &'a [Real],
+    total: &'a [Real],
+    angles: &'a [Real],
+    synchronous: &'a [Real],
+) -> [PolarCurve<'a>; 2] {
+    [
+        PolarCurve {
+            label: "total",
+            angles: total_angles,
+            values: total,
+            stroke: "#9ab",
+            width: 0.6,
+        },
+        PolarCurve {
+            label: "synchronous",
+            angles,
+            values: synchronous,
+            stroke: "#c20",
+            width: 1.8,
+        },
+    ]
+}
+
 /// A file-name-safe slug.
 fn slug(text: &str) -> String {
     text.chars()
@@ -703,22 +728,7 @@ pub fn plots(table: &SpindleTable, evaluation: &Evaluation) -> Vec<(String, Vec<
             let bounds = bounds(&d.synchronous, &angles, preferred.offset);
             let svg = polar_svg(
                 &title,
-                &[
-                    PolarCurve {
-                        label: "total",
-                        angles: &total_angles,
-                        values: total,
-                        stroke: "#9ab",
-                        width: 0.6,
-                    },
-                    PolarCurve {
-                        label: "synchronous",
-                        angles: &angles,
-                        values: &d.synchronous,
-                        stroke: "#c20",
-                        width: 1.8,
-                    },
-                ],
+                &motion_curves(&total_angles, total, &angles, &d.synchronous),
                 preferred.offset,
                 bounds,
                 &notes,

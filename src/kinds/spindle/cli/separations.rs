@@ -1,7 +1,7 @@
 //! The form separations in the report: JSON, text and polar plots of the form and of the
 //! error motion, each with its harmonics and its values about every centre.
 
-use super::{bounds, round, rpm, slug, uncertainty_json, values_json};
+use super::{bounds, motion_curves, round, rpm, slug, uncertainty_json, values_json};
 use crate::kinds::spindle::evaluate::{Separated, SeparatedMotion, compact_list};
 use crate::kinds::spindle::plot::{PolarCurve, polar_svg};
 use crate::math::Real;
@@ -263,22 +263,7 @@ pub(super) fn plots(s: &Separated, angles: &[Real]) -> Vec<(String, Vec<u8>)> {
                 s.probes.join("+"),
                 rpm(s.speed)
             ),
-            &[
-                PolarCurve {
-                    label: "total",
-                    angles: &total_angles,
-                    values: total,
-                    stroke: "#9ab",
-                    width: 0.6,
-                },
-                PolarCurve {
-                    label: "synchronous",
-                    angles,
-                    values: &synchronous,
-                    stroke: "#c20",
-                    width: 1.8,
-                },
-            ],
+            &motion_curves(&total_angles, total, angles, &synchronous),
             preferred.offset,
             bounds(&synchronous, angles, preferred.offset),
             &notes,
