@@ -368,3 +368,76 @@ fn a_misplaced_probe_shows_in_the_layout_s_misfit_and_its_uncertainty_covers_the
         );
     }
 }
+
+#[test]
+fn a_face_reversal_separates_the_tilt_from_the_face_and_the_axial_motion() {
+    // A cylinder's end face probed at R = 10 mm on +x (probe `f`, reading +z), a probe `z` on
+    // the axis; EBS = 2 µrad·sin(2θ + 30°), EZS = 0.05 µm·sin 3θ; set-ups normal and reversed
+    // (the artefact turned 180°, the face probe moved to 180°). A tilt E_B about y moves the
+    // face point (±R, 0, 0) along z by ∓R·E_B, so f reads r1 = E_Z − R·E_B, then
+    // r2 = E_Z + R·E_B: the part that reverses is W = (r2 − r1)/2 = R·E_B, the rest
+    // −(r1 + r2)/2 = −E_Z, which the axial probe (reading E_Z) takes out, leaving the face
+    // form: none here.
+    let errors = harmonics("EBS", &[harmonic(2, 2.0, 30.0, "urad")])
+        + &harmonics("EZS", &[harmonic(3, 0.05, 0.0, "um")]);
+    let spindle = |axial: bool| {
+        format!(
+            "speeds_rpm = [3000.0]\nrevolutions = 2\nsamples_per_revolution = {M}\n\
+             setups = [\"normal\", \"reversed\"]\n\
+             [spindle.artefact]\nkind = \"cylinder\"\ndiameter_mm = 25.0\nlength_mm = 80.0\n\
+             [[spindle.probe]]\nname = \"f\"\nkind = \"face\"\nradius_mm = 10.0\nazimuth_deg = 0.0\n{}",
+            if axial {
+                "[[spindle.probe]]\nname = \"z\"\nkind = \"axial\"\n"
+            } else {
+                ""
+            }
+        )
+    };
+    let ev = evaluated(&load("vmc3", &errors, &spindle(true)), 1);
+    let sep = ev
+        .separations
+        .iter()
+        .find(|s| s.method == "face reversal")
+        .unwrap_or_else(|| {
+            panic!(
+                "no face reversal: {:?}",
+                ev.separations.iter().map(|s| s.method).collect::<Vec<_>>()
+            )
+        });
+    assert_eq!(sep.probes, ["f"]);
+    let r = 10e-3;
+    let tilt = &sep.motions[0];
+    assert_eq!(tilt.azimuth, Some(0.0));
+    harmonics_are(
+        &tilt.harmonics,
+        |k| {
+            if k == 2 {
+                coefficients(r * 2.0 * URAD, 30.0)
+            } else {
+                [0.0, 0.0]
+            }
+        },
+        "W = R·E_B",
+    );
+    synchronous_everywhere(tilt, range(&sampled(2.0, r * 2.0 * URAD, 30.0)), "W");
+    harmonics_are(&sep.form_harmonics, |_| [0.0, 0.0], "no face form");
+
+    // Without the axial probe the form keeps −E_Z(−ψ) = 0.05 µm·sin 3ψ, and says so.
+    let ev = evaluated(&load("vmc3", &errors, &spindle(false)), 1);
+    let sep = ev
+        .separations
+        .iter()
+        .find(|s| s.method == "face reversal with axial motion")
+        .expect("a face reversal without the axial probe");
+    harmonics_are(
+        &sep.form_harmonics,
+        |k| {
+            if k == 3 {
+                coefficients(0.05 * UM, 0.0)
+            } else {
+                [0.0, 0.0]
+            }
+        },
+        "the axial motion in the form",
+    );
+}

@@ -187,16 +187,20 @@ JSON keys (--json):
   speed_shifts[]: speed-induced axis shift (§3.10.6) of each fixed-direction test seen at two
     speeds or more in one set-up and sense: test, unit, backwards, value (max − min of the mean
     position), points[]: speed_rpm, shift (mean position minus the first speed's)
-  separations[]: method (reversal|multi-probe), probes[], speed_rpm, harmonics_max (K),
+  separations[]: method (reversal|multi-probe|face reversal|face reversal with axial motion:
+    no probe on the axis, so the face form holds the axial motion), probes[], speed_rpm,
+    harmonics_max (K),
     first_harmonic (how the method treats 1 UPR), blind[] (harmonics the layout cannot see),
     unknown[] (those of them where a probe reads more than its noise), not_determined (why
     the synchronous values are null when unknown[] is not empty), form_um[] (outward, on
     ψ = 360°·m/M),
-    form: first_harmonic_um [a1, b1] (reversal: the centring; null for multi-probe),
+    form: first_harmonic_um [a1, b1] (reversal: the centring; face: the wobble; null for
+      multi-probe),
       harmonics_um {from: 2, a[], b[]} (h(ψ) = Σ a_k cos kψ + b_k sin kψ; null where blind),
       values[] (centre, offset, value: roundness about LSC, PC, MRS, MIC, MCC) or null, then
       values_seen[] over the harmonics seen;
-    motion[] (reversal: along the probe; multi-probe: X, Y, rotating): axis, azimuth_deg,
+    motion[] (reversal: along the probe; face reversal: R × tilt at the probe's azimuth;
+      multi-probe: X, Y, rotating): axis, azimuth_deg,
       first_harmonic_um, harmonics_um, asynchronous_um, values[] (as a test's) or null, then
       values_seen[];
     uncertainty (as a test's: the probes' budget, and a layout's misfit)

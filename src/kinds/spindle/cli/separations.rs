@@ -16,6 +16,9 @@ const SHOWN: usize = 4;
 /// How each method treats the first harmonic (stated in the JSON and the text).
 fn first_harmonic(s: &Separated) -> &'static str {
     match s.method {
+        "face reversal" | "face reversal with axial motion" => {
+            "the face's 1 UPR is its wobble on the rotor (not square to the axis) and the motion's the axis's own 1-UPR tilt; LSC, MRS, MIC and MCC values do not count either, PC values count both"
+        }
         "reversal" => {
             "the form's 1 UPR is the artefact's centring on the rotor and the motion's the axis's own 1-UPR motion; LSC, MRS, MIC and MCC values do not count either, PC values count both"
         }
@@ -84,7 +87,7 @@ fn form_json(s: &Separated) -> Value {
         .collect();
     let first = s.form_harmonics[0];
     json!({
-        "first_harmonic_um": (s.method == "reversal")
+        "first_harmonic_um": (s.method != "multi-probe")
             .then(|| [round(first[0] * UM), round(first[1] * UM)]),
         "harmonics_um": harmonics_json(&s.form_harmonics, &s.blind),
         "values": if determined { json!(values) } else { Value::Null },

@@ -8,6 +8,10 @@
 //!   the set-ups `normal` and `reversed` at one speed: the form `h(ψ)` and the motion along
 //!   the probe's axis `E_φ = E_X cos φ + E_Y sin φ`. What turns with the artefact comes out as
 //!   form, what stays with the rotor as motion ([`separation::donaldson_reversal`]).
+//! - **Face reversal** (after Estler) of one face probe at radius `R` between the same
+//!   set-ups: the part of the face motion that reverses, `R·E_B` along the probe's azimuth,
+//!   and the face's form, with the axial motion taken out by a probe on the axis when there is
+//!   one ([`separation::face_reversal`]).
 //! - **Multi-probe** separation of three or more fixed radial probes at one height
 //!   ([`separation::separate`], two-direction model): the form and the motion along X and Y;
 //!   from these, the motion in the rotating sensitive direction, formula (1).
@@ -63,7 +67,8 @@ use std::f64::consts::TAU;
 /// (multi-probe), at one speed.
 #[derive(Clone, Debug)]
 pub struct Separated {
-    /// The method: `reversal` or `multi-probe`.
+    /// The method: `reversal`, `multi-probe`, `face reversal` or `face reversal with axial
+    /// motion` (no probe on the axis: the form still holds the axial motion).
     pub method: &'static str,
     /// The probes used.
     pub probes: Vec<String>,
@@ -202,10 +207,15 @@ pub(super) fn reversals(
             continue;
         };
         for (test, other) in normal.tests.iter().zip(&reversed.tests) {
-            let single_radial = test.direction == Direction::Radial
-                && test.probes.len() == 1
-                && test.sensing == Sensing::Fixed;
-            if !single_radial || other.name != test.name {
+            let single = test.probes.len() == 1 && test.sensing == Sensing::Fixed;
+            if !single || other.name != test.name {
+                continue;
+            }
+            if test.direction == Direction::Face {
+                out.push(face_reversal(record, normal, test, other, &centres)?);
+                continue;
+            }
+            if test.direction != Direction::Radial {
                 continue;
             }
             let what = format!("reversal of {}", test.probes[0]);
@@ -263,6 +273,78 @@ pub(super) fn reversals(
         }
     }
     Ok(out)
+}
+
+/// Estler's face reversal of one face probe between the set-ups `normal` and `reversed`
+/// ([`separation::face_reversal`]): the part of the face motion that reverses with the set-up,
+/// `W = R·E_B` along the probe's azimuth (a tilt times the radius, m), as the motion; what does
+/// not, as the face's form — with the axial motion taken out when the record has a probe on
+/// the axis, else with it left in (the report says which).
+fn face_reversal(
+    record: &SpindleRecord,
+    normal: &Segment,
+    test: &super::Test,
+    other: &super::Test,
+    centres: &[Centre],
+) -> Result<Separated, EvaluateError> {
+    let what = format!("face reversal of {}", test.probes[0]);
+    let r1 = motion::synchronous(&test.signal);
+    let r2 = motion::synchronous(&other.signal);
+    let axial = normal
+        .tests
+        .iter()
+        .find(|t| t.direction == Direction::Axial && t.probes.len() == 1)
+        .map(|t| motion::synchronous(&t.signal));
+    let result = separation::face_reversal(&r1, &r2, axial.as_deref()).map_err(|source| {
+        EvaluateError::Separation {
+            what: what.clone(),
+            source,
+        }
+    })?;
+    let m = r1.len();
+    let grid = Grid::new(m).map_err(|source| EvaluateError::Motion {
+        test: what.clone(),
+        source,
+    })?;
+    let k_max = (m - 1) / 2;
+    // The probe reads −(E_N + W) − g: its asynchronous part is minus the motion's.
+    let asynchronous: Vec<Real> = test
+        .signal
+        .values()
+        .chunks_exact(m)
+        .flat_map(|rev| rev.iter().zip(&r1).map(|(v, s)| s - v))
+        .collect();
+    let signal = with_asynchronous(&result.tilt, &asynchronous);
+    let azimuth = record
+        .probe(&test.probes[0])
+        .map(|i| record.probes[i].position)
+        .map_or(0.0, |p| p[1].atan2(p[0]));
+    let motion = SeparatedMotion {
+        axis: format!("face tilt × radius at {}", axis_name(azimuth)),
+        azimuth: Some(azimuth),
+        harmonics: spectrum::harmonics(&result.tilt, k_max),
+        values: motion_values(&what, &signal, centres, &grid)?,
+        signal,
+    };
+    Ok(Separated {
+        method: if result.axial_removed {
+            "face reversal"
+        } else {
+            "face reversal with axial motion"
+        },
+        probes: test.probes.clone(),
+        speed: normal.speed,
+        k_max,
+        form_harmonics: spectrum::harmonics(&result.form, k_max),
+        form_values: form_values(&what, &result.form, centres, &grid)?,
+        form: result.form,
+        motion_x: result.tilt,
+        motion_y: Vec::new(),
+        motions: vec![motion],
+        blind: Vec::new(),
+        unknown: Vec::new(),
+        uncertainty: test.uncertainty.clone(),
+    })
 }
 
 /// Multi-probe separation (two-direction model) of three or more fixed radial probes at one

@@ -236,8 +236,8 @@ pub struct Placement {
 }
 
 impl ProbeSpec {
-    /// Its geometry in a set-up; `opposite` moves a radial probe to the other side of the axis
-    /// (azimuth + 180°), as Donaldson's reversal does.
+    /// Its geometry in a set-up; `opposite` moves a radial or face probe to the other side of
+    /// the axis (azimuth + 180°), as Donaldson's reversal and Estler's face reversal do.
     pub fn placement(&self, artefact: &Artefact, opposite: bool) -> Placement {
         match self.kind {
             ProbeKind::Radial { azimuth, height } => {
@@ -255,7 +255,9 @@ impl ProbeSpec {
                 form_azimuth: None,
             },
             ProbeKind::Face { radius, azimuth } => {
-                let (s, c) = azimuth.sin_cos();
+                // Estler's face reversal moves the probe to the other side too.
+                let phi = if opposite { azimuth + PI } else { azimuth };
+                let (s, c) = phi.sin_cos();
                 Placement {
                     point: Vector::new(radius * c, radius * s, 0.0),
                     direction: Vector::Z,
