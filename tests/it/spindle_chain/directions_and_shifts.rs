@@ -110,6 +110,15 @@ fn the_speed_induced_shift_is_the_change_of_the_mean_position_between_speeds() {
         close(point.1, want, EXACT, "x1 shift");
     }
     close(x1.value, 0.5 * UM, EXACT, "x1 value");
+    // Its uncertainty is the test's single-value U, the widest over the speeds; nothing is
+    // stated here, so it is a lower bound.
+    let widest = ev
+        .segments
+        .iter()
+        .map(|s| find(s, "radial x1").uncertainty.single)
+        .fold(0.0, Real::max);
+    assert_eq!(x1.uncertainty, widest);
+    assert!(!x1.complete);
     close(shift("radial y1").value, 0.0, EXACT, "y1");
     close(
         shift("radial x1+y1 fixed 30°").value,

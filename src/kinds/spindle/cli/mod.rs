@@ -186,7 +186,8 @@ JSON keys (--json):
   speeds[]: test, unit, points[]: speed_rpm, synchronous, asynchronous (preferred centre)
   speed_shifts[]: speed-induced axis shift (§3.10.6) of each fixed-direction test seen at two
     speeds or more in one set-up and sense: test, unit, backwards, value (max − min of the mean
-    position), points[]: speed_rpm, shift (mean position minus the first speed's)
+    position), uncertainty {k, value, complete}, points[]: speed_rpm, shift (mean position
+    minus the first speed's)
   separations[]: method (reversal|multi-probe|face reversal|face reversal with axial motion:
     no probe on the axis, so the face form holds the axial motion), probes[], speed_rpm,
     harmonics_max (K),
@@ -499,6 +500,11 @@ pub fn to_json(evaluation: &Evaluation) -> Value {
                 "unit": unit_name,
                 "backwards": shift.backwards,
                 "value": round(shift.value * scale),
+                "uncertainty": {
+                    "k": 2,
+                    "value": round(shift.uncertainty * scale),
+                    "complete": shift.complete,
+                },
                 "points": shift.points.iter().map(|(speed, x)| json!({
                     "speed_rpm": round(rpm(*speed)),
                     "shift": round(x * scale),
@@ -618,9 +624,15 @@ pub fn to_text(table: &SpindleTable, evaluation: &Evaluation) -> String {
                 .map(|(speed, x)| format!("{:.0}: {:+.4}", rpm(*speed), x * scale))
                 .collect();
             out += &format!(
-                "  {}: {:.4} ({})\n",
+                "  {}: {:.4} ± {:.4}{} ({})\n",
                 shift.test,
                 shift.value * scale,
+                shift.uncertainty * scale,
+                if shift.complete {
+                    ""
+                } else {
+                    " (U a lower bound)"
+                },
                 cells.join(", ")
             );
         }

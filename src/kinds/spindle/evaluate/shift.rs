@@ -37,6 +37,12 @@ pub struct SpeedShift {
     pub points: Vec<(Real, Real)>,
     /// The speed-induced axis shift value: `max − min` of the mean positions.
     pub value: Real,
+    /// Its expanded uncertainty (k = 2): a difference of two readings' means, so the widest
+    /// single-value U of the test over the speeds (Annex F.6: device and environment; the
+    /// drift between the speeds is what the environment term bounds).
+    pub uncertainty: Real,
+    /// Whether every budget it comes from is complete (else U is a lower bound).
+    pub complete: bool,
 }
 
 /// The test's mean position in its segment (module docs).
@@ -63,13 +69,20 @@ pub(super) fn speed_shifts(segments: &[Segment]) -> Vec<SpeedShift> {
                 .iter()
                 .position(|s| s.test == name && s.backwards == backwards)
             {
-                Some(i) => out[i].points.push((segment.speed, p)),
+                Some(i) => {
+                    let shift = &mut out[i];
+                    shift.points.push((segment.speed, p));
+                    shift.uncertainty = shift.uncertainty.max(test.uncertainty.single);
+                    shift.complete &= test.uncertainty.missing.is_empty();
+                }
                 None => out.push(SpeedShift {
                     test: name,
                     direction: test.direction,
                     backwards,
                     points: vec![(segment.speed, p)],
                     value: 0.0,
+                    uncertainty: test.uncertainty.single,
+                    complete: test.uncertainty.missing.is_empty(),
                 }),
             }
         }
