@@ -186,6 +186,40 @@ fn with_asynchronous(synchronous: &[Real], asynchronous: &[Real]) -> Revolutions
     Revolutions::new(m, values).expect("laid out like the probes")
 }
 
+/// The grid, the highest harmonic and the motion of a reversal: the separated synchronous
+/// motion plus the normal set-up's asynchronous part, which is minus the reading's (the probe
+/// faces the axis), scored about `centres`.
+fn reversal_motion(
+    what: &str,
+    axis: String,
+    azimuth: Real,
+    normal: &Revolutions,
+    r1: &[Real],
+    synchronous: &[Real],
+    centres: &[Centre],
+) -> Result<(Grid, usize, SeparatedMotion), EvaluateError> {
+    let m = r1.len();
+    let grid = Grid::new(m).map_err(|source| EvaluateError::Motion {
+        test: what.to_string(),
+        source,
+    })?;
+    let k_max = (m - 1) / 2;
+    let asynchronous: Vec<Real> = normal
+        .values()
+        .chunks_exact(m)
+        .flat_map(|rev| rev.iter().zip(r1).map(|(v, s)| s - v))
+        .collect();
+    let signal = with_asynchronous(synchronous, &asynchronous);
+    let motion = SeparatedMotion {
+        axis,
+        azimuth: Some(azimuth),
+        harmonics: spectrum::harmonics(synchronous, k_max),
+        values: motion_values(what, &signal, centres, &grid)?,
+        signal,
+    };
+    Ok((grid, k_max, motion))
+}
+
 /// Donaldson reversal of each radial probe between the set-ups `normal` and `reversed` at
 /// equal speeds.
 pub(super) fn reversals(
@@ -234,27 +268,15 @@ pub(super) fn reversals(
                     source,
                 }
             })?;
-            let m = r1.len();
-            let grid = Grid::new(m).map_err(|source| EvaluateError::Motion {
-                test: what.clone(),
-                source,
-            })?;
-            let k_max = (m - 1) / 2;
-            // The probe faces the axis: its reading's asynchronous part is minus the motion's.
-            let asynchronous: Vec<Real> = test
-                .signal
-                .values()
-                .chunks_exact(m)
-                .flat_map(|rev| rev.iter().zip(&r1).map(|(v, s)| s - v))
-                .collect();
-            let signal = with_asynchronous(&result.motion, &asynchronous);
-            let motion = SeparatedMotion {
-                axis: axis_name(azimuth),
-                azimuth: Some(azimuth),
-                harmonics: spectrum::harmonics(&result.motion, k_max),
-                values: motion_values(&what, &signal, &centres, &grid)?,
-                signal,
-            };
+            let (grid, k_max, motion) = reversal_motion(
+                &what,
+                axis_name(azimuth),
+                azimuth,
+                &test.signal,
+                &r1,
+                &result.motion,
+                &centres,
+            )?;
             out.push(Separated {
                 method: "reversal",
                 probes: test.probes.clone(),
@@ -301,31 +323,20 @@ fn face_reversal(
             source,
         }
     })?;
-    let m = r1.len();
-    let grid = Grid::new(m).map_err(|source| EvaluateError::Motion {
-        test: what.clone(),
-        source,
-    })?;
-    let k_max = (m - 1) / 2;
-    // The probe reads −(E_N + W) − g: its asynchronous part is minus the motion's.
-    let asynchronous: Vec<Real> = test
-        .signal
-        .values()
-        .chunks_exact(m)
-        .flat_map(|rev| rev.iter().zip(&r1).map(|(v, s)| s - v))
-        .collect();
-    let signal = with_asynchronous(&result.tilt, &asynchronous);
     let azimuth = record
         .probe(&test.probes[0])
         .map(|i| record.probes[i].position)
         .map_or(0.0, |p| p[1].atan2(p[0]));
-    let motion = SeparatedMotion {
-        axis: format!("face tilt × radius at {}", axis_name(azimuth)),
-        azimuth: Some(azimuth),
-        harmonics: spectrum::harmonics(&result.tilt, k_max),
-        values: motion_values(&what, &signal, centres, &grid)?,
-        signal,
-    };
+    // The probe reads −(E_N + W) − g, so the same construction as a radial reversal's.
+    let (grid, k_max, motion) = reversal_motion(
+        &what,
+        format!("face tilt × radius at {}", axis_name(azimuth)),
+        azimuth,
+        &test.signal,
+        &r1,
+        &result.tilt,
+        centres,
+    )?;
     Ok(Separated {
         method: if result.axial_removed {
             "face reversal"
