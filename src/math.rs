@@ -239,6 +239,106 @@ pub fn golden_minimum(
     if fa <= fb { (a, fa) } else { (b, fb) }
 }
 
+/// The minimum of `f` over `[low, high]` by Brent's method (R. P. Brent, *Algorithms for
+/// Minimization without Derivatives*, 1973, ch. 5): parabolic interpolation through the three
+/// best points where it steps well inside the bracket, a golden-section step where it does
+/// not. It stops when the best point is within `tolerance` (absolute, in the argument) of the
+/// minimum's bracket middle, i.e. the bracket is narrower than about 4·`tolerance`; on a smooth
+/// minimum that takes 6–12 evaluations where golden section needs 20 for 0.618²⁰ of the
+/// bracket, and on a function that is not smooth (a step, a flat stretch) it falls back to
+/// golden section and is never slower than that by more than a few evaluations. At most
+/// `max_evaluations` evaluations of `f`. Returns (argument, value) of the best point seen.
+///
+/// ```
+/// use mtwin::math::brent_minimum;
+/// let (x, fx) = brent_minimum(|x| (x - 0.3).powi(2) + 1.0, -1.0, 2.0, 1e-8, 100);
+/// assert!((x - 0.3).abs() < 1e-7 && (fx - 1.0).abs() < 1e-12);
+/// ```
+pub fn brent_minimum(
+    mut f: impl FnMut(Real) -> Real,
+    low: Real,
+    high: Real,
+    tolerance: Real,
+    max_evaluations: usize,
+) -> (Real, Real) {
+    const GOLDEN: Real = 0.381_966_011_250_105_1; // (3 − √5)/2
+    let (mut a, mut b) = if low <= high {
+        (low, high)
+    } else {
+        (high, low)
+    };
+    let mut x = a + GOLDEN * (b - a);
+    let (mut w, mut v) = (x, x);
+    let mut fx = f(x);
+    let (mut fw, mut fv) = (fx, fx);
+    // `d` is the last step, `e` the one before it.
+    let (mut d, mut e): (Real, Real) = (0.0, 0.0);
+    let tol = tolerance.max(Real::MIN_POSITIVE);
+    for _ in 1..max_evaluations.max(1) {
+        let middle = 0.5 * (a + b);
+        if (x - middle).abs() <= 2.0 * tol - 0.5 * (b - a) {
+            break;
+        }
+        let mut golden = true;
+        if e.abs() > tol {
+            // The parabola through (v, fv), (w, fw), (x, fx): its vertex is x + p/q.
+            let r = (x - w) * (fx - fv);
+            let mut q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            } else {
+                q = -q;
+            }
+            // Accept it when it lies inside the bracket and moves less than half the step
+            // before last (so the steps shrink).
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < 2.0 * tol || b - u < 2.0 * tol {
+                    d = tol.copysign(middle - x);
+                }
+                golden = false;
+            }
+        }
+        if golden {
+            e = if x >= middle { a - x } else { b - x };
+            d = GOLDEN * e;
+        }
+        let u = if d.abs() >= tol {
+            x + d
+        } else {
+            x + tol.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv) = (w, fw);
+            (w, fw) = (x, fx);
+            (x, fx) = (u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv) = (w, fw);
+                (w, fw) = (u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    (x, fx)
+}
+
 /// One step of a first-order lag with time constant `tau` (s) following a signal that goes
 /// linearly from `from` to `to` over `dt` seconds (exact first-order hold): with
 /// `r = (to − from)/dt`, the lagged value `lagged` becomes `to − τr + (lagged − from + τr)·e^(−dt/τ)`.
@@ -358,6 +458,49 @@ mod tests {
     fn golden_section_finds_a_parabola_minimum() {
         let (x, fx) = golden_minimum(|x| (x - 0.3).powi(2) + 1.0, -1.0, 2.0, 60);
         assert!((x - 0.3).abs() < 1e-6 && (fx - 1.0).abs() < 1e-12);
+    }
+
+    /// Brent's method against closed-form minima: smooth ones it reaches to its tolerance in
+    /// far fewer evaluations than golden section's 20; a minimum at the bracket's end it
+    /// approaches to the tolerance; a step function (no parabola to fit) it still brackets,
+    /// in no more evaluations than golden section to the same width plus a few.
+    #[test]
+    fn brent_reaches_closed_form_minima_in_few_evaluations() {
+        let counted = |f: &dyn Fn(Real) -> Real, low: Real, high: Real, tol: Real| {
+            let mut n = 0;
+            let (x, fx) = brent_minimum(
+                |x| {
+                    n += 1;
+                    f(x)
+                },
+                low,
+                high,
+                tol,
+                200,
+            );
+            (x, fx, n)
+        };
+        // cosh(x − 1.2) + 0.1·(x − 1.2)⁴: minimum 1 at 1.2.
+        let smooth = |x: Real| (x - 1.2).cosh() + 0.1 * (x - 1.2).powi(4);
+        let (x, fx, n) = counted(&smooth, 0.0, 3.0, 1e-6);
+        assert!((x - 1.2).abs() < 4e-6, "{x}");
+        assert!((fx - 1.0).abs() < 1e-10);
+        assert!(n <= 12, "{n} evaluations");
+        // e^x − 2x: minimum at ln 2, off-centre in the bracket.
+        let (x, _, n) = counted(&|x: Real| x.exp() - 2.0 * x, -3.0, 1.0, 1e-7);
+        assert!((x - 2.0_f64.ln()).abs() < 4e-7, "{x}");
+        assert!(n <= 14, "{n} evaluations");
+        // Monotone: the minimum is the upper end, approached to the tolerance.
+        let (x, _, _) = counted(&|x: Real| -x, 0.0, 1.0, 1e-6);
+        assert!(1.0 - x < 4e-6, "{x}");
+        // A step at 0.37 (flat either side, lower to its right): the best point found lies
+        // right of the step and within the final bracket of it.
+        let step = |x: Real| if x < 0.37 { 1.0 } else { 0.0 };
+        let (x, fx, n) = counted(&step, 0.0, 1.0, 1e-5);
+        assert_eq!(fx, 0.0);
+        assert!(x >= 0.37);
+        // Golden section to 4e-5 of the bracket takes ln(4e-5)/ln(0.618) ≈ 21 steps.
+        assert!(n <= 21 + 8, "{n} evaluations");
     }
 
     /// Rodrigues with the series below 1 mrad against glam's quaternion exponential (an

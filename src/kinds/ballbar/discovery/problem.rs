@@ -11,6 +11,7 @@ use crate::kinds::ballbar::iso230_4::{
 };
 use crate::kinds::ballbar::table::BallbarTable;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 use std::sync::Mutex;
@@ -352,12 +353,17 @@ impl Problem for BallbarProblem {
     fn proposals(&self, effects: &[BallbarEffect], fit: &ModelFit) -> Vec<(BallbarEffect, String)> {
         // Every testable effect not yet in the model (a report must not hide a candidate):
         // those a residual diagnostic points to first, with its evidence, then the others.
-        let (pointed, others): (Vec<_>, Vec<_>) = self
+        // Each effect's evidence is a few periodograms or regressions over the trace: in
+        // parallel, in the order of `testable`.
+        let evidence: Vec<(BallbarEffect, Option<String>)> = self
             .testable
-            .iter()
+            .par_iter()
             .copied()
             .filter(|e| !effects.contains(e))
             .map(|e| (e, self.evidence(e, fit)))
+            .collect();
+        let (pointed, others): (Vec<_>, Vec<_>) = evidence
+            .into_iter()
             .partition(|(_, evidence)| evidence.is_some());
         pointed
             .into_iter()

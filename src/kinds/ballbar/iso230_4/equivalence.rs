@@ -7,10 +7,11 @@ use super::blocks::Blocks;
 use super::linalg::Projection;
 use super::normal::Fitter;
 use super::profile::LagProfile;
+use super::search::brent;
 use super::{BasisPoint, CircleData, CircularTest, Shape, Term, diagnostic_column};
 use crate::kinds::ballbar::table::{BallbarReading, BallbarTable, Sense};
 use crate::machine::Plane;
-use crate::math::{Real, golden_minimum};
+use crate::math::Real;
 use std::f64::consts::TAU;
 
 /// A two-sense trace with reversal, spike, cyclic and lobe terms and noise, both senses from
@@ -318,7 +319,7 @@ fn column_by_column(
                 .min_by(|&a, &b| values[a].total_cmp(&values[b]))
                 .unwrap_or(0);
             let (a, b) = (grid[best.saturating_sub(1)], grid[(best + 1).min(15)]);
-            let (refined, value) = golden_minimum(|g| at(g.exp()), a, b, 20);
+            let (refined, value) = brent(|g| at(g.exp()), a, b);
             shape.decay[axis] = if value < values[best] {
                 refined.exp()
             } else {
@@ -340,11 +341,10 @@ fn column_by_column(
                 trial.period[axis] = 1.0 / f;
                 rss(&trial)
             };
-            let (refined, value) = golden_minimum(
+            let (refined, value) = brent(
                 at,
                 (peak - grid.step).max(grid.low),
                 (peak + grid.step).min(grid.high),
-                20,
             );
             shape.period[axis] = if value < at(peak) {
                 1.0 / refined
@@ -404,9 +404,9 @@ fn searches_find_what_refits_column_by_column_find() {
                     let (mut fast, mut reference) = (shape, shape);
                     fitter.search(term, &columns, &mut fast, refine);
                     column_by_column(&data, term, &fixed, &rows, &mut reference, refine);
-                    // The same minimum of the residual sum of squares, to the golden section's
-                    // last interval (20 steps of 0.618 over two grid steps: 5·10⁻⁵ of a decay
-                    // in its log grid, 10⁻⁵ of a period).
+                    // The same minimum of the residual sum of squares, to the refinement's
+                    // last interval (2.5·10⁻⁵ of two grid steps, a few times that at the
+                    // end: 5·10⁻⁵ of a decay in its log grid, 10⁻⁵ of a period).
                     let both: Vec<Term> = fixed.iter().chain([&term]).copied().collect();
                     let at = |s: &Shape| refit(data.columns_on(&both, s, &rows), &data, &rows);
                     let (a, b) = (at(&fast), at(&reference));

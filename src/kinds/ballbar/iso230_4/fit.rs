@@ -7,7 +7,7 @@
 use super::blocks::Blocks;
 use super::columns::{Column, Dense};
 use super::linalg::{Projection, gram, gram_pinv};
-use super::normal::Fitter;
+use super::normal::{Fitter, NormalFit};
 use super::profile::LagProfile;
 use super::statics::angle_lag_derivative;
 use super::{CircleData, Shape, Term, covered_arc, diagnostic_column};
@@ -163,14 +163,24 @@ impl Fitter<'_> {
             angle_lag: self.angle_lag(terms),
             ..Shape::default()
         };
-        let step = self.search_shapes(terms, start);
-        let mut best = (step, self.project(&self.columns(terms, &step)).rss);
+        // The fits of the model at the shapes tried, each made once.
+        let fits: std::cell::RefCell<Vec<(Shape, std::rc::Rc<NormalFit>)>> = Default::default();
+        let fit_at = |shape: &Shape| -> std::rc::Rc<NormalFit> {
+            if let Some((_, fit)) = fits.borrow().iter().find(|(s, _)| s == shape) {
+                return fit.clone();
+            }
+            let fit = std::rc::Rc::new(self.project(&self.columns(terms, shape)));
+            fits.borrow_mut().push((*shape, fit.clone()));
+            fit
+        };
+        let step = self.search_shapes(terms, start, Passes::Full);
+        let mut best = (step, fit_at(&step).rss);
         let backlash: Vec<(usize, Term)> = [(0, Term::BacklashP), (1, Term::BacklashQ)]
             .into_iter()
             .filter(|(_, t)| terms.contains(t))
             .collect();
         let gaps = |shape: &Shape| -> [Real; 2] {
-            let fit = self.project(&self.columns(terms, shape));
+            let fit = fit_at(shape);
             let mut gaps = [0.0; 2];
             for &(axis, term) in &backlash {
                 gaps[axis] = coefficient(terms, term, &fit.coefficients).abs();
@@ -183,8 +193,9 @@ impl Fitter<'_> {
                 terms,
                 Shape {
                     play: first,
-                    ..start
+                    ..step
                 },
+                Passes::Refine,
             );
             for _ in 0..PLAY_REFITS {
                 let next = gaps(&play);
@@ -206,7 +217,7 @@ impl Fitter<'_> {
                 }
             }
             for candidate in candidates {
-                let rss = self.project(&self.columns(terms, &candidate)).rss;
+                let rss = fit_at(&candidate).rss;
                 if rss < best.1 {
                     best = (candidate, rss);
                 }
@@ -214,7 +225,7 @@ impl Fitter<'_> {
         }
         let shape = best.0;
         let columns = self.columns(terms, &shape);
-        let coefficients = self.project(&columns).coefficients;
+        let coefficients = fit_at(&shape).coefficients.clone();
         let residuals = self.residuals(&columns, &coefficients);
         ModelFit {
             terms: terms.to_vec(),
@@ -277,8 +288,10 @@ impl Fitter<'_> {
 
     /// Every searched parameter of `terms` from `start` (its play and angle lag kept): the
     /// reversal lag of each axis with a reversal term, then the searched terms' shapes in the
-    /// order of `terms`; twice over when there are several, each with the others held.
-    fn search_shapes(&self, terms: &[Term], start: Shape) -> Shape {
+    /// order of `terms`, each with the others held; with [`Passes::Full`] twice over when there
+    /// are several (the first pass finds each period and lobe count afresh, the second refines
+    /// them), with [`Passes::Refine`] once, refining.
+    fn search_shapes(&self, terms: &[Term], start: Shape, passes: Passes) -> Shape {
         let mut shape = start;
         let mut searches: Vec<Search> = (0..2)
             .filter(|&a| terms.iter().any(|t| t.reversal_axis() == Some(a)))
@@ -292,9 +305,17 @@ impl Fitter<'_> {
                 .map(Search::Shape),
         );
         let linear: Vec<Term> = terms.iter().copied().filter(|t| !t.searched()).collect();
-        let mut done: Vec<Term> = Vec::new();
-        let passes = if searches.len() > 1 { 2 } else { 1 };
-        for pass in 0..passes {
+        // The searched terms whose shapes hold a found value, held with the others.
+        let mut done: Vec<Term> = match passes {
+            Passes::Full => Vec::new(),
+            Passes::Refine => terms.iter().copied().filter(|t| t.searched()).collect(),
+        };
+        let (first, passes) = match passes {
+            Passes::Full if searches.len() > 1 => (0, 2),
+            Passes::Full => (0, 1),
+            Passes::Refine => (1, 2),
+        };
+        for pass in first..passes {
             for &search in &searches {
                 match search {
                     Search::Lag(axis) => {
@@ -335,6 +356,17 @@ fn coefficient(terms: &[Term], term: Term, coefficients: &[Real]) -> Real {
         start += t.columns();
     }
     0.0
+}
+
+/// How [`Fitter::search_shapes`] goes over the searched parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Passes {
+    /// From scratch: periods from the periodogram, every lobe count; twice over when there
+    /// are several searched parameters.
+    Full,
+    /// From shapes a full search found (the play search: the same model with the backlash
+    /// taking up its gap): once, refining the periods and lobe counts about their values.
+    Refine,
 }
 
 /// A searched parameter of a fit: an axis's reversal lag or a searched term's shape.
