@@ -33,7 +33,8 @@ impl CircleData {
     /// order of `terms`; twice over when there are several, each with the others held), then
     /// the linear coefficients. With backlash the play is chosen too: the fit is done with the
     /// backlash as an instantaneous step and as real play (the columns taking up a gap equal to
-    /// the fitted backlash, the searched parameters searched again, g ← |b| refitted), and the
+    /// the fitted backlash, the searched parameters searched again in one refining pass from
+    /// the step fit's values, g ← |b| refitted), and the
     /// one with the smaller residual sum of squares is kept; with backlash of both axes, also
     /// each axis back at the step. Residuals are given for every reading.
     pub fn fit(&self, terms: &[Term], train: &[bool]) -> ModelFit {

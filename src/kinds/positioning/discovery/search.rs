@@ -1,13 +1,34 @@
 //! The searched (nonlinear) parameters: the time constants of `thermal_lag` and
 //! `second_heat_source` (log grid, then golden section) and the period of `periodic`
-//! (periodogram, then golden section).
+//! (periodogram, then Brent's method).
 
 use super::fit::Searched;
 use super::problem::Reference;
 use super::profile::FREQUENCY_PROBES;
 use super::{PositioningEffect, PositioningProblem, TAU_GRID};
-use crate::math::Real;
-use crate::math::golden_minimum;
+use crate::math::{Real, brent_minimum, golden_minimum};
+
+/// The period's refinement about the periodogram's peak ends within this fraction of its
+/// bracket (two frequency steps of 1/(4·span)) of the minimum, far below the period's
+/// uncertainty. Golden section took 16 steps (0.618¹⁶ = 4.6·10⁻⁴ of the bracket); Brent's
+/// parabolic steps need 6–12 on this smooth sum of squares. (The time constants keep golden
+/// section: with Brent's steps, an exactly aliased pair of effects on a two-target file,
+/// `thermal_scale` and `reversal_thermal` on `vmc3_iso230_3_linear`, swapped places on
+/// rounding; see the book's performance chapter.)
+const REFINE_TOLERANCE: Real = 1e-4;
+/// At most this many evaluations per refinement.
+const REFINE_EVALUATIONS: usize = 40;
+
+/// The minimum of `f` between `low` and `high` by Brent's method to [`REFINE_TOLERANCE`].
+fn refine(f: impl Fn(Real) -> Real, low: Real, high: Real) -> (Real, Real) {
+    brent_minimum(
+        f,
+        low,
+        high,
+        REFINE_TOLERANCE * (high - low).abs(),
+        REFINE_EVALUATIONS,
+    )
+}
 
 impl PositioningProblem {
     /// The time span of the file (s), for the time-constant search range.
@@ -63,7 +84,8 @@ impl PositioningProblem {
     }
 
     /// Searches a time constant (s) on a log grid from `shortest` (at least 1 min) to twice the
-    /// file's span, then refines by golden section between the best point's neighbours.
+    /// file's span, then refines by golden section (16 steps) between the best point's
+    /// neighbours.
     pub(super) fn search_tau(&self, shortest: Real, sse: impl Fn(Real) -> Real) -> Real {
         let (low, high) = self.tau_range(shortest);
         let (low, high) = (low.ln(), high.ln());
@@ -88,8 +110,8 @@ impl PositioningProblem {
 
     /// Searches the period (m): a periodogram of the residual of the model without the cyclic
     /// term (from the profile, no fit of its own) over frequencies from 1/(span) to
-    /// 1/min_period (4 points per 1/span), then a
-    /// golden-section refinement of the full fit's sum of squares around the peak (through
+    /// 1/min_period (4 points per 1/span), then a refinement by Brent's method of the full
+    /// fit's sum of squares around the peak (through
     /// [`PositioningProblem::sse_profile`]: only the sine and cosine change with the period).
     pub(super) fn search_period(
         &self,
@@ -108,11 +130,11 @@ impl PositioningProblem {
             });
         // The residual of the model without the cyclic term on the training rows: the
         // profile's target off the columns the period does not change.
-        let r = without.expect("a period changes no known part");
         let (step, f_low) = self.frequency_grid();
+        let r = without.expect("a period changes no known part");
         let (peak, _) = self.periodogram_peak(train, &r);
         let (low, high) = ((peak - step).max(f_low / 2.0), peak + step);
-        let (refined, value) = golden_minimum(&sse, low, high, 16);
+        let (refined, value) = refine(&sse, low, high);
         if value < sse(peak) {
             1.0 / refined
         } else {
