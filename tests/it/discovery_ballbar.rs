@@ -748,3 +748,43 @@ fn a_spike_slower_than_any_searched_stays_in_the_model_without_values() {
         json["notes"]
     );
 }
+
+/// The report is the same, byte for byte, on one thread and on two: the folds' fits, the
+/// searches inside them and the base model's evidence run in parallel, and every parallel
+/// result is gathered in a fixed order. The trace has backlash with play, a spike and a cyclic
+/// error, so the lag, decay and period searches and the play search all run.
+#[test]
+fn the_report_does_not_depend_on_the_thread_count() {
+    let hidden = Hidden {
+        backlash: [1.5 * UM, 2.0 * UM],
+        spike: [(2.0 * UM, 0.02), (0.0, 0.0)],
+        cyclic_p: (0.8 * UM, 0.010, 0.4),
+        ..Hidden::default()
+    };
+    let table = simulate(&hidden, 11);
+    let report = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let found = discover_ballbar(&table, &xy(), |_| {}).unwrap();
+            (
+                found.to_json().to_string(),
+                found.to_text(),
+                found.accepted(),
+            )
+        })
+    };
+    let (one, two) = (report(1), report(2));
+    assert_eq!(one.0, two.0);
+    assert_eq!(one.1, two.1);
+    // The search did something to compare: the planted backlash and cyclic error were taken.
+    for effect in [BallbarEffect::BacklashP, BallbarEffect::CyclicP] {
+        assert!(
+            one.2.contains(&effect),
+            "{effect:?} not accepted: {}",
+            one.1
+        );
+    }
+}
