@@ -133,3 +133,28 @@ fn ballbar_text_and_json_agree() {
     assert!((params["base"]["squareness_um_per_m"].as_f64().unwrap() - 40.0).abs() < 0.5);
     assert!((params["backlash_x"]["backlash_um"].as_f64().unwrap() - 2.0).abs() < 0.1);
 }
+
+/// Positioning discovery writes the same text, JSON and model, byte for byte, on one thread
+/// and on two (rayon's pool size from `RAYON_NUM_THREADS`): its folds and candidates are
+/// scored in parallel and gathered in a fixed order. `vmc3_warmup_laser` accepts three effects
+/// with a searched time constant among them, so the searches and the block pairs all run.
+#[test]
+fn positioning_discovery_does_not_depend_on_the_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = simulate("vmc3_warmup_laser.toml", dir.path(), "positioning.csv");
+    let run = |threads: &str, extra: &[&str]| {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_mtwin"))
+            .args(["discover", "positioning", &table])
+            .args(extra)
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(output.status.success());
+        output.stdout
+    };
+    for extra in [&[][..], &["--json"][..]] {
+        let one = run("1", extra);
+        assert_eq!(one, run("2", extra), "{extra:?}");
+        assert!(String::from_utf8_lossy(&one).contains("thermal_lag"));
+    }
+}
