@@ -28,6 +28,16 @@ pub fn mtwin_output<S: AsRef<OsStr>>(args: &[S]) -> Output {
         .expect("the binary runs")
 }
 
+/// `f` run on a rayon pool of `threads` threads (for tests that a result does not depend on
+/// the thread count).
+pub fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}
+
 /// The bundled machines.
 pub const MACHINES: [&str; 3] = ["vmc3", "trunnion5", "headtable5"];
 

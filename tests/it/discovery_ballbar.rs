@@ -763,11 +763,7 @@ fn the_report_does_not_depend_on_the_thread_count() {
     };
     let table = simulate(&hidden, 11);
     let report = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        crate::common::on_threads(threads, || {
             let found = discover_ballbar(&table, &xy(), |_| {}).unwrap();
             (
                 found.to_json().to_string(),

@@ -574,11 +574,7 @@ fn the_monte_carlo_does_not_depend_on_the_thread_count() {
     );
     let machine = &scenario.twin.machine;
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        crate::common::on_threads(threads, || {
             let (_, fit, _, _) = estimate(machine, "location", std::slice::from_ref(&readings), 64);
             let mc = fit.monte_carlo.unwrap();
             (fit.z, mc.mean, mc.std, mc.interval)

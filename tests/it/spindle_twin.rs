@@ -678,13 +678,8 @@ fn on_a_perfect_machine_the_rotor_turns_about_the_axis_frame_z() {
 fn the_output_does_not_depend_on_the_thread_count() {
     let spindle = "speeds_rpm = [2000.0, 6000.0, 12000.0]\nrevolutions = 3\nsamples_per_revolution = 256\nnoise_nm = 3.0\nresolution_nm = 0.1\nbandwidth_hz = 10000.0\nsetups = [\"normal\", \"reversed\"]\n";
     let scenario = load(&text("vmc3", MANY_ERRORS_VMC3, spindle)).unwrap();
-    let csv = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| run_scenario(&scenario).unwrap())
-    };
+    let csv =
+        |threads: usize| crate::common::on_threads(threads, || run_scenario(&scenario).unwrap());
     let (one, four) = (csv(1), csv(4));
     assert_eq!(one, four);
     let table = one.files.iter().find(|(n, _)| n == "spindle.csv").unwrap();
