@@ -161,10 +161,16 @@ pub fn rounded_to(values: &[Real]) -> Option<Real> {
     if distinct.len() < 3 {
         return None;
     }
-    [1e-5, 1e-6].into_iter().find(|step| {
+    coarsest_grid(values, &[1e-5, 1e-6], 1e-6)
+}
+
+/// The first of `steps` (coarsest first) that every one of `values` is a whole multiple of,
+/// to within `tolerance` of the step.
+pub fn coarsest_grid(values: &[Real], steps: &[Real], tolerance: Real) -> Option<Real> {
+    steps.iter().copied().find(|step| {
         values.iter().all(|v| {
             let n = v / step;
-            (n - n.round()).abs() < 1e-6
+            (n - n.round()).abs() < tolerance
         })
     })
 }

@@ -205,6 +205,20 @@ fn all_zero(test: &Test, tolerance: Real) {
     }
 }
 
+/// `[[spindle.probe]]` blocks of radial probes p1, p2, … at `azimuths` (°).
+fn radial_probes(azimuths: &[Real]) -> String {
+    azimuths
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            format!(
+                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
+                i + 1
+            )
+        })
+        .collect()
+}
+
 /// `radial …` on a sphere with the default nest (x1 at 0°, y1 at 90°, z on the axis).
 fn sphere(extra: &str, artefact: &str) -> String {
     format!(

@@ -31,16 +31,7 @@ fn sampled(k: Real, amplitude: Real, phase_deg: Real) -> Vec<Real> {
 
 /// Four radial probes p1…p4 at 0°, 57.3°, 180° and 217.7° (none of harmonics 2–7 blind).
 fn unequal_layout() -> String {
-    [0.0, 57.29577951308232, 180.0, 217.72395214971282]
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            format!(
-                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
-                i + 1
-            )
-        })
-        .collect()
+    radial_probes(&[0.0, 57.29577951308232, 180.0, 217.72395214971282])
 }
 
 fn motion<'a>(sep: &'a Separated, axis: &str) -> &'a SeparatedMotion {

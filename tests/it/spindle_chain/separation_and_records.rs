@@ -127,23 +127,11 @@ fn multi_probe_separation_returns_the_form_and_lists_blind_harmonics() {
             harmonic(3, 0.07, -45.0, "um"),
         ],
     );
-    let probes = |azimuths: &[Real]| -> String {
-        azimuths
-            .iter()
-            .enumerate()
-            .map(|(i, a)| {
-                format!(
-                    "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
-                    i + 1
-                )
-            })
-            .collect()
-    };
     let spindle = |form: &str, azimuths: &[Real]| {
         format!(
             "speeds_rpm = [4000.0]\nrevolutions = 4\nsamples_per_revolution = {M}\n\
              [spindle.artefact]\nkind = \"sphere\"\ndiameter_mm = 25.4\n{form}\n{}",
-            probes(azimuths)
+            radial_probes(azimuths)
         )
     };
     let theta = grid(M);
@@ -495,16 +483,7 @@ fn multi_probe_separation_of_a_reversed_set_up_keeps_the_motion_s_sign() {
     // motion_x = EXS; or the separation is made on the normal set-up only.
     let exs = |t: Real| 0.1 * UM * (2.0 * t).sin();
     let errors = harmonics("EXS", &[harmonic(2, 0.1, 0.0, "um")]);
-    let probes: String = [0.0, 57.29577951308232, 180.0, 217.72395214971282]
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            format!(
-                "[[spindle.probe]]\nname = \"p{}\"\nkind = \"radial\"\nazimuth_deg = {a}\n",
-                i + 1
-            )
-        })
-        .collect();
+    let probes = radial_probes(&[0.0, 57.29577951308232, 180.0, 217.72395214971282]);
     let spindle = format!(
         "speeds_rpm = [4000.0]\nrevolutions = 2\nsamples_per_revolution = {M}\n\
          setups = [\"normal\", \"reversed\"]\n\

@@ -415,10 +415,7 @@ fn tests(
         .iter()
         .zip(&kinds)
         .map(|(signal, kind)| match kind {
-            Some(ProbeKind::Radial { .. }) => {
-                let [a, b] = spectrum::harmonics(&motion::synchronous(signal), 1)[0];
-                a.hypot(b)
-            }
+            Some(ProbeKind::Radial { .. }) => uncertainty::centring(signal),
             _ => 0.0,
         })
         .collect();

@@ -16,9 +16,8 @@
 //! arcs) and the choice between pooling and per-direction values, which the standard leaves to
 //! the test's purpose: both are reported.
 
-use super::{Candidate, EvaluateError, Options, Segment, score};
-use crate::kinds::spindle::analysis::motion::{self, Direction, Grid, Revolutions};
-use crate::kinds::spindle::analysis::spectrum;
+use super::{Candidate, EvaluateError, Options, Segment, score, uncertainty};
+use crate::kinds::spindle::analysis::motion::{Direction, Grid, Revolutions};
 use crate::kinds::spindle::record::SpindleRecord;
 use crate::machine::Axis;
 
@@ -88,8 +87,7 @@ pub(super) fn pooled(
         let mut centrings = vec![0.0; record.probes.len()];
         for c in &candidates {
             if let ([i], Direction::Radial) = (c.probes.as_slice(), c.direction) {
-                let [a, b] = spectrum::harmonics(&motion::synchronous(&c.signal), 1)[0];
-                centrings[*i] = a.hypot(b);
+                centrings[*i] = uncertainty::centring(&c.signal);
             }
         }
         let tests = candidates

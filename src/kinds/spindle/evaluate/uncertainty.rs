@@ -47,7 +47,8 @@
 //! ([`TestUncertainty::missing`]) and its U is a lower bound.
 
 use super::Test;
-use crate::kinds::spindle::analysis::motion::Direction;
+use crate::kinds::spindle::analysis::motion::{self, Direction, Revolutions};
+use crate::kinds::spindle::analysis::spectrum;
 use crate::kinds::spindle::record::SpindleProbe;
 use crate::math::Real;
 
@@ -145,12 +146,7 @@ pub fn rounding_step(readings: &[Vec<Real>]) -> Option<Real> {
     const STEPS: [Real; 10] = [
         1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15,
     ];
-    STEPS.into_iter().find(|&step| {
-        values.iter().all(|v| {
-            let q = v / step;
-            (q - q.round()).abs() < 1e-3
-        })
-    })
+    crate::io::plausible::coarsest_grid(&values, &STEPS, 1e-3)
 }
 
 /// The largest norm, over the revolution, of the weights by which the test combines its
@@ -182,6 +178,13 @@ fn pair_norm(a: &SpindleProbe, b: &SpindleProbe) -> Real {
     let root = (sum * sum - 4.0 * det * det).max(0.0).sqrt();
     let sigma_min = ((sum - root) / 2.0).max(0.0).sqrt();
     1.0 / sigma_min
+}
+
+/// The artefact's centring a radial probe's record reads (m): the amplitude of its
+/// synchronous profile's first harmonic, `e` of the limaçon model (module docs).
+pub(super) fn centring(signal: &Revolutions) -> Real {
+    let [a, b] = spectrum::harmonics(&motion::synchronous(signal), 1)[0];
+    a.hypot(b)
 }
 
 /// The budget of one test (module docs). `probes` are the test's probes, `length` the
