@@ -132,3 +132,45 @@ fn partial_arcs_recover_what_is_identifiable_and_flag_the_rest() {
         }
     }
 }
+
+/// A measurement, not a check: how often the reported reversal lag misses the true 30 ms by
+/// more than 2 and 3 of its u, for lost motion of 1, 0.6 and 0.4 µm (steps, as this
+/// simulator makes them) under 0.3 µm of noise, 40 seeds each (80 lags). Measured
+/// 2026-11-30, with the hull of the confidence set (before: the interval about the fitted
+/// lag alone): 6 (6), 18 (20) and 36 (38) of 80 beyond 2 u. The misses are not noise: a
+/// gap of 1 µm taken up after the reversal (the fit's other backlash mechanism) takes about
+/// √(2·b/(R·ω²)) ≈ 30 ms at 1000 mm/min on a 150 mm bar, so "gap from 5 ms" reads like "step
+/// at 30 ms", and the lag's profile is taken with the mechanism the fit chose. Run with
+/// `--ignored --nocapture`.
+#[test]
+#[ignore = "a measurement of the reversal lag's coverage at low signal to noise (about 1 min in the test profile): run on purpose"]
+fn reversal_lag_coverage_at_low_signal_to_noise() {
+    for backlash in [1.0, 0.6, 0.4] {
+        let machine = Machine {
+            lag: [30e-3, 30e-3],
+            backlash: [backlash * UM, backlash * UM],
+            ..Machine::default()
+        };
+        let (mut located, mut beyond_2u, mut beyond_3u) = (0, 0, 0);
+        for seed in 1..=40 {
+            let table = simulate(&machine, &full_circles(), 0.3 * UM, seed);
+            let e = evaluate(&table, &xy()).unwrap();
+            for (lag, u) in e
+                .diagnostics
+                .as_ref()
+                .unwrap()
+                .reversal_lag
+                .into_iter()
+                .flatten()
+            {
+                let z = (lag - 30e-3).abs() / u;
+                located += 1;
+                beyond_2u += usize::from(z > 2.0);
+                beyond_3u += usize::from(z > 3.0);
+            }
+        }
+        println!(
+            "lost motion {backlash} µm: {located} of 80 lags located, {beyond_2u} beyond 2 u, {beyond_3u} beyond 3 u"
+        );
+    }
+}

@@ -73,7 +73,7 @@ impl Fitter<'_> {
             (grid[best], values[best])
         };
         let flat = value + 1e-9 * profile.fixed.rss;
-        let (from, to) = interval(|g| profile.rss(g), lag, flat, low, high);
+        let (from, to) = interval(&|g| profile.rss(g), lag, flat, low, high);
         if std::env::var("MTWIN_DEBUG").is_ok() {
             eprintln!(
                 "lag search: best grid {} ({:.12e}), refined {:.9e} {:.12e}, chosen {lag:.9e} {value:.12e}, interval {from:.9e} {to:.9e} fixed {:.12e}",
@@ -402,10 +402,10 @@ impl Fitter<'_> {
 /// What a trace says of an axis's reversal lag ([`CircleData::locate_lag`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LagLocation {
-    /// The fitted lag (s) and its standard uncertainty: half the width of the profile-likelihood
-    /// interval where the residual sum of squares stays within σ̂² of its value at the lag
-    /// (Δχ² = 1). For a step sampled every Δt it is at least about Δt/2: the data cannot place
-    /// the step better.
+    /// The fitted lag (s) and its standard uncertainty: half the width of the hull of the lags
+    /// where the residual sum of squares, the other reversal terms refitted, is at most σ̂²
+    /// above its value at the fitted lag (Δχ² = 1). For a step sampled every Δt it is at least about Δt/2: the
+    /// data cannot place the step better.
     Located {
         /// The fitted lag (s).
         lag: Real,
@@ -431,9 +431,10 @@ impl CircleData {
     /// `locating` (the axis's others left out of the model: a term that is not significant
     /// fits noise wherever the lag puts it, and must not lend the lag a precision it does not
     /// have). The profile of the residual sum of squares over the lag, the other terms' columns
-    /// refitted at each lag, is searched on each side of the fitted lag for where it rises by
-    /// `variance` (σ̂²): [`LagLocation::Located`] when it does so inside the searched range on
-    /// both sides, [`LagLocation::NotLocated`] when it does not.
+    /// refitted at each lag, is searched for the hull of the lags where it is at most
+    /// `variance` (σ̂²) above its value at the fitted lag (`confidence_hull`): [`LagLocation::Located`] when
+    /// that hull lies inside the searched range, [`LagLocation::NotLocated`] when it reaches an
+    /// end.
     pub fn locate_lag(
         &self,
         axis: usize,
@@ -475,8 +476,7 @@ impl CircleData {
         } else {
             fitter.search_lag(&profile)
         };
-        let target = profile.rss(best) + variance;
-        let (from, to) = interval(|g| profile.rss(g), best, target, low, high);
+        let (from, to) = confidence_hull(|g| profile.rss(g), best, variance, low, high);
         if from <= low || to >= high {
             LagLocation::NotLocated { from, to }
         } else {
@@ -652,11 +652,69 @@ pub(super) fn brent(f: impl Fn(Real) -> Real, low: Real, high: Real) -> (Real, R
     brent_minimum(f, low, high, tolerance, REFINE_EVALUATIONS)
 }
 
+/// Points of the scan [`confidence_hull`] makes of the whole lag range (every 0.2 ms over
+/// ±200 ms: a twentieth of the 4 ms sampling interval of the bundled tests, between two of
+/// whose readings the lag profile is smooth).
+const HULL_SCAN: usize = 2001;
+
+/// The smallest interval that holds every lag in `low..high` where `f` is at most `variance`
+/// above its value at the fitted lag `best`: the hull of the profile-likelihood confidence set
+/// (Δχ² = 1 when `variance` is σ̂²), which holds any lower valley the search missed too.
+///
+/// The residual sum of squares over the lag has a kink wherever a reading crosses the
+/// reversal, and it can have a second minimum within `variance` of the first, a sampling
+/// interval or more away (measured on `vmc3_ballbar_xy`'s discovery: 2.6 % of the lag
+/// searches ended more than Δχ² = 1 above the lowest point of a fine scan). Bisection from
+/// `best` alone ([`interval`]) finds the edge of one valley and would report a `u` that does
+/// not see the other, so the range is also scanned at [`HULL_SCAN`] points and each outermost
+/// point within `variance` is refined by bisection against its outer neighbour.
+fn confidence_hull(
+    f: impl Fn(Real) -> Real,
+    best: Real,
+    variance: Real,
+    low: Real,
+    high: Real,
+) -> (Real, Real) {
+    let target = f(best) + variance;
+    let (mut from, mut to) = interval(&f, best, target, low, high);
+    let at = |k: usize| low + (high - low) * k as Real / (HULL_SCAN - 1) as Real;
+    let inside: Vec<usize> = (0..HULL_SCAN).filter(|&k| f(at(k)) <= target).collect();
+    let edge = |inside: Real, outside: Real| {
+        let (mut inside, mut outside) = (inside, outside);
+        for _ in 0..EDGE_BISECTIONS {
+            let middle = (inside + outside) / 2.0;
+            if f(middle) <= target {
+                inside = middle;
+            } else {
+                outside = middle;
+            }
+        }
+        (inside + outside) / 2.0
+    };
+    if let (Some(&first), Some(&last)) = (inside.first(), inside.last()) {
+        if at(first) < from {
+            from = if first == 0 {
+                low
+            } else {
+                edge(at(first), at(first - 1))
+            };
+        }
+        if at(last) > to {
+            to = if last == HULL_SCAN - 1 {
+                high
+            } else {
+                edge(at(last), at(last + 1))
+            };
+        }
+    }
+    (from, to)
+}
+
 /// The interval around `best` (inside low..high) where `f` stays at or below `target`:
 /// each edge by [`EDGE_BISECTIONS`] bisections between `best` and the bound (the bound
 /// itself when `f` is below `target` there).
 fn interval(
-    f: impl Fn(Real) -> Real,
+    f: &impl Fn(Real) -> Real,
     best: Real,
     target: Real,
     low: Real,
@@ -678,4 +736,31 @@ fn interval(
         (inside + outside) / 2.0
     };
     (edge(low), edge(high))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_hull_holds_a_second_valley_within_the_variance() {
+        // Two valleys: (x + 1)² and (x − 3)² + 0.2 (lags in arbitrary units over −10..10).
+        // At most 0.5 above the value 0 at the fitted x = −1: |x + 1| ≤ √0.5 and |x − 3| ≤ √0.3, so the hull is
+        // [−1 − √0.5, 3 + √0.3]; the first valley's interval alone is [−1 − √0.5, −1 + √0.5].
+        let f = |x: Real| ((x + 1.0) * (x + 1.0)).min((x - 3.0) * (x - 3.0) + 0.2);
+        let (from, to) = confidence_hull(f, -1.0, 0.5, -10.0, 10.0);
+        assert!((from - (-1.0 - 0.5_f64.sqrt())).abs() < 1e-6, "{from}");
+        assert!((to - (3.0 + 0.3_f64.sqrt())).abs() < 1e-6, "{to}");
+        let (_, local) = interval(&f, -1.0, 0.5, -10.0, 10.0);
+        assert!((local - (-1.0 + 0.5_f64.sqrt())).abs() < 1e-6, "{local}");
+        // The second valley 0.6 above the first is outside the set: the hull is one valley's.
+        let g = |x: Real| ((x + 1.0) * (x + 1.0)).min((x - 3.0) * (x - 3.0) + 0.6);
+        let (from, to) = confidence_hull(g, -1.0, 0.5, -10.0, 10.0);
+        assert!((to - (-1.0 + 0.5_f64.sqrt())).abs() < 1e-6, "{from} {to}");
+        // A search that stopped in the upper valley (best = 3, value 0.6): the lower valley,
+        // below it, is in the hull, up to 1.1: [−1 − √1.1, 3 + √0.5].
+        let (from, to) = confidence_hull(g, 3.0, 0.5, -10.0, 10.0);
+        assert!((from - (-1.0 - 1.1_f64.sqrt())).abs() < 1e-6, "{from}");
+        assert!((to - (3.0 + 0.5_f64.sqrt())).abs() < 1e-6, "{to}");
+    }
 }
