@@ -679,18 +679,7 @@ fn confidence_hull(
     let (mut from, mut to) = interval(&f, best, target, low, high);
     let at = |k: usize| low + (high - low) * k as Real / (HULL_SCAN - 1) as Real;
     let inside: Vec<usize> = (0..HULL_SCAN).filter(|&k| f(at(k)) <= target).collect();
-    let edge = |inside: Real, outside: Real| {
-        let (mut inside, mut outside) = (inside, outside);
-        for _ in 0..EDGE_BISECTIONS {
-            let middle = (inside + outside) / 2.0;
-            if f(middle) <= target {
-                inside = middle;
-            } else {
-                outside = middle;
-            }
-        }
-        (inside + outside) / 2.0
-    };
+    let edge = |inside: Real, outside: Real| crossing(&f, inside, outside, target);
     if let (Some(&first), Some(&last)) = (inside.first(), inside.last()) {
         if at(first) < from {
             from = if first == 0 {
@@ -722,20 +711,27 @@ fn interval(
 ) -> (Real, Real) {
     let edge = |bound: Real| {
         if f(bound) <= target {
-            return bound;
+            bound
+        } else {
+            crossing(f, best, bound, target)
         }
-        let (mut inside, mut outside) = (best, bound);
-        for _ in 0..EDGE_BISECTIONS {
-            let middle = (inside + outside) / 2.0;
-            if f(middle) <= target {
-                inside = middle;
-            } else {
-                outside = middle;
-            }
-        }
-        (inside + outside) / 2.0
     };
     (edge(low), edge(high))
+}
+
+/// Where `f` crosses `target` between `inside` (at or below it) and `outside` (above it), by
+/// [`EDGE_BISECTIONS`] bisections.
+fn crossing(f: &impl Fn(Real) -> Real, inside: Real, outside: Real, target: Real) -> Real {
+    let (mut inside, mut outside) = (inside, outside);
+    for _ in 0..EDGE_BISECTIONS {
+        let middle = (inside + outside) / 2.0;
+        if f(middle) <= target {
+            inside = middle;
+        } else {
+            outside = middle;
+        }
+    }
+    (inside + outside) / 2.0
 }
 
 #[cfg(test)]
@@ -745,8 +741,9 @@ mod tests {
     #[test]
     fn the_hull_holds_a_second_valley_within_the_variance() {
         // Two valleys: (x + 1)² and (x − 3)² + 0.2 (lags in arbitrary units over −10..10).
-        // At most 0.5 above the value 0 at the fitted x = −1: |x + 1| ≤ √0.5 and |x − 3| ≤ √0.3, so the hull is
-        // [−1 − √0.5, 3 + √0.3]; the first valley's interval alone is [−1 − √0.5, −1 + √0.5].
+        // At most 0.5 above the value 0 at the fitted x = −1: |x + 1| ≤ √0.5 and
+        // |x − 3| ≤ √0.3, so the hull is [−1 − √0.5, 3 + √0.3]; the first valley's interval
+        // alone is [−1 − √0.5, −1 + √0.5].
         let f = |x: Real| ((x + 1.0) * (x + 1.0)).min((x - 3.0) * (x - 3.0) + 0.2);
         let (from, to) = confidence_hull(f, -1.0, 0.5, -10.0, 10.0);
         assert!((from - (-1.0 - 0.5_f64.sqrt())).abs() < 1e-6, "{from}");
