@@ -176,6 +176,7 @@ impl Fitter<'_> {
         };
         let step = self.search_shapes(terms, start, Passes::Full);
         let mut best = (step, fit_at(&step).rss);
+        let mut mechanisms = Vec::new();
         let backlash: Vec<(usize, Term)> = [(0, Term::BacklashP), (1, Term::BacklashQ)]
             .into_iter()
             .filter(|(_, t)| terms.contains(t))
@@ -217,8 +218,10 @@ impl Fitter<'_> {
                     candidates.push(mixed);
                 }
             }
+            mechanisms.push(best);
             for candidate in candidates {
                 let rss = fit_at(&candidate).rss;
+                mechanisms.push((candidate, rss));
                 if rss < best.1 {
                     best = (candidate, rss);
                 }
@@ -233,6 +236,7 @@ impl Fitter<'_> {
             shape,
             coefficients,
             residuals,
+            mechanisms,
         }
     }
 
@@ -388,6 +392,11 @@ pub struct ModelFit {
     pub coefficients: Vec<Real>,
     /// Measured − predicted for every reading (m).
     pub residuals: Vec<Real>,
+    /// The backlash mechanisms the fit compared, each with its searched shape and residual sum
+    /// of squares (m²): the step, the gap taken up and, with backlash of both axes, each axis
+    /// back at the step. An axis's lag is known only across those within σ̂² of the chosen one
+    /// ([`CircleData::locate_lag`]). Empty without backlash.
+    pub mechanisms: Vec<(Shape, Real)>,
 }
 
 impl ModelFit {
