@@ -405,8 +405,8 @@ pub enum LagLocation {
     /// The fitted lag (s) and its standard uncertainty: half the width of the hull of the lags
     /// where the residual sum of squares, the other reversal terms refitted, is at most σ̂²
     /// above its value at the fitted lag (Δχ² = 1), and of the lag of the backlash's other
-    /// mechanism when its fit is within σ̂² ([`ModelFit::mechanisms`]). For a step sampled every Δt it is at least about Δt/2: the
-    /// data cannot place the step better.
+    /// mechanism when its fit is within σ̂² ([`ModelFit::mechanisms`]). For a step sampled
+    /// every Δt it is at least about Δt/2: the data cannot place the step better.
     Located {
         /// The fitted lag (s).
         lag: Real,
@@ -433,9 +433,10 @@ impl CircleData {
     /// fits noise wherever the lag puts it, and must not lend the lag a precision it does not
     /// have). The profile of the residual sum of squares over the lag, the other terms' columns
     /// refitted at each lag, is searched for the hull of the lags where it is at most
-    /// `variance` (σ̂²) above its value at the fitted lag (`confidence_hull`): [`LagLocation::Located`] when
-    /// that hull lies inside the searched range, [`LagLocation::NotLocated`] when it reaches an
-    /// end.
+    /// `variance` (σ̂²) above its value at the fitted lag (`confidence_hull`), widened to the
+    /// backlash's other mechanism's lag when its fit is within σ̂²: [`LagLocation::Located`]
+    /// when that hull lies inside the searched range, [`LagLocation::NotLocated`] when it
+    /// reaches an end.
     pub fn locate_lag(
         &self,
         axis: usize,
@@ -692,9 +693,12 @@ fn confidence_hull(
     let target = f(best) + variance;
     let (mut from, mut to) = interval(&f, best, target, low, high);
     let at = |k: usize| low + (high - low) * k as Real / (HULL_SCAN - 1) as Real;
-    let inside: Vec<usize> = (0..HULL_SCAN).filter(|&k| f(at(k)) <= target).collect();
+    let inside = (0..HULL_SCAN).filter(|&k| f(at(k)) <= target);
+    let ends = inside.fold(None, |ends, k| {
+        Some(ends.map_or((k, k), |(first, _)| (first, k)))
+    });
     let edge = |inside: Real, outside: Real| crossing(&f, inside, outside, target);
-    if let (Some(&first), Some(&last)) = (inside.first(), inside.last()) {
+    if let Some((first, last)) = ends {
         if at(first) < from {
             from = if first == 0 {
                 low
