@@ -144,7 +144,7 @@ fn notes(fit: &ModelFit, data: &CircleData) -> Vec<String> {
                     ))
                 }
                 LagLocation::NotLocated { from, to } => Some(format!(
-                    "{name}: the model fits as well (within σ̂²) for any lag from {:.1} to {:.1} ms, which reaches the end of the range searched: the trace does not place {letter}'s reversal, not reported",
+                    "{name}: the model fits as well (within the 95 % confidence set of a change point, Δχ² ≤ 7.35) for any lag from {:.1} to {:.1} ms, which reaches the end of the range searched: the trace does not place {letter}'s reversal, not reported",
                     from * 1e3,
                     to * 1e3
                 )),

@@ -331,7 +331,7 @@ fn not_located_lag(
     let names: Vec<String> = locating.iter().map(|t| t.key(plane)).collect();
     let (low, high) = data.ranges.lag;
     format!(
-        "{}: {} fit{} as well (within σ̂²) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
+        "{}: {} fit{} as well (within the 95 % confidence set of a change point, Δχ² ≤ 7.35) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
         lag_key(plane, axis),
         names.join(" and "),
         if names.len() == 1 { "s" } else { "" },

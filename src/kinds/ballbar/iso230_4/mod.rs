@@ -77,7 +77,7 @@
 //! | `backlash_q_um` | b_q, sgn q̇ = σ·sgn(cos θ_q) | −σ·sgn(cos θ_q)·sin θ·b_q/2 |
 //! | `lateral_play_p_um` | l_p: the p carriage shifts along q by −sgn(ṗ)·l_p/2 | +σ·sgn(sin θ_p)·sin θ·l_p/2 (= +σ·\|sin θ\|·l_p/2 at δ_p = 0) |
 //! | `lateral_play_q_um` | l_q: the q carriage shifts along p by −sgn(q̇)·l_q/2 | −σ·sgn(cos θ_q)·cos θ·l_q/2 (= −σ·\|cos θ\|·l_q/2) |
-//! | `reversal_lag_p_ms`, `_q_ms` | δ_p, δ_q: time from the programmed to the actual reversal of the axis, reported when its backlash or spike is significant (lateral play, continuous at the reversal, cannot place it) and the profile likelihood over the lag, with those terms alone moving, rises by Δ RSS = σ̂² inside the searched range on both sides (u half that interval) | (locates the reversal terms) |
+//! | `reversal_lag_p_ms`, `_q_ms` | δ_p, δ_q: time from the programmed to the actual reversal of the axis, reported when its backlash or spike is significant (lateral play, continuous at the reversal, cannot place it) and the profile likelihood over the lag, with those terms alone moving, rises by Δ RSS = 7.35·σ̂² (a change point's 95 % likelihood-ratio bound, Hansen 2000) inside the searched range on both sides (u the farther edge's distance over 1.96) | (locates the reversal terms) |
 //! | `straightness_p_um` | S_p: bow of p along q, E_q = S_p·(1 − (p/R)²), middle toward +q | S_p·sin³θ |
 //! | `straightness_q_um` | S_q: E_p = S_q·(1 − (q/R)²) | S_q·cos³θ |
 //! | `reversal_spike_p_um`, `_decay_ms` | h_p, τ_p: after p reverses (θ_p = 0°, 180°) it sticks and lags in its new direction by h_p·e^(−Δt/τ_p), Δt = R·\|θ_p − θ_r\|/v | +h_p·\|cos θ\|·e^(−Δt/τ_p) |

@@ -40,6 +40,14 @@ const REFINE_EVALUATIONS: usize = 40;
 /// Bisections of the flat interval's edges, each from the best lag to a range end (at most
 /// 400 ms): 2⁻²⁵ of that is 12 ns, far below the 1 µs the lag is printed to.
 const EDGE_BISECTIONS: usize = 25;
+/// Bound on Δχ² of the 95 % confidence set of a reversal lag: the lag is where a step lies in
+/// the trace, a threshold (change point), and the likelihood ratio of a threshold does not
+/// follow χ²₁ but P(LR ≤ x) = (1 − e^(−x/2))² (Hansen 2000, *Econometrica* 68, 575–603,
+/// Theorem 2 and Table I), so x = −2·ln(1 − √0.95) = 7.352 (χ²₁ would give 3.841).
+const STEP_LR_95: Real = 7.352_276_694_155_739;
+/// Coverage factor of a normal distribution at 95 %: the lag's standard uncertainty is half
+/// the 95 % set's width over it, so that ±2u is the set.
+const COVERAGE_95: Real = 1.959_963_984_540_054;
 
 /// The least significance level: a linear amplitude counts as significant at this many
 /// standard uncertainties.
@@ -402,23 +410,26 @@ impl Fitter<'_> {
 /// What a trace says of an axis's reversal lag ([`CircleData::locate_lag`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LagLocation {
-    /// The fitted lag (s) and its standard uncertainty: half the width of the hull of the lags
-    /// where the residual sum of squares, the other reversal terms refitted, is at most σ̂²
-    /// above its value at the fitted lag (Δχ² = 1), and of the lag of the backlash's other
-    /// mechanism when its fit is within σ̂² ([`ModelFit::mechanisms`]). For a step sampled
-    /// every Δt it is at least about Δt/2: the data cannot place the step better.
+    /// The fitted lag (s) and its standard uncertainty: the distance from the fitted lag to
+    /// the farther edge of the 95 % confidence set over 1.96. The set is the hull of the lags
+    /// where the residual sum of squares, the other reversal terms refitted, is at most 7.35·σ̂²
+    /// above its value at the fitted lag (a change point's likelihood-ratio bound), joined with
+    /// the same set of the backlash's other mechanism when its fit is within that bound
+    /// ([`ModelFit::mechanisms`]). For a step the set holds at least the lags between the
+    /// readings on either side of it, where the fit cannot tell one from another, so ±2u spans
+    /// them.
     Located {
         /// The fitted lag (s).
         lag: Real,
         /// Its standard uncertainty (s).
         u: Real,
     },
-    /// The residual sum of squares stays within σ̂² of its value at the fitted lag from `from`
-    /// to `to` (s), and that interval reaches an end of the searched range: the trace does not
-    /// place the reversal, and the fitted lag is not a measurement. Lateral play alone does
-    /// this: its column σ·|sin θ| is continuous at the axis's reversal, so moving the reversal
-    /// by δ changes it by at most about 2·(v·δ/R)·l/2 over an arc of v·δ (a few nanometres for
-    /// 30 ms at 1000 mm/min on a 150 mm bar).
+    /// The residual sum of squares stays within 7.35·σ̂² of its value at the fitted lag from
+    /// `from` to `to` (s), and that interval reaches an end of the searched range: the trace
+    /// does not place the reversal, and the fitted lag is not a measurement. Lateral play alone
+    /// does this: its column σ·|sin θ| is continuous at the axis's reversal, so moving the
+    /// reversal by δ changes it by at most about 2·(v·δ/R)·l/2 over an arc of v·δ (a few
+    /// nanometres for 30 ms at 1000 mm/min on a 150 mm bar).
     NotLocated {
         /// The interval's start (s).
         from: Real,
@@ -432,11 +443,11 @@ impl CircleData {
     /// `locating` (the axis's others left out of the model: a term that is not significant
     /// fits noise wherever the lag puts it, and must not lend the lag a precision it does not
     /// have). The profile of the residual sum of squares over the lag, the other terms' columns
-    /// refitted at each lag, is searched for the hull of the lags where it is at most
-    /// `variance` (σ̂²) above its value at the fitted lag (`confidence_hull`), widened to the
-    /// backlash's other mechanism's lag when its fit is within σ̂²: [`LagLocation::Located`]
-    /// when that hull lies inside the searched range, [`LagLocation::NotLocated`] when it
-    /// reaches an end.
+    /// refitted at each lag, is searched for the hull of the lags where it is at most 7.35 times
+    /// `variance` (σ̂²) above its value at the fitted lag (`confidence_hull`: the 95 %
+    /// confidence set of a change point), joined with that of the backlash's other mechanism
+    /// when its fit is within the same bound: [`LagLocation::Located`] when that hull lies
+    /// inside the searched range, [`LagLocation::NotLocated`] when it reaches an end.
     pub fn locate_lag(
         &self,
         axis: usize,
@@ -464,40 +475,52 @@ impl CircleData {
                 to: high,
             };
         }
-        let columns = fitter.columns(&fixed, &fit.shape);
-        let profile = LagProfile::new(&fitter, axis, &moving, &columns, &fit.shape);
-        // The fitted lag is this profile's minimum when every reversal term of the axis
-        // locates it; otherwise the lag is searched again without the others.
         let every = fit
             .terms
             .iter()
             .filter(|t| t.reversal_axis() == Some(axis))
             .all(|t| moving.contains(t));
-        let best = if every {
-            fit.shape.lag[axis]
-        } else {
-            fitter.search_lag(&profile)
+        let bound = STEP_LR_95 * variance;
+        // The hull of the lags where the profile at `shape` (the other terms' columns
+        // refitted at each lag) is within `slack` of its value at the lag that shape's fit
+        // found, and that lag.
+        let hull = |shape: &Shape, slack: Real| {
+            let columns = fitter.columns(&fixed, shape);
+            let profile = LagProfile::new(&fitter, axis, &moving, &columns, shape);
+            // The fitted lag is this profile's minimum when every reversal term of the axis
+            // locates it; otherwise the lag is searched again without the others.
+            let best = if every {
+                shape.lag[axis]
+            } else {
+                fitter.search_lag(&profile)
+            };
+            let (from, to) = confidence_hull(|g| profile.rss(g), best, slack, low, high);
+            (best, from, to)
         };
-        let (mut from, mut to) = confidence_hull(|g| profile.rss(g), best, variance, low, high);
+        let (best, mut from, mut to) = hull(&fit.shape, bound);
         // The backlash's other mechanism: a gap taken up after the reversal lasts about
         // √(2b/(R·ω²)) (30 ms for 1 µm at 1000 mm/min on a 150 mm bar), so a gap from one lag
         // reads like a step that much later. Where the fit of the other mechanism is within
-        // σ̂² of the chosen one, the lag is known only across both.
+        // the bound of the chosen one, its own confidence set (within what is left of the
+        // bound) joins the chosen one's.
         let chosen = fit.mechanisms.iter().find(|(shape, _)| *shape == fit.shape);
         if let Some(&(_, chosen)) = chosen {
             for (shape, rss) in &fit.mechanisms {
-                if shape.play[axis] != fit.shape.play[axis] && *rss <= chosen + variance {
-                    from = from.min(shape.lag[axis]);
-                    to = to.max(shape.lag[axis]);
+                let slack = chosen + bound - rss;
+                if shape.play[axis] != fit.shape.play[axis] && slack >= 0.0 {
+                    let (_, other_from, other_to) = hull(shape, slack);
+                    from = from.min(other_from);
+                    to = to.max(other_to);
                 }
             }
         }
         if from <= low || to >= high {
             LagLocation::NotLocated { from, to }
         } else {
+            // The set need not be centred on the fitted lag: its farther edge sets u.
             LagLocation::Located {
                 lag: best,
-                u: (to - from) / 2.0,
+                u: (best - from).max(to - best) / COVERAGE_95,
             }
         }
     }
@@ -674,7 +697,8 @@ const HULL_SCAN: usize = 2001;
 
 /// The smallest interval that holds every lag in `low..high` where `f` is at most `variance`
 /// above its value at the fitted lag `best`: the hull of the profile-likelihood confidence set
-/// (Δχ² = 1 when `variance` is σ̂²), which holds any lower valley the search missed too.
+/// (Δχ² = 1 when `variance` is σ̂²; [`CircleData::locate_lag`] gives it [`STEP_LR_95`]·σ̂²),
+/// which holds any lower valley the search missed too.
 ///
 /// The residual sum of squares over the lag has a kink wherever a reading crosses the
 /// reversal, and it can have a second minimum within `variance` of the first, a sampling
@@ -755,6 +779,19 @@ fn crossing(f: &impl Fn(Real) -> Real, inside: Real, outside: Real, target: Real
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_change_point_bound_is_hansens_95_percent_point() {
+        // Hansen (2000), Table I: the asymptotic critical values of the threshold's likelihood
+        // ratio are 5.94 (90 %), 7.35 (95 %) and 10.59 (99 %); P(LR ≤ x) = (1 − e^(−x/2))².
+        let level = |x: Real| (1.0 - (-x / 2.0).exp()).powi(2);
+        for (x, p) in [(5.94, 0.90), (7.35, 0.95), (10.59, 0.99)] {
+            assert!((level(x) - p).abs() < 5e-4, "{x}: {}", level(x));
+        }
+        assert!((level(STEP_LR_95) - 0.95).abs() < 1e-12);
+        // The normal's 97.5 % point: Φ(1.96) = 0.975002 (Abramowitz & Stegun, Table 26.1).
+        assert!((COVERAGE_95 - 1.96).abs() < 4e-5);
+    }
 
     #[test]
     fn the_hull_holds_a_second_valley_within_the_variance() {
