@@ -42,6 +42,28 @@ fn lateral_play_alone_measures_the_play_and_does_not_time_the_reversal() {
 }
 
 #[test]
+fn the_most_lobes_searched_is_an_end_on_an_arc_and_a_count_on_a_whole_turn() {
+    // A 250 Hz trace of R = 150 mm at 1000 mm/min has 14 137 readings a turn: lobe counts from 3
+    // to 60. On a whole turn 61 lobes are orthogonal to every count searched, so 60 is a count
+    // like 59; on the 180° arc they are not (∫ sin 60θ·cos 61θ dθ over 0..π is 1/121 − 1,
+    // against π/2 for sin² 60θ), so a fit that ends at 60 may hold a feature of more.
+    use mtwin::kinds::ballbar::iso230_4::{CircleData, Shape};
+    for (runs, end) in [(full_circles(), false), (arcs(0.0, 180.0), true)] {
+        let table = simulate(&Machine::default(), &runs, 0.1 * UM, 1);
+        let data = CircleData::new(&table, &xy()).unwrap();
+        assert_eq!(data.ranges.lobes, (3, 60));
+        for (lobes, expected) in [(59, false), (60, end)] {
+            let shape = Shape {
+                lobes,
+                ..Shape::default()
+            };
+            let why = data.shape_at_range_end(Term::Lobes, &shape);
+            assert_eq!(why.is_some(), expected, "{lobes} lobes, arc {end}: {why:?}");
+        }
+    }
+}
+
+#[test]
 fn a_spike_outside_the_searched_decays_is_withdrawn_with_the_reason() {
     // At 250 Hz the decays searched run from two sampling intervals (8 ms) to 200 ms. A 2 ms
     // spike of 3 µm is seen by one reading at most (e^(−2) of it 4 ms on): the fit had put its

@@ -67,7 +67,7 @@ fn params(
             params.insert("period_mm", fit.shape.period[which] / M_PER_MM);
             params.insert("phase_deg", c[1].atan2(c[0]) / RAD_PER_DEG);
         }
-        BallbarEffect::Lobes => {
+        BallbarEffect::Lobes if measured => {
             params.insert("lobes", Real::from(fit.shape.lobes));
             params.insert("amplitude_um", um(c[0].hypot(c[1])));
             params.insert("phase_deg", c[1].atan2(c[0]) / RAD_PER_DEG);

@@ -527,10 +527,10 @@ impl CircleData {
 
     /// Why `term`'s searched shape in `shape` is not a measurement, when it lies at an end of
     /// its searched range (within 0.1 % of a decay, in logarithm, or of a grid step of the
-    /// frequency: the searches end within 3e-5 and 2e-4 of a bound their minimum runs into):
-    /// the residual still falls toward the end, so the trace's feature lies beyond what the
-    /// term can take, and its height is that of the wrong shape. `None` for the other terms
-    /// and for shapes inside their ranges.
+    /// frequency: the searches end within 3e-5 and 2e-4 of a bound their minimum runs into;
+    /// a lobe count at the most searched): the residual still falls toward the end, so the
+    /// trace's feature lies beyond what the term can take, and its height is that of the wrong
+    /// shape. `None` for the other terms and for shapes inside their ranges.
     pub fn shape_at_range_end(&self, term: Term, shape: &Shape) -> Option<String> {
         match term {
             Term::ReversalSpikeP | Term::ReversalSpikeQ => {
@@ -566,6 +566,19 @@ impl CircleData {
                 } else {
                     None
                 }
+            }
+            // Fewer than 3 lobes are the centre offset and the ovals of squareness and scale,
+            // in the model as their own terms: only the most lobes is an end. On a whole turn
+            // (short of one lobe at the most) more lobes are orthogonal to every count
+            // searched, so the most is a count like any other; on an arc they are not.
+            Term::Lobes if shape.lobes >= self.ranges.lobes.1 => {
+                let most = self.ranges.lobes.1;
+                let whole = TAU * (1.0 - 1.0 / Real::from(most));
+                let arc = self.spans.iter().flatten().copied().fold(TAU, Real::min);
+                (arc < whole).then(|| format!(
+                    "its count reaches the most searched ({most} per turn) on an arc of {:.0}°, where more lobes than that are not orthogonal to the counts searched: the trace's feature may have more lobes than the fit can take, so neither its count nor its amplitude is measured",
+                    arc.to_degrees()
+                ))
             }
             _ => None,
         }

@@ -222,8 +222,8 @@ impl PositioningDiscovery {
         })
     }
 
-    /// The final model's time constants that lie at an end of their searched range, each
-    /// with why it is not a measurement.
+    /// The final model's time constants and period that lie at an end of their searched range,
+    /// each with why it is not a measurement.
     pub fn range_end_notes(&self) -> Vec<String> {
         let fit = self.selection.last().1;
         let all = vec![true; self.problem.x.len()];
@@ -249,6 +249,19 @@ impl PositioningDiscovery {
                 tau / 60.0
             ))
         })
+        .chain(
+            fit.searched
+                .period
+                .filter(|_| fit.effects.contains(&PositioningEffect::Periodic))
+                .and_then(|period| {
+                    let why = self.problem.period_at_range_end(period)?;
+                    Some(format!(
+                        "{}: period_mm = {:.1} {why}",
+                        PositioningEffect::Periodic.id(),
+                        period / M_PER_MM
+                    ))
+                }),
+        )
         .collect()
     }
 

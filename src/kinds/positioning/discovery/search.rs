@@ -6,7 +6,7 @@ use super::fit::Searched;
 use super::problem::Reference;
 use super::profile::FREQUENCY_PROBES;
 use super::{PositioningEffect, PositioningProblem, TAU_GRID};
-use crate::math::{Real, brent_minimum, golden_minimum};
+use crate::math::{M_PER_MM, Real, brent_minimum, golden_minimum};
 
 /// The period's refinement about the periodogram's peak ends within this fraction of its
 /// bracket (two frequency steps of 1/(4·span)) of the minimum, far below the period's
@@ -83,6 +83,29 @@ impl PositioningProblem {
         }
     }
 
+    /// Why the period `period` (m), searched by [`Self::search_period`], is not a measurement,
+    /// when it lies at an end of the range: as long as the travel read or longer (the search
+    /// refines down to half the lowest frequency), the file holds at most one cycle, so a
+    /// sinusoid is one smooth shape among many (a bow, a scale error) and neither its period nor
+    /// its amplitude is measured; at the shortest searched (within 0.1 %), the period is at most
+    /// that.
+    pub(super) fn period_at_range_end(&self, period: Real) -> Option<String> {
+        let (_, f_low) = self.frequency_grid();
+        if period * f_low >= 1.0 - 1e-3 {
+            Some(format!(
+                "is at least the travel read ({:.1} mm): the file holds at most one cycle of it, so the period is not measured, nor the amplitude (over one cycle a sinusoid is one smooth shape among many: a bow, a scale error); these are the model's values, which --write-model writes",
+                1.0 / f_low / M_PER_MM
+            ))
+        } else if (period / self.options.min_period).ln().abs() < 1e-3 {
+            Some(format!(
+                "is the shortest searched ({:.1} mm): the period is not measured (it is at most this long), nor the amplitude; these are the model's values, which --write-model writes",
+                self.options.min_period / M_PER_MM
+            ))
+        } else {
+            None
+        }
+    }
+
     /// Searches a time constant (s) on a log grid from `shortest` (at least 1 min) to twice the
     /// file's span, then refines by golden section (16 steps) between the best point's
     /// neighbours.
@@ -139,6 +162,43 @@ impl PositioningProblem {
             1.0 / refined
         } else {
             1.0 / peak
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinds::positioning::{PositioningOptions, PositioningTable};
+
+    #[test]
+    fn a_period_from_the_travel_up_or_at_the_shortest_is_not_a_measurement() {
+        // Two bidirectional runs over targets 5 to 695 mm: 690 mm of travel read, periods
+        // searched from 2 mm (the default shortest) up.
+        let mut text = String::from("axis,run,direction,target_mm,deviation_um\n");
+        for run in 1..=2 {
+            for direction in ["+", "-"] {
+                for j in 0..7 {
+                    let x = 5.0 + 115.0 * j as f64;
+                    text.push_str(&format!("X,{run},{direction},{x},{}\n", 0.1 * j as f64));
+                }
+            }
+        }
+        let table = PositioningTable::parse(text.as_bytes(), "periods.csv").unwrap();
+        let problem = PositioningProblem::new(&table, PositioningOptions::default()).unwrap();
+        let mm = |v: Real| v * M_PER_MM;
+        for period in [690.0, 1000.0, 1380.0, 2.0] {
+            let why = problem.period_at_range_end(mm(period));
+            assert!(why.is_some(), "{period} mm");
+        }
+        assert!(
+            problem
+                .period_at_range_end(mm(690.0))
+                .unwrap()
+                .contains("690.0 mm")
+        );
+        for period in [2.01, 25.0, 680.0] {
+            assert_eq!(problem.period_at_range_end(mm(period)), None, "{period} mm");
         }
     }
 }
