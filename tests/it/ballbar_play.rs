@@ -154,6 +154,16 @@ struct Drive {
 /// |carriage + centre| − R + noise every 4 ms on the data arc, and each reading gets the
 /// programmed angle at its sampling instant.
 fn independent_trace(drive: &Drive, feed_mm_per_min: Real, seed: u64) -> BallbarTable {
+    noisy_independent_trace(drive, feed_mm_per_min, seed, NOISE)
+}
+
+/// [`independent_trace`] with `noise` (m, standard deviation) on every reading.
+fn noisy_independent_trace(
+    drive: &Drive,
+    feed_mm_per_min: Real,
+    seed: u64,
+    noise: Real,
+) -> BallbarTable {
     let v = feed(feed_mm_per_min);
     let omega = v / RADIUS;
     let step = 1e-4;
@@ -223,7 +233,7 @@ fn independent_trace(drive: &Drive, feed_mm_per_min: Real, seed: u64) -> Ballbar
             readings.push(BallbarReading {
                 sense,
                 angle: programmed.rem_euclid(TAU) % TAU,
-                deviation: tool[0].hypot(tool[1]) - RADIUS + NOISE * standard_normal(&mut rng),
+                deviation: tool[0].hypot(tool[1]) - RADIUS + noise * standard_normal(&mut rng),
                 time: Some(clock + t),
             });
         }
@@ -640,4 +650,84 @@ fn lost_motion_as_a_half_step_is_still_read_as_a_step() {
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// The drive of the lag coverage checks: real play of `play` (m) on both axes, no spike, the
+/// Kv of the other tests.
+fn play_drive(play: Real) -> Drive {
+    Drive {
+        kv: [DEFAULT_KV, 30.0],
+        play: [play, play],
+        spike: [(0.0, 0.0); 2],
+        centre: [20.0 * UM, -12.0 * UM],
+    }
+}
+
+/// The reported reversal lags of `play` (m) under `noise` (m) at 1000 mm/min over `seeds`,
+/// each as (seed, axis, lag, u, its distance from the truth in u). The truth is the motor's
+/// reversal, 1/Kv after the programmed one in the trace's angles (stamped from the command):
+/// at 2 µm of play and 0.1 µm of noise the analysis gives 30.26 ± 0.39 and 33.52 ± 0.38 ms
+/// for 30 and 33.33 ms (seed 1).
+fn play_lags(
+    play: Real,
+    noise: Real,
+    seeds: std::ops::RangeInclusive<u64>,
+) -> Vec<(u64, usize, Real, Real, Real)> {
+    let drive = play_drive(play);
+    let mut lags = Vec::new();
+    for seed in seeds {
+        let table = noisy_independent_trace(&drive, 1000.0, seed, noise);
+        let d = diagnose(&table, 1000.0);
+        for (axis, lag) in d.reversal_lag.iter().enumerate() {
+            if let Some((lag, u)) = *lag {
+                let z = (lag - 1.0 / drive.kv[axis]).abs() / u;
+                lags.push((seed, axis, lag, u, z));
+            }
+        }
+    }
+    lags
+}
+
+/// The reversal lag's u holds when the lost motion is real play (the other mechanism from the
+/// step `tests/it/iso230_4.rs` simulates): 0.6 µm under 0.3 µm of noise, seeds 1 to 10. No lag
+/// may be more than 3 u off (before the other mechanism's set was joined up to twice the
+/// change-point bound, seed 2 gave x 45.67 ± 0.40 ms for 30 ms), and at most 2 of 20 beyond
+/// 2 u (binomial probability 7.5 % at 95 % coverage).
+#[test]
+fn reversal_lag_u_covers_real_play_at_low_signal_to_noise() {
+    let lags = play_lags(0.6 * UM, 0.3 * UM, 1..=10);
+    assert_eq!(lags.len(), 20, "every lag located: {lags:?}");
+    let beyond = |k: Real| lags.iter().filter(|l| l.4 > k).collect::<Vec<_>>();
+    assert!(beyond(3.0).is_empty(), "{:?}", beyond(3.0));
+    assert!(beyond(2.0).len() <= 2, "{:?}", beyond(2.0));
+}
+
+/// A measurement, not a check: how often the reported reversal lag misses the motor's reversal
+/// by more than 2 and 3 of its u, for real play of 0.4, 0.6 and 1 µm under 0.3 µm of noise,
+/// seeds 1–40 and 41–80 (80 lags each). Measured 2026-11-30, beyond 2 u (3 u), seeds 1–40 then
+/// 41–80, with the other mechanism's set joined within one change-point bound (7.35·σ̂²):
+/// 0.4 µm 1 (0), 2 (2); 0.6 µm 2 (2), 2 (2); 1 µm 0 (0), 1 (1); within twice it, as
+/// `locate_lag` does: none of 480. Median u 10.0, 10.1 and 11.1 ms (8.4–9.5 before). Run with
+/// `--ignored --nocapture`.
+#[test]
+#[ignore = "a measurement of the reversal lag's coverage with real play (about a minute in the test profile): run on purpose"]
+fn reversal_lag_coverage_with_real_play() {
+    for play in [0.4, 0.6, 1.0] {
+        for seeds in [1..=40, 41..=80] {
+            let lags = play_lags(play * UM, 0.3 * UM, seeds.clone());
+            let mut us: Vec<Real> = lags.iter().map(|l| l.3).collect();
+            us.sort_by(Real::total_cmp);
+            let mut zs: Vec<Real> = lags.iter().map(|l| l.4).collect();
+            zs.sort_by(Real::total_cmp);
+            let beyond = |k: Real| lags.iter().filter(|l| l.4 > k).count();
+            println!(
+                "play {play} µm, seeds {seeds:?}: {} located, {} beyond 2 u, {} beyond 3 u, median u {:.2} ms, 95th percentile of |error|/u {:.2}",
+                lags.len(),
+                beyond(2.0),
+                beyond(3.0),
+                us.get(us.len() / 2).copied().unwrap_or(Real::NAN) * 1e3,
+                zs.get(zs.len() * 95 / 100).copied().unwrap_or(Real::NAN)
+            );
+        }
+    }
 }
