@@ -238,6 +238,19 @@ fn a_drift_of_the_axial_mean_is_found_and_measured() {
         .unwrap();
     let truth = 0.2 * (1.0 - (-6.0 * (1.0 - 1.0 / 3840.0) / 2.0_f64).exp());
     assert!((drift - truth).abs() < 0.005, "{drift} µm against {truth}");
+    // Inside what the search reaches (the grid 6/16 to 24 s refined within a factor of 2:
+    // 6/32 to 48 s): a measured time constant, no note. At either end (within 1 % in
+    // logarithm), the record holds no time constant the search can take: the note says which.
+    let note = &d.to_json()["final"]["params"]["drift"]["time_constant_note"];
+    assert!(note.is_null(), "{note}");
+    let at_end = |tau: f64| d.problem().time_constant_at_range_end(tau);
+    let span = 6.0 * (1.0 - 1.0 / 3840.0);
+    assert!(at_end(8.0 * span).unwrap().contains("longest"));
+    assert!(at_end(10.0 * span).unwrap().contains("longest"));
+    assert!(at_end(span / 32.0).unwrap().contains("shortest"));
+    for tau in [span / 30.0, 2.0, 7.8 * span] {
+        assert_eq!(at_end(tau), None, "{tau} s");
+    }
 }
 
 #[test]

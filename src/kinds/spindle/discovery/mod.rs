@@ -398,6 +398,27 @@ impl SpindleProblem {
             .collect()
     }
 
+    /// Why a drift's time constant `tau` (s) is not a measurement, when it lies at an end of
+    /// what the search can reach: the grid of [`Self::time_constants`] refined within a factor
+    /// of 2, so T/32 to 8T (within 1 % in logarithm; the refinement ends within 0.5 % of a bound
+    /// its minimum runs into). The residual still falls toward the end, so the record holds no
+    /// time constant the search can take; the drift over the record is still measured.
+    pub fn time_constant_at_range_end(&self, tau: Real) -> Option<&'static str> {
+        let (t0, t1) = self.data.time_span();
+        let span = t1 - t0;
+        if (tau / (8.0 * span)).ln() > -0.01 {
+            Some(
+                "not measured: the longest the search reaches (8 × the record), the drift hardly bends over the record (at least this long)",
+            )
+        } else if (tau / (span / 32.0)).ln() < 0.01 {
+            Some(
+                "not measured: the shortest the search reaches (the record / 32), the drift settles at the start (at most this long)",
+            )
+        } else {
+            None
+        }
+    }
+
     /// The searched value of `effect` given the model `effects`/`searched` before it, from the
     /// samples where `train` is true.
     fn search(

@@ -223,6 +223,7 @@ pub(super) fn params(problem: &SpindleProblem, fit: &SpindleFit, effect: Spindle
             let (t0, t1) = data.time_span();
             json!({
                 "time_constant_s": tau.map(round_json),
+                "time_constant_note": tau.and_then(|tau| problem.time_constant_at_range_end(tau)),
                 "over_s": round_json(t1 - t0),
                 "drift": per_probe(&|p| round_json(fit.linear.coefficient(p, Column::Drift(tau, t0, t1)) * UM)),
             })
@@ -275,10 +276,13 @@ fn params_text(problem: &SpindleProblem, fit: &SpindleFit, effect: SpindleEffect
             numbers_flat(&value["amplitude"])
         ),
         SpindleEffect::Drift => format!(
-            "{} over {:.1} s, drift {}",
+            "{}{} over {:.1} s, drift {}",
             value["time_constant_s"]
                 .as_f64()
                 .map_or("linear".to_string(), |t| format!("τ = {t:.1} s")),
+            value["time_constant_note"]
+                .as_str()
+                .map_or(String::new(), |note| format!(" ({note})")),
             value["over_s"].as_f64().unwrap_or(0.0),
             numbers_flat(&value["drift"])
         ),
