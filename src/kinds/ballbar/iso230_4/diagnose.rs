@@ -2,10 +2,10 @@
 //! reversal lags and the significant searched terms' shapes and phases, and every estimate's
 //! standard uncertainty ([`TermEstimate`]).
 
+use super::lag::LagLocation;
 use super::linalg::{gram, gram_pinv};
 use super::model::{spike, take_up_arc};
 use super::report::lag_key;
-use super::search::LagLocation;
 use super::{BasisPoint, CircleData, CircularTest, MIN_DIAGNOSTIC_READINGS, ModelFit, Shape, Term};
 use crate::machine::Plane;
 use crate::math::{M_PER_UM, Real};

@@ -133,6 +133,7 @@ mod equivalence;
 mod figures;
 mod fit;
 mod identify;
+mod lag;
 mod linalg;
 mod model;
 mod moments;
@@ -149,11 +150,11 @@ pub use data::{CircleData, SearchRanges, covered_arc};
 pub use diagnose::{Diagnostics, TermEstimate};
 pub use figures::{BallbarEvaluation, evaluate};
 pub use fit::ModelFit;
+pub use lag::LagLocation;
 pub use model::{
     BasisPoint, Shape, Term, arc_since_reversal, diagnostic_column, take_up, take_up_arc,
 };
 pub use report::lag_key;
-pub use search::LagLocation;
 
 use crate::machine::Plane;
 use crate::math::Real;

@@ -399,10 +399,11 @@ impl SpindleProblem {
     }
 
     /// Why a drift's time constant `tau` (s) is not a measurement, when it lies at an end of
-    /// what the search can reach: the grid of [`Self::time_constants`] refined within a factor
-    /// of 2, so T/32 to 8T (within 1 % in logarithm; the refinement ends within 0.5 % of a bound
-    /// its minimum runs into). The residual still falls toward the end, so the record holds no
-    /// time constant the search can take; the drift over the record is still measured.
+    /// what the search can reach: the grid of time constants tried (T/16 to 4T, T the record's
+    /// span) refined within a factor of 2, so T/32 to 8T (within 1 % in logarithm; the
+    /// refinement ends within 0.5 % of a bound its minimum runs into). The residual still falls
+    /// toward the end, so the record holds no time constant the search can take; the drift over
+    /// the record is still measured.
     pub fn time_constant_at_range_end(&self, tau: Real) -> Option<&'static str> {
         let (t0, t1) = self.data.time_span();
         let span = t1 - t0;
