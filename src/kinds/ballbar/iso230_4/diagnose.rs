@@ -2,7 +2,7 @@
 //! reversal lags and the significant searched terms' shapes and phases, and every estimate's
 //! standard uncertainty ([`TermEstimate`]).
 
-use super::lag::LagLocation;
+use super::lag::{LagLocation, rival_mechanisms};
 use super::linalg::{gram, gram_pinv};
 use super::model::{spike, take_up_arc};
 use super::report::lag_key;
@@ -276,22 +276,37 @@ pub(super) fn diagnose(data: &CircleData) -> Result<Diagnostics, String> {
             None => true,
         }
     });
-    // Backlash drawn as real play: say so, with the arc the carriage stood still over.
+    // Backlash drawn as real play: say so, with the arc the carriage stood still over; and
+    // where the other mechanism fits nearly as well, that the trace does not tell them apart.
     for (axis, term) in [(0, Term::BacklashP), (1, Term::BacklashQ)] {
         let gap = fit.shape.play[axis];
         let Some(estimate) = estimates.iter().find(|(t, _)| *t == term).map(|(_, e)| e) else {
             continue;
         };
-        if gap > 0.0 && estimate.u > 0.0 && estimate.value.abs() >= 2.0 * estimate.u {
+        if !(estimate.u > 0.0 && estimate.value.abs() >= 2.0 * estimate.u) {
+            continue;
+        }
+        let letter = if axis == 0 {
+            plane.first()
+        } else {
+            plane.second()
+        };
+        let rival = rival_mechanisms(&fit, axis, variance)
+            .map(|(_, above)| above)
+            .reduce(Real::min);
+        if gap > 0.0 {
             notes.push(format!(
-                "{}: read as play, not as an instantaneous step: after {} reverses the carriage stands still while the motor crosses the gap, over {:.2}° of the circle",
+                "{}: read as play, not as an instantaneous step: after {letter} reverses the carriage stands still while the motor crosses the gap, over {:.2}° of the circle{}",
                 term.key(plane),
-                if axis == 0 {
-                    plane.first()
-                } else {
-                    plane.second()
-                },
                 take_up_arc(gap, data.test.radius).to_degrees(),
+                rival.map_or(String::new(), |above| format!(
+                    "; a step at the reversal fits within {above:.1}·σ̂² of it, so the trace does not tell the two apart (the reversal lag spans both)"
+                )),
+            ));
+        } else if let Some(above) = rival {
+            notes.push(format!(
+                "{}: read as an instantaneous step; play (the carriage standing still while the motor crosses the gap) fits within {above:.1}·σ̂² of it, so the trace does not tell the two apart (the reversal lag spans both)",
+                term.key(plane),
             ));
         }
     }

@@ -127,17 +127,10 @@ impl CircleData {
         // √(2b/(R·ω²)) (30 ms for 1 µm at 1000 mm/min on a 150 mm bar), so a gap from one lag
         // reads like a step that much later. Where the fit of the other mechanism is within
         // MECHANISM_BOUND·σ̂² of the chosen one, its own confidence set joins the chosen one's.
-        let chosen = fit.mechanisms.iter().find(|(shape, _)| *shape == fit.shape);
-        if let Some(&(_, chosen)) = chosen {
-            for (shape, rss) in &fit.mechanisms {
-                if shape.play[axis] != fit.shape.play[axis]
-                    && *rss <= chosen + MECHANISM_BOUND * variance
-                {
-                    let (_, other_from, other_to) = hull(shape, bound);
-                    from = from.min(other_from);
-                    to = to.max(other_to);
-                }
-            }
+        for (shape, _) in rival_mechanisms(fit, axis, variance) {
+            let (_, other_from, other_to) = hull(shape, bound);
+            from = from.min(other_from);
+            to = to.max(other_to);
         }
         if from <= low || to >= high {
             LagLocation::NotLocated { from, to }
@@ -149,6 +142,27 @@ impl CircleData {
             }
         }
     }
+}
+
+/// The backlash mechanisms of `fit` ([`ModelFit::mechanisms`]) that take `axis`'s lost motion
+/// the other way (a step where the fit took a gap, or a gap where it took a step) and fit within
+/// [`MECHANISM_BOUND`]·`variance` of the chosen one, each with its residual sum of squares above
+/// the chosen one's in units of `variance`: the trace does not tell those from the chosen one.
+pub(super) fn rival_mechanisms(
+    fit: &ModelFit,
+    axis: usize,
+    variance: Real,
+) -> impl Iterator<Item = (&Shape, Real)> {
+    let chosen = fit
+        .mechanisms
+        .iter()
+        .find(|(shape, _)| *shape == fit.shape)
+        .map(|&(_, rss)| rss);
+    fit.mechanisms.iter().filter_map(move |(shape, rss)| {
+        let above = (rss - chosen?) / variance;
+        (shape.play[axis] != fit.shape.play[axis] && above <= MECHANISM_BOUND)
+            .then_some((shape, above))
+    })
 }
 
 /// Points of the scan [`confidence_hull`] makes of the whole lag range (every 0.2 ms over
