@@ -63,6 +63,7 @@ pub enum LagLocation {
         to: Real,
     },
 }
+
 impl CircleData {
     /// Where `axis`'s reversal is, as the fit `fit` places it, located by its reversal terms
     /// `locating` (the axis's others left out of the model: a term that is not significant
