@@ -289,3 +289,81 @@ fn reversal_lag_coverage_at_low_signal_to_noise() {
         }
     }
 }
+
+/// A measurement, not a check: how often the searched shapes' values (a spike's decay and
+/// height, a cyclic error's period and amplitude) miss the truth by more than 2 and 3 of their
+/// u at low signal to noise, 0.3 µm of noise, seeds 1–40, where they are reported. Measured
+/// 2026-11-30, value beyond 2 u (3 u), shape beyond 2 u (3 u), of 40 (a 95 % band: 2):
+///
+/// | case | value | shape |
+/// |---|---|---|
+/// | spike 1.5 µm, 20 ms, on 1 µm of lost motion | 11 (3) | 3 (1) |
+/// | spike 1.5 µm, 20 ms, alone | 4 (1) | 5 (2) |
+/// | cyclic 0.3 µm, 10 mm | 2 (0) | 2 (0) |
+///
+/// **The spike's height undercovers** where lost motion places the reversal well (its lag's u
+/// 0.7 ms against 2–3 ms alone, so less is added to the height's u): the misses are heights of
+/// 1.02–1.24 µm with decays of 24–32 ms, the same seeds in both spike cases: height and decay
+/// trade along a curved ridge (h·e^(−Δt/τ)), which the linearised covariance does not follow.
+/// Not fixed; a profile interval of the height over the decay is the likely cure. Run with
+/// `--ignored --nocapture`.
+#[test]
+#[ignore = "a measurement of the searched shapes' coverage at low signal to noise (about a minute in the test profile): run on purpose"]
+fn searched_shape_coverage_at_low_signal_to_noise() {
+    let cases = [
+        (
+            "spike 1.5 µm, 20 ms, on 1 µm of lost motion",
+            Term::ReversalSpikeP,
+            (1.5 * UM, 0.02),
+            Machine {
+                lag: [30e-3, 30e-3],
+                backlash: [1.0 * UM, 1.0 * UM],
+                spike: [(1.5 * UM, 0.02), (0.0, 1.0)],
+                ..Machine::default()
+            },
+        ),
+        (
+            "spike 1.5 µm, 20 ms, alone",
+            Term::ReversalSpikeP,
+            (1.5 * UM, 0.02),
+            Machine {
+                lag: [30e-3, 30e-3],
+                spike: [(1.5 * UM, 0.02), (0.0, 1.0)],
+                ..Machine::default()
+            },
+        ),
+        (
+            "cyclic 0.3 µm, 10 mm",
+            Term::CyclicP,
+            (0.3 * UM, 0.010),
+            Machine {
+                cyclic: [(0.3 * UM, 0.010, 0.7), (0.0, 0.0, 0.0)],
+                ..Machine::default()
+            },
+        ),
+    ];
+    for (name, term, (value, shape), machine) in cases {
+        let (mut reported, mut value_beyond, mut shape_beyond) = (0, [0; 2], [0; 2]);
+        for seed in 1..=40 {
+            let table = simulate(&machine, &full_circles(), 0.3 * UM, seed);
+            let e = evaluate(&table, &xy()).unwrap();
+            let Some(estimate) = e.diagnostics.as_ref().unwrap().get(term) else {
+                continue;
+            };
+            let Some((s, u_s)) = estimate.shape else {
+                continue;
+            };
+            reported += 1;
+            let z_value = (estimate.value.abs() - value).abs() / estimate.u;
+            let z_shape = (s - shape).abs() / u_s;
+            for (k, limit) in [2.0, 3.0].into_iter().enumerate() {
+                value_beyond[k] += usize::from(z_value > limit);
+                shape_beyond[k] += usize::from(z_shape > limit);
+            }
+        }
+        println!(
+            "{name}: reported in {reported} of 40; value beyond 2 u (3 u) {} ({}), shape {} ({})",
+            value_beyond[0], value_beyond[1], shape_beyond[0], shape_beyond[1]
+        );
+    }
+}
