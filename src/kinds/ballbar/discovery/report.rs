@@ -7,7 +7,7 @@ use crate::discovery::engine::{
     self, ResidualStep, Score, Selection, params_json, round_json as round,
 };
 use crate::kinds::ballbar::iso230_4::{
-    CircleData, CircularTest, LagLocation, ModelFit, Term, lag_key,
+    CircleData, CircularTest, LAG_SET, LagLocation, ModelFit, Term, lag_key,
 };
 use crate::machine::Plane;
 use crate::math::{M_PER_MM, M_PER_UM, RAD_PER_DEG, Real, fixed};
@@ -144,7 +144,7 @@ fn notes(fit: &ModelFit, data: &CircleData) -> Vec<String> {
                     ))
                 }
                 LagLocation::NotLocated { from, to } => Some(format!(
-                    "{name}: the model fits as well (within the 95 % confidence set of a change point, Δχ² ≤ 7.35) for any lag from {:.1} to {:.1} ms, which reaches the end of the range searched: the trace does not place {letter}'s reversal, not reported",
+                    "{name}: the model fits as well ({LAG_SET}) for any lag from {:.1} to {:.1} ms, which reaches the end of the range searched: the trace does not place {letter}'s reversal, not reported",
                     from * 1e3,
                     to * 1e3
                 )),

@@ -2,7 +2,7 @@
 //! reversal lags and the significant searched terms' shapes and phases, and every estimate's
 //! standard uncertainty ([`TermEstimate`]).
 
-use super::lag::{LagLocation, rival_mechanisms};
+use super::lag::{LAG_SET, LagLocation, rival_mechanisms};
 use super::linalg::{gram, gram_pinv};
 use super::model::{spike, take_up_arc};
 use super::report::lag_key;
@@ -346,7 +346,7 @@ fn not_located_lag(
     let names: Vec<String> = locating.iter().map(|t| t.key(plane)).collect();
     let (low, high) = data.ranges.lag;
     format!(
-        "{}: {} fit{} as well (within the 95 % confidence set of a change point, Δχ² ≤ 7.35) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
+        "{}: {} fit{} as well ({LAG_SET}) for any reversal lag from {:.1} to {:.1} ms, which reaches the end of the {:.0} to {:.0} ms searched: the trace does not place {}'s reversal, not reported",
         lag_key(plane, axis),
         names.join(" and "),
         if names.len() == 1 { "s" } else { "" },

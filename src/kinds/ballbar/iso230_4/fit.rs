@@ -394,8 +394,8 @@ pub struct ModelFit {
     pub residuals: Vec<Real>,
     /// The backlash mechanisms the fit compared, each with its searched shape and residual sum
     /// of squares (m²): the step, the gap taken up and, with backlash of both axes, each axis
-    /// back at the step. An axis's lag is known only across those within σ̂² of the chosen one
-    /// ([`CircleData::locate_lag`]). Empty without backlash.
+    /// back at the step. An axis's lag is known only across those the trace does not tell from
+    /// the chosen one ([`CircleData::locate_lag`]). Empty without backlash.
     pub mechanisms: Vec<(Shape, Real)>,
 }
 

@@ -29,6 +29,9 @@ const STEP_LR_95: Real = 7.352_276_694_155_739;
 /// noise (`reversal_lag_coverage_at_low_signal_to_noise`,
 /// `reversal_lag_coverage_with_real_play`).
 const MECHANISM_BOUND: Real = 2.0 * STEP_LR_95;
+/// The reversal lag's confidence set in words, for the notes that say a trace does not place
+/// the reversal (the analysis's and discovery's).
+pub const LAG_SET: &str = "within the 95 % confidence set of a change point, Δχ² ≤ 7.35";
 /// Coverage factor of a normal distribution at 95 %: the lag's standard uncertainty is half
 /// the 95 % set's width over it, so that ±2u is the set.
 const COVERAGE_95: Real = 1.959_963_984_540_054;
@@ -251,6 +254,7 @@ fn crossing(f: &impl Fn(Real) -> Real, inside: Real, outside: Real, target: Real
     }
     (inside + outside) / 2.0
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -150,7 +150,7 @@ pub use data::{CircleData, SearchRanges, covered_arc};
 pub use diagnose::{Diagnostics, TermEstimate};
 pub use figures::{BallbarEvaluation, evaluate};
 pub use fit::ModelFit;
-pub use lag::LagLocation;
+pub use lag::{LAG_SET, LagLocation};
 pub use model::{
     BasisPoint, Shape, Term, arc_since_reversal, diagnostic_column, take_up, take_up_arc,
 };

@@ -62,6 +62,8 @@ pub const DEFAULT_BASE_HARMONICS: usize = 2;
 pub const MOST_BASE_HARMONICS: usize = 64;
 /// Most folds (blocks of revolutions held out).
 const MOST_FOLDS: usize = 5;
+/// A drift's time constant from the grid is refined within this factor either side.
+const DRIFT_REFINE: Real = 2.0;
 /// False-alarm probability of a search's evidence over the values searched.
 pub const FALSE_ALARM: Real = 0.05;
 
@@ -405,13 +407,15 @@ impl SpindleProblem {
     /// toward the end, so the record holds no time constant the search can take; the drift over
     /// the record is still measured.
     pub fn time_constant_at_range_end(&self, tau: Real) -> Option<&'static str> {
-        let (t0, t1) = self.data.time_span();
-        let span = t1 - t0;
-        if (tau / (8.0 * span)).ln() > -0.01 {
+        let grid = self.time_constants().into_iter().flatten();
+        let (shortest, longest) = grid.fold((Real::INFINITY, 0.0), |(low, high), tau| {
+            (Real::min(low, tau), Real::max(high, tau))
+        });
+        if (tau / (longest * DRIFT_REFINE)).ln() > -0.01 {
             Some(
                 "not measured: the longest the search reaches (8 × the record), the drift hardly bends over the record (at least this long)",
             )
-        } else if (tau / (span / 32.0)).ln() < 0.01 {
+        } else if (tau / (shortest / DRIFT_REFINE)).ln() < 0.01 {
             Some(
                 "not measured: the shortest the search reaches (the record / 32), the drift settles at the start (at most this long)",
             )
@@ -468,8 +472,8 @@ impl SpindleProblem {
                     Some((Some(tau), _)) => Some(
                         golden_minimum(
                             |log_tau| sse(Some(log_tau.exp())),
-                            (tau / 2.0).ln(),
-                            (tau * 2.0).ln(),
+                            (tau / DRIFT_REFINE).ln(),
+                            (tau * DRIFT_REFINE).ln(),
                             12,
                         )
                         .0
