@@ -22,11 +22,11 @@ const STEP_LR_95: Real = 7.352_276_694_155_739;
 /// spike decay), so their difference is one of two such minima, not a χ² statistic: twice
 /// [`STEP_LR_95`]. Measured on two simulators written apart from the fit (a step; a dead band
 /// behind a first-order servo), 0.3 µm of noise, seeds 1–40: the wrong mechanism won by up to
-/// 19·σ̂², and at the bound of one change point alone 5 of 480 lags were more than 3 u off (5
-/// again on seeds 41–80); at this bound 1 of 480 was beyond 2 u, and none of 480 on seeds
-/// 41–80, the 95th percentile of |error|/u 1.8–1.96 for the step and 1.55–1.66 for the play,
-/// the median u as before for a 1 µm step (0.60 ms) and 5–30 % larger at the lowest signal to
-/// noise (`reversal_lag_coverage_at_low_signal_to_noise`,
+/// 19·σ̂² (that one a sample on the reversal, a tie of the step simulator's, since removed),
+/// and with real play at the bound of one change point alone 5 of 480 lags were more than 3 u
+/// off (5 again on seeds 41–80); at this bound none of 480 is beyond 2 u on either seed set,
+/// the 95th percentile of |error|/u 1.74–1.90 for the step and 1.55–1.66 for the play, the
+/// median u 0.43 ms for a 1 µm step (`reversal_lag_coverage_at_low_signal_to_noise`,
 /// `reversal_lag_coverage_with_real_play`).
 const MECHANISM_BOUND: Real = 2.0 * STEP_LR_95;
 /// The reversal lag's confidence set in words, for the notes that say a trace does not place
