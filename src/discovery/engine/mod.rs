@@ -28,7 +28,9 @@ pub use selection::{
     Selection,
 };
 pub use stepwise::{LARGEST_BLOCK, LEAN_STEPWISE_RULE, STEPWISE_RULE, Search, stepwise_selection};
-pub use test::{RULE, Test, normal_quantile};
+pub use test::{
+    IN_SAMPLE_FOLDS, IN_SAMPLE_RULE, InSample, RULE, Test, f_as_normal, normal_quantile,
+};
 
 use crate::math::Real;
 
@@ -119,6 +121,24 @@ pub trait Problem {
     fn compatible(&self, _a: Self::Effect, _b: Self::Effect) -> bool {
         true
     }
+    /// The free parameters of `fit`, for the in-sample route of [`Test`] on files of few
+    /// folds; `None` (the default) when the problem does not count them, and then only the
+    /// held-out test judges.
+    fn parameters(&self, _fit: &Self::Fit) -> Option<Parameters> {
+        None
+    }
+}
+
+/// The free parameters of a fit: how many there are, and among how many values its searched
+/// ones (a time constant, a period) were chosen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Parameters {
+    /// Linear coefficients and searched values together.
+    pub count: usize,
+    /// The product over the searched values of the number of grid points each was chosen
+    /// among (1 without): an in-sample test of a searched term is the best of that many, and
+    /// its level is divided by it (Bonferroni).
+    pub grid: Real,
 }
 
 /// `problem.proposals(effects, fit)` without those that cannot join `effects`
@@ -149,6 +169,14 @@ pub struct Score {
     pub fold_mse: Vec<Real>,
     /// Every sample's held-out residual (measured − predicted by the fit that did not see it).
     pub held_out: Vec<Real>,
+    /// The fit to all samples: its residual sum of squares in each fold, for the in-sample
+    /// route of [`Test`].
+    pub fold_ss: Vec<Real>,
+    /// The same fit's sum of products of neighbouring residuals in each fold (in the order
+    /// taken, [`Folds::sequence`]).
+    pub fold_lag_one: Vec<Real>,
+    /// The full fit's free parameters ([`Problem::parameters`]).
+    pub parameters: Option<Parameters>,
 }
 
 /// Scores `effects` on `problem`: the fit to all data and the held-out residuals. The fits
@@ -174,7 +202,18 @@ where
         })
         .collect();
     let full = fits.remove(0);
-    let rms = rms(&problem.residuals(&full));
+    let residuals = problem.residuals(&full);
+    let rms = rms(&residuals);
+    let (mut fold_ss, mut fold_lag_one) = (vec![0.0; folds.count], vec![0.0; folds.count]);
+    let mut previous: Vec<Option<Real>> = vec![None; folds.count];
+    for &i in &folds.sequence {
+        let k = folds.of_sample[i];
+        fold_ss[k] += residuals[i] * residuals[i];
+        if let Some(r) = previous[k] {
+            fold_lag_one[k] += r * residuals[i];
+        }
+        previous[k] = Some(residuals[i]);
+    }
     let mut sum = vec![0.0; folds.count];
     let mut count = vec![0usize; folds.count];
     let mut held_out = vec![0.0; n];
@@ -201,6 +240,9 @@ where
             cv_rms,
             fold_mse,
             held_out,
+            fold_ss,
+            fold_lag_one,
+            parameters: problem.parameters(&full),
         },
         full,
     )

@@ -26,19 +26,54 @@ pub fn rejected_json<E: Copy>(
         .collect()
 }
 
-/// A test's keys in a JSON object: `gain_z`, `z_needed`, `rest_z`.
+/// A test's keys in a JSON object: `gain_z`, `z_needed`, `rest_z`; on files of few folds
+/// `in_sample` (`z`, `rest_z`, `z_needed`, `grid`: [`InSample`]); and `passed_on` (`held-out`
+/// or `in-sample`) when the gains are significant ([`Test::evidence`]).
 pub(super) fn test_keys(object: &mut serde_json::Map<String, serde_json::Value>, test: &Test) {
     object.insert("gain_z".into(), round_json(test.z));
     object.insert("z_needed".into(), round_json(test.threshold));
     object.insert("rest_z".into(), round_json(test.rest_z));
+    if let Some(s) = &test.in_sample {
+        object.insert(
+            "in_sample".into(),
+            serde_json::json!({
+                "z": round_json(s.z),
+                "rest_z": round_json(s.rest_z),
+                "z_needed": round_json(s.threshold),
+                "grid": s.grid,
+            }),
+        );
+    }
+    if let Some(evidence) = test.evidence() {
+        object.insert("passed_on".into(), evidence.into());
+    }
 }
 
-/// An accepted step's test for people: `z 12.3, without the best fold 8.1, ≥ 2.58`.
+/// An accepted step's test for people: `z 12.3, without the best fold 8.1, ≥ 2.58`; when only
+/// the in-sample route passes, that route first: `in-sample evidence: z 9.1, without the fold
+/// that gains most 6.2, ≥ 3.40; held out z 2.1, 0.7`.
 pub(crate) fn test_text(test: &Test) -> String {
-    format!(
-        "z {:.1}, without the best fold {:.1}, ≥ {:.2}",
-        test.z, test.rest_z, test.threshold
-    )
+    match test.in_sample {
+        Some(s) if test.evidence() == Some("in-sample") => format!(
+            "in-sample evidence: z {:.1}, without the fold that gains most {:.1}, ≥ {:.2}; held out z {:.1}, {:.1}",
+            s.z, s.rest_z, s.threshold, test.z, test.rest_z
+        ),
+        _ => format!(
+            "z {:.1}, without the best fold {:.1}, ≥ {:.2}",
+            test.z, test.rest_z, test.threshold
+        ),
+    }
+}
+
+/// A test's in-sample route for a line of a list: `; in-sample z 9.1, 6.2 / 3.40`, or
+/// nothing on files of more folds.
+pub(super) fn in_sample_text(test: &Test) -> String {
+    test.in_sample.map_or(String::new(), |s| {
+        format!(
+            "; in-sample z {:.1}, {:.1} / {:.2}",
+            s.z, s.rest_z, s.threshold
+        )
+    })
 }
 
 /// The rejected candidates for people, one per line: held-out RMS, its test and the condition
@@ -63,13 +98,14 @@ pub(crate) fn rejected_text<E: Copy>(
                 format!("fails ({c})")
             });
         out.push_str(&format!(
-            "  {:<20} {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}; {fails}\n",
+            "  {:<20} {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}{}; {fails}\n",
             id(r.effect),
             crate::math::fixed(r.cv_rms / crate::math::M_PER_UM, decimals),
             100.0 * r.test.gain,
             r.test.z,
             r.test.rest_z,
             r.test.threshold,
+            in_sample_text(&r.test),
         ));
         if r.test.z >= r.test.threshold {
             out.push_str(&format!("      {}\n", fold_rms_text(&r.fold_mse, decimals)));

@@ -1,7 +1,7 @@
 //! What a search returns ([`Selection`]): the accepted steps, the rejected candidates, the
 //! moves and the alternatives, with their reports.
 
-use super::report::{fold_rms_json, fold_rms_text, test_keys, test_text};
+use super::report::{fold_rms_json, fold_rms_text, in_sample_text, test_keys, test_text};
 use super::*;
 
 /// The model after one step of discovery and what it leaves.
@@ -447,7 +447,7 @@ impl<E: Copy, F> Selection<E, F> {
         );
         for b in self.held_back.iter().take(HELD_BACK_SHOWN) {
             out.push_str(&format!(
-                "  {}: {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}; {}\n      {}\n",
+                "  {}: {} µm; {:+.1} %; z {:.1}, {:.1} / {:.2}{}; {}\n      {}\n",
                 b.effects
                     .iter()
                     .map(|&e| id(e))
@@ -458,6 +458,7 @@ impl<E: Copy, F> Selection<E, F> {
                 b.test.z,
                 b.test.rest_z,
                 b.test.threshold,
+                in_sample_text(&b.test),
                 held_back_reason(b, &id),
                 fold_rms_text(&b.fold_mse, decimals)
             ));

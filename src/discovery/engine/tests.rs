@@ -38,6 +38,9 @@ fn the_test_matches_a_hand_computation() {
             cv_rms: (held_out.iter().map(|r| r * r).sum::<Real>() / n).sqrt(),
             fold_mse: vec![],
             held_out,
+            fold_ss: vec![],
+            fold_lag_one: vec![],
+            parameters: None,
         }
     };
     let current = score(vec![2.0, -1.0, 3.0, 1.0, 2.0, -2.0]);
@@ -95,6 +98,9 @@ fn on_noise_z_rarely_passes_even_with_correlated_residuals() {
                 cv_rms: 1.0,
                 fold_mse: vec![],
                 held_out,
+                fold_ss: vec![],
+                fold_lag_one: vec![],
+                parameters: None,
             };
             if Test::new(&score(r0), &score(r1), &folds, 1).z >= normal_quantile(0.975) {
                 passes += 1;
@@ -649,6 +655,7 @@ fn the_failed_condition_is_numbered_as_the_rule_states_it() {
         z: 4.0,
         threshold: 2.5,
         rest_z: 3.0,
+        in_sample: None,
     };
     let with = |gain: Real, z: Real, rest_z: Real| Test {
         gain,
@@ -665,6 +672,24 @@ fn the_failed_condition_is_numbered_as_the_rule_states_it() {
     assert_eq!(with(Real::NAN, 4.0, 3.0).failed_condition(), Some(1));
     assert_eq!(with(0.2, Real::NAN, 3.0).failed_condition(), Some(2));
     assert_eq!(with(0.2, 4.0, Real::NAN).failed_condition(), Some(3));
+    // On a file of few folds the in-sample route can meet (2) and (3) in the held-out
+    // test's place, never (1).
+    let in_sample = |z: Real, rest_z: Real| InSample {
+        z,
+        rest_z,
+        threshold: 3.5,
+        grid: 24.0,
+    };
+    let few = |gain: Real, s: InSample| Test {
+        in_sample: Some(s),
+        ..with(gain, 2.0, 1.0)
+    };
+    assert_eq!(few(0.2, in_sample(5.0, 4.0)).failed_condition(), None);
+    assert_eq!(few(0.2, in_sample(5.0, 4.0)).evidence(), Some("in-sample"));
+    assert_eq!(few(0.01, in_sample(5.0, 4.0)).failed_condition(), Some(1));
+    assert_eq!(few(0.2, in_sample(5.0, 3.0)).failed_condition(), Some(3));
+    assert_eq!(few(0.2, in_sample(3.0, 3.0)).failed_condition(), Some(2));
+    assert_eq!(passing.evidence(), Some("held-out"));
     assert!(RULE.contains("(1) lower the pooled held-out RMS by at least 5 %"));
     assert!(RULE.contains("(3) still reach it without the fold that contributes most"));
     // A test among more candidates keeps its numbers and asks more: Φ⁻¹(1 − 0.025/6).
@@ -688,6 +713,7 @@ fn the_report_shows_five_held_back_blocks_and_counts_the_rest() {
         z: 4.0,
         threshold: 2.5,
         rest_z: 3.0,
+        in_sample: None,
     };
     let held_back: Vec<HeldBack<usize>> = (0..7)
         .map(|k| HeldBack {
@@ -738,5 +764,72 @@ fn the_report_shows_five_held_back_blocks_and_counts_the_rest() {
     assert_eq!(
         selection.nothing_text(id),
         "  nothing passes the rule, though held-out gains beyond noise come from 7 blocks held back (below: why each was not taken, and the held-out RMS of each fold)\n"
+    );
+}
+
+/// Paulson's z of F against exact quantiles: F(2, d2) has the closed upper tail
+/// (1 + 2F/d2)^(−d2/2), and F(1, d2) = t² (t quantiles of d2 = 60: 2.000, 2.660, 3.460 at
+/// 97.5, 99.5 and 99.95 %). Within 0.04 of the normal quantile to p = 0.999; beyond, the z
+/// errs low (against acceptance), by less than 0.1 at p = 0.9999.
+#[test]
+fn f_as_normal_matches_exact_f_quantiles() {
+    for d2 in [20, 60, 120] {
+        for p in [0.95, 0.99, 0.999, 0.9999] {
+            let f = d2 as Real / 2.0 * ((1.0 - p as Real).powf(-2.0 / d2 as Real) - 1.0);
+            let error = f_as_normal(f, 2, d2) - normal_quantile(p);
+            if p <= 0.999 {
+                assert!(error.abs() < 0.04, "F(2, {d2}) at {p}: {error}");
+            } else {
+                assert!(error < 0.0 && error > -0.1, "F(2, {d2}) at {p}: {error}");
+            }
+        }
+    }
+    for (t, p) in [(2.000, 0.95), (2.660, 0.99), (3.460, 0.999)] {
+        let error = f_as_normal(t * t, 1, 60) - normal_quantile(p);
+        assert!(error.abs() < 0.04, "F(1, 60) at {p}: {error}");
+    }
+}
+
+/// Three folds of four readings: the in-sample route by hand, and no route with four folds.
+#[test]
+fn the_in_sample_route_matches_a_hand_computation() {
+    let folds = Folds::new("three".into(), (0..12).map(|i| i / 4).collect(), 3);
+    let score = |fold_ss: Vec<Real>, lag_one: Vec<Real>, count: usize, grid: Real| Score {
+        rms: 0.0,
+        cv_rms: 1.0,
+        fold_mse: vec![1.0; 3],
+        held_out: vec![0.0; 12],
+        fold_ss,
+        fold_lag_one: lag_one,
+        parameters: Some(Parameters { count, grid }),
+    };
+    // n = 12 readings; a candidate of 2 parameters on a model of 1, one of them searched on a
+    // grid of 24: dof = 12 − 2 = 10 (the least allowed).
+    let current = score(vec![9.0, 4.0, 5.0], vec![0.0; 3], 1, 1.0);
+    let candidate = score(vec![1.0, 1.5, 0.5], vec![0.3, 0.0, 0.0], 2, 24.0);
+    let test = Test::new(&current, &candidate, &folds, 4);
+    let s = test.in_sample.expect("three folds");
+    // SS₁ = 3, ρ = 0.3/3 = 0.1, s² = 3/10·1.1/0.9; gains 8, 2.5, 4.5: F = 15/s², and
+    // without the first fold F = 7/s².
+    let variance = 3.0 / 10.0 * 1.1 / 0.9;
+    assert!((s.z - f_as_normal(15.0 / variance, 1, 10)).abs() < 1e-12);
+    assert!((s.rest_z - f_as_normal(7.0 / variance, 1, 10)).abs() < 1e-12);
+    assert_eq!(s.grid, 24.0);
+    assert!((s.threshold - normal_quantile(1.0 - 0.025 / 96.0)).abs() < 1e-12);
+    let one = test.among(1).in_sample.unwrap();
+    assert!((one.threshold - normal_quantile(1.0 - 0.025 / 24.0)).abs() < 1e-12);
+    // The held-out residuals are all zero: no held-out route, and the in-sample one decides.
+    assert!(!test.held_out_significant());
+    assert_eq!(test.significant(), s.significant());
+    // Four folds: the held-out test alone.
+    let four = Folds::new("four".into(), (0..12).map(|i| i / 3).collect(), 4);
+    let widen = |s: &Score| Score {
+        fold_ss: vec![0.0; 4],
+        fold_lag_one: vec![0.0; 4],
+        ..s.clone()
+    };
+    assert_eq!(
+        Test::new(&widen(&current), &widen(&candidate), &four, 4).in_sample,
+        None
     );
 }

@@ -125,6 +125,29 @@ impl Problem for PositioningProblem {
         !PositioningEffect::lags(a, b)
     }
 
+    /// Every coefficient (the profile's values at the knots, each effect's) and searched
+    /// value: a time constant chosen among [`TAU_GRID`] grid points, a period among the
+    /// periodogram's frequencies.
+    fn parameters(&self, fit: &PositioningFit) -> Option<engine::Parameters> {
+        let searched: Vec<PositioningEffect> = fit
+            .effects
+            .iter()
+            .copied()
+            .filter(|e| e.searched())
+            .collect();
+        let grid = searched
+            .iter()
+            .map(|&e| match e {
+                PositioningEffect::Periodic => self.frequency_count() as Real,
+                _ => TAU_GRID as Real,
+            })
+            .product();
+        Some(engine::Parameters {
+            count: fit.coefficients.len() + searched.len(),
+            grid,
+        })
+    }
+
     fn proposals(
         &self,
         effects: &[PositioningEffect],

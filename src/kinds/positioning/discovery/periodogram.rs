@@ -34,6 +34,13 @@ impl PositioningProblem {
         (1.0 / (4.0 * span), 1.0 / span)
     }
 
+    /// The number of frequencies the period search tests, from the grid's lowest to
+    /// 1/min_period.
+    pub(super) fn frequency_count(&self) -> usize {
+        let (step, f_low) = self.frequency_grid();
+        ((1.0 / self.options.min_period - f_low) / step).ceil() as usize + 1
+    }
+
     /// The frequency (1/m) whose sinusoid removes the largest fraction of `r`'s sum of squares
     /// over the readings where `train` is true (`r` holds one value per such reading, in
     /// order), and that fraction.
@@ -46,7 +53,7 @@ impl PositioningProblem {
     pub(super) fn periodogram_peak(&self, train: &[bool], r: &[Real]) -> (Real, Real) {
         let spectrum = self.spectra.get(train, || {
             let (step, f_low) = self.frequency_grid();
-            let count = ((1.0 / self.options.min_period - f_low) / step).ceil() as usize + 1;
+            let count = self.frequency_count();
             let x: Vec<Real> = (0..self.x.len())
                 .filter(|&i| train[i])
                 .map(|i| self.x[i])

@@ -280,6 +280,12 @@ impl PositioningDiscovery {
         Value::Object(params)
     }
 
+    /// The in-sample route's rule ([`engine::IN_SAMPLE_RULE`]) when this file's folds are few
+    /// enough for it.
+    fn in_sample_rule(&self) -> Option<&'static str> {
+        (self.problem.folds.count <= engine::IN_SAMPLE_FOLDS).then_some(engine::IN_SAMPLE_RULE)
+    }
+
     /// The report with stable keys.
     pub fn to_json(&self) -> Value {
         let um = |v: Real| round(v / M_PER_UM);
@@ -313,6 +319,7 @@ impl PositioningDiscovery {
                 "fold_runs": self.fold_runs(),
                 "extrapolated_folds": self.extrapolation_json(),
                 "rule": engine::STEPWISE_RULE,
+                "in_sample_rule": self.in_sample_rule(),
             },
             "baseline": {
                 "model": self.base_name(),
@@ -422,11 +429,15 @@ impl PositioningDiscovery {
             self.problem.run_labels.len()
         ));
         out.push_str(&format!(
-            "Held-out data: {} ({} folds); {}.\n\n",
+            "Held-out data: {} ({} folds); {}.\n",
             self.problem.folds.scheme,
             self.problem.folds.count,
             engine::STEPWISE_RULE
         ));
+        if let Some(rule) = self.in_sample_rule() {
+            out.push_str(&format!("In-sample evidence: {rule}.\n"));
+        }
+        out.push('\n');
         out.push_str(&format!(
             "Base model: {} — profile through {} targets of run {}",
             self.base_name(),
