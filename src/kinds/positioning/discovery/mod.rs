@@ -126,7 +126,7 @@ impl Problem for PositioningProblem {
     }
 
     /// Every coefficient (the profile's values at the knots, each effect's) and searched
-    /// value: a time constant chosen among [`TAU_GRID`] grid points, a period among the
+    /// value: a time constant chosen among `TAU_GRID` (24) grid points, a period among the
     /// periodogram's frequencies.
     fn parameters(&self, fit: &PositioningFit) -> Option<engine::Parameters> {
         let searched: Vec<PositioningEffect> = fit
