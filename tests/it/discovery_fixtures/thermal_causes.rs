@@ -119,8 +119,14 @@ fn three_x_runs_find_a_heat_source_the_sensor_does_not_see() {
         assert_eq!(step["passed_on"], "in-sample", "{step}");
         let s = &step["in_sample"];
         assert!(s["z"].as_f64() >= s["z_needed"].as_f64(), "{step}");
-        assert!(step["gain_z"].as_f64() < step["z_needed"].as_f64(), "{step}");
-        assert!(step["evidence"].as_str().unwrap().contains("residual"), "{step}");
+        assert!(
+            step["gain_z"].as_f64() < step["z_needed"].as_f64(),
+            "{step}"
+        );
+        assert!(
+            step["evidence"].as_str().unwrap().contains("residual"),
+            "{step}"
+        );
     }
 }
 
