@@ -89,7 +89,12 @@ pub(crate) fn rejected_text<E: Copy>(
     if rejected.is_empty() {
         return out;
     }
-    out.push_str("\nTested and rejected (held-out RMS; held-out gain; its z, and without the fold that contributes most, against the z needed; the condition of the rule it fails):\n");
+    let in_sample = if rejected.iter().any(|r| r.test.in_sample.is_some()) {
+        "; the in-sample z likewise"
+    } else {
+        ""
+    };
+    out.push_str(&format!("\nTested and rejected (held-out RMS; held-out gain; its z, and without the fold that contributes most, against the z needed{in_sample}; the condition of the rule it fails):\n"));
     for r in rejected {
         let fails = r
             .test

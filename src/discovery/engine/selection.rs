@@ -442,8 +442,16 @@ impl<E: Copy, F> Selection<E, F> {
         if self.held_back.is_empty() {
             return String::new();
         }
-        let mut out = String::from(
-            "\nBlocks held back (held-out gains beyond noise, but not added; held-out RMS; held-out gain; z, and without the fold that contributes most, against the z needed; why):\n",
+        let (gains, in_sample) = if self.held_back.iter().any(|b| b.test.in_sample.is_some()) {
+            (
+                "gains beyond noise held out or in-sample",
+                "; the in-sample z likewise",
+            )
+        } else {
+            ("held-out gains beyond noise", "")
+        };
+        let mut out = format!(
+            "\nBlocks held back ({gains}, but not added; held-out RMS; held-out gain; z, and without the fold that contributes most, against the z needed{in_sample}; why):\n",
         );
         for b in self.held_back.iter().take(HELD_BACK_SHOWN) {
             out.push_str(&format!(

@@ -387,9 +387,12 @@ fn discover_reports_the_documented_keys_on_a_foreign_export() {
                 "gain_pct",
                 "gain_z",
                 "rest_z",
-                "z_needed"
+                "z_needed",
+                "passed_on"
             ])
         );
+        // Five folds: no in-sample route, so the held-out test is what it passed.
+        assert_eq!(step["passed_on"], "held-out");
         // One held-out RMS per fold: 11 revolutions in min(5, 11) blocks.
         let folds: Vec<f64> = array(&step["fold_cv_rms_um"]).iter().map(number).collect();
         assert_eq!(folds.len(), 5);
