@@ -54,7 +54,7 @@ pub(super) fn test_keys(object: &mut serde_json::Map<String, serde_json::Value>,
 /// that gains most 6.2, ≥ 3.40; held out z 2.1, 0.7`.
 pub(crate) fn test_text(test: &Test) -> String {
     match test.in_sample {
-        Some(s) if test.evidence() == Some("in-sample") => format!(
+        Some(s) if !test.held_out_significant() && s.significant() => format!(
             "in-sample evidence: z {:.1}, without the fold that gains most {:.1}, ≥ {:.2}; held out z {:.1}, {:.1}",
             s.z, s.rest_z, s.threshold, test.z, test.rest_z
         ),
