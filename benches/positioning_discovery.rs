@@ -10,6 +10,9 @@
 //!   error: the layout whose period search made discovery take 27 s (issue 36);
 //! - `positioning_discovery/periodic_7x21`: the same with seven runs of 21 targets (the first
 //!   evenly spaced), the largest layout issue 36 asks under 1 s.
+//!
+//! With `MTWIN_BENCH_CSV_DIR` set, the two periodic files are written there as CSV, to time or
+//! profile `mtwin discover positioning` on them.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mtwin::app::Scenario;
@@ -107,6 +110,11 @@ fn scattered_periodic(runs: usize, first: usize, later: usize) -> PositioningTab
             t += 0.5;
         }
         t += 30.0;
+    }
+    // For profiling and comparing binaries through the CLI on the same file.
+    if let Ok(dir) = std::env::var("MTWIN_BENCH_CSV_DIR") {
+        let path = std::path::Path::new(&dir).join(format!("periodic_{runs}x{later}.csv"));
+        std::fs::write(&path, &csv).expect("the bench's file is written");
     }
     PositioningTable::parse(csv.as_bytes(), "periodic.csv").expect("a valid table")
 }

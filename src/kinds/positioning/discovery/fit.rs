@@ -8,6 +8,7 @@ use crate::discovery::least_squares::Design;
 use crate::math::{M_PER_MM, Real};
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
+use std::sync::Arc;
 
 /// The values of the searched parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -77,15 +78,10 @@ impl PositioningProblem {
         let n = self.x.len();
         let mut columns: Vec<Vec<Real>> = vec![vec![0.0; n]; knots.len()];
         for (i, &x) in self.x.iter().enumerate() {
-            let j = knots.partition_point(|&k| k <= x);
-            if j == 0 {
-                columns[0][i] = 1.0;
-            } else if j == knots.len() {
-                columns[j - 1][i] = 1.0;
-            } else {
-                let w = (x - knots[j - 1]) / (knots[j] - knots[j - 1]);
-                columns[j - 1][i] = 1.0 - w;
-                columns[j][i] = w;
+            let (j, a, b) = Self::hat_weights(knots, x);
+            columns[j][i] = a;
+            if j + 1 < knots.len() {
+                columns[j + 1][i] = b;
             }
         }
         columns
@@ -116,14 +112,16 @@ impl PositioningProblem {
         searched: &Searched,
     ) -> (Vec<Real>, Option<Real>) {
         let n = self.x.len();
-        let driver = self.driver(searched.lag_in(effects), searched.sensor_in(effects));
-        let reference_temperature = driver.as_ref().map(|d| {
+        let (lag, sensor) = (searched.lag_in(effects), searched.sensor_in(effects));
+        let held = self.drivers.get([lag, sensor], || self.driver(lag, sensor));
+        let driver: Option<&Vec<Real>> = held.as_ref().as_ref();
+        let reference_temperature = driver.map(|d| {
             let (sum, count) = (0..n)
                 .filter(|&i| self.run[i] == reference.run)
                 .fold((0.0, 0usize), |(s, c), i| (s + d[i], c + 1));
             sum / count.max(1) as Real
         });
-        let rise: Vec<Real> = match (&driver, reference_temperature) {
+        let rise: Vec<Real> = match (driver, reference_temperature) {
             (Some(d), Some(t_ref)) => d.iter().map(|t| t - t_ref).collect(),
             _ => vec![0.0; n],
         };
@@ -165,7 +163,10 @@ impl PositioningProblem {
                 PositioningEffect::ThermalScale => columns.push(map(&|i| self.x[i] * rise[i])),
                 PositioningEffect::ThermalOffset => columns.push(rise.to_vec()),
                 PositioningEffect::SecondHeatSource => {
-                    let g = self.activity(searched.heat_tau.expect("searched first"));
+                    let tau = searched.heat_tau.expect("searched first");
+                    let g = self
+                        .activities
+                        .get([Some(tau), None], || self.activity(tau));
                     columns.push(map(&|i| self.x[i] * g[i]));
                 }
                 PositioningEffect::Periodic => {
@@ -204,12 +205,26 @@ impl PositioningProblem {
     ) -> (Vec<Real>, Vec<Real>, Real, Option<Real>) {
         let (columns, known, reference_temperature) = self.columns(effects, reference, searched);
         let rows: Vec<usize> = (0..self.x.len()).filter(|&i| train[i]).collect();
+        // The profile's columns lead every design on a fold: their Householder steps are taken
+        // once per fold ([`Design::solve_after`], bit for bit the whole solve).
+        let hats = reference.knots.len();
+        let prefix = || {
+            let mut design = Design::new(rows.len());
+            for column in &columns[..hats] {
+                design.push(rows.iter().map(|&i| column[i]).collect());
+            }
+            (reference.knots.clone(), design.prefix())
+        };
+        let mut lead = self.hat_prefixes.get(train, prefix);
+        if lead.0 != reference.knots {
+            lead = Arc::new(prefix());
+        }
         let mut design = Design::new(rows.len());
-        for column in &columns {
+        for column in &columns[hats..] {
             design.push(rows.iter().map(|&i| column[i]).collect());
         }
         let target: Vec<Real> = rows.iter().map(|&i| self.y[i] - known[i]).collect();
-        let coefficients = design.solve(&target);
+        let coefficients = design.solve_after(&lead.1, &target);
         let residuals: Vec<Real> = (0..self.x.len())
             .map(|i| {
                 let predicted: Real = columns

@@ -1,7 +1,57 @@
 //! [`PerTraining`]: what a search computes once per training set (a fold's readings) and asks
-//! for many times, every model and every pass.
+//! for many times, every model and every pass; [`PerValue`]: what it computes for a searched
+//! value (a time constant) that every fold and model asks for again (the grid's points).
 
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
+
+/// Values made once per key (searched values, as their bits), when first asked for, keeping at
+/// most [`PerValue::CAPACITY`]: the search grid's points come first and are asked for again by
+/// every fold and model; a refinement's points rarely recur, and past the capacity a value is
+/// made and not kept. A clone starts empty: what it holds is a pure function of the problem
+/// and the key, so what is kept changes no result.
+pub(super) struct PerValue<T>(Mutex<HashMap<[Option<u64>; 2], Arc<T>>>);
+
+impl<T> PerValue<T> {
+    /// At most this many values are kept (each one value per reading: 256 × 8 B per reading).
+    pub(super) const CAPACITY: usize = 256;
+
+    /// The value for `key`, made by `make` if not yet held.
+    pub(super) fn get(&self, key: [Option<f64>; 2], make: impl FnOnce() -> T) -> Arc<T> {
+        let key = key.map(|v| v.map(f64::to_bits));
+        if let Some(v) = self.0.lock().expect("not poisoned").get(&key) {
+            return Arc::clone(v);
+        }
+        let made = Arc::new(make());
+        let mut values = self.0.lock().expect("not poisoned");
+        if let Some(v) = values.get(&key) {
+            return Arc::clone(v);
+        }
+        if values.len() < Self::CAPACITY {
+            values.insert(key, Arc::clone(&made));
+        }
+        made
+    }
+}
+
+impl<T> Default for PerValue<T> {
+    fn default() -> PerValue<T> {
+        PerValue(Mutex::new(HashMap::new()))
+    }
+}
+
+impl<T> Clone for PerValue<T> {
+    fn clone(&self) -> PerValue<T> {
+        PerValue::default()
+    }
+}
+
+impl<T> std::fmt::Debug for PerValue<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let held = self.0.lock().map_or(0, |v| v.len());
+        write!(f, "PerValue({held} held)")
+    }
+}
 
 /// Values made once per training set (a mask over the readings), when first asked for. A
 /// clone starts empty: what it holds is a pure function of the problem and the mask.

@@ -31,6 +31,7 @@ mod diagnostics;
 mod effects;
 mod fit;
 mod fragment;
+mod hat_span;
 mod memo;
 mod periodogram;
 mod problem;

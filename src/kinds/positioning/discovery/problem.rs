@@ -2,20 +2,21 @@
 //! effects the file can show, the reference run and its knots, and the temperature and
 //! activity inputs of the model's terms.
 
-use super::memo::PerTraining;
+use super::hat_span::HatSpan;
+use super::memo::{PerTraining, PerValue};
 use super::periodogram::Spectrum;
 use super::{
     DiscoveryError, MAX_FREQUENCIES, MAX_RUN_FOLDS, MIN_TEMPERATURE_RANGE, PositioningEffect,
     PositioningOptions, SAME_POSITION,
 };
 use crate::discovery::engine::{self, Folds};
+use crate::discovery::least_squares::Prefix;
 use crate::kinds::positioning::table::PositioningTable;
 use crate::machine::Axis;
 use crate::math::{M_PER_MM, Real};
 use crate::math::{local_lines, local_rates};
 use crate::program::Approach;
 use crate::thermal::first_order_lag;
-use nalgebra::DMatrix;
 
 /// A positioning table prepared for discovery.
 #[derive(Clone, Debug)]
@@ -50,7 +51,14 @@ pub struct PositioningProblem {
     pub(super) spectra: PerTraining<Spectrum>,
     /// The span of the profile's columns on the training rows, with the knots it was taken
     /// for, per training set ([`PositioningProblem::sse_profile`]).
-    pub(super) hat_spans: PerTraining<(Vec<Real>, Option<DMatrix<Real>>)>,
+    pub(super) hat_spans: PerTraining<(Vec<Real>, HatSpan)>,
+    /// The Householder steps on the profile's columns, with the knots they were taken for, per
+    /// training set ([`PositioningProblem::solve`]).
+    pub(super) hat_prefixes: PerTraining<(Vec<Real>, Prefix)>,
+    /// The driving temperature per (lag, sensor lag) searched ([`PositioningProblem::driver`]).
+    pub(super) drivers: PerValue<Option<Vec<Real>>>,
+    /// The heating response per time constant ([`PositioningProblem::activity`]).
+    pub(super) activities: PerValue<Vec<Real>>,
 }
 
 /// The run a fit is referred to and its knots.
@@ -202,6 +210,9 @@ impl PositioningProblem {
             untestable: Vec::new(),
             spectra: PerTraining::default(),
             hat_spans: PerTraining::default(),
+            hat_prefixes: PerTraining::default(),
+            drivers: PerValue::default(),
+            activities: PerValue::default(),
         };
         problem.sort_effects();
         problem.set_aside_inert();

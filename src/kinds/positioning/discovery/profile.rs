@@ -6,21 +6,24 @@
 //! temperature or the heating response, or the sine and cosine of the cyclic error) and, for
 //! `thermal_lag`, the nominal expansion the target subtracts; the others (the profile, the
 //! lost motion, a time drift …) are the same at every trial. Their span is computed once: the
-//! profile's (the same for every model on a fold, so kept per fold) as the left singular
-//! vectors of its columns (each scaled to unit norm) above the same relative rank cut the full
-//! solve uses, the fixed effects' added to it by Gram–Schmidt with that cut; a trial then
-//! projects only its changing columns and its target off that span and fits what is left.
+//! profile's (the same for every model on a fold, so kept per fold; through its tridiagonal
+//! normal equations when its hats are well conditioned, else as the left singular vectors of
+//! its columns above the rank cut the full solve uses: [`HatSpan`]), the fixed effects' added
+//! to it by Gram–Schmidt with that cut; a trial then projects only its changing columns and its
+//! target off that span and fits what is left.
 //! With P the projection off the fixed span, the least-squares residual of [F V]·c ≈ t is that
 //! of P·V·c ≈ P·t (the fixed coefficients absorb whatever lies in their span), so the sum of
 //! squares is the full solve's up to round-off and rank-cut details; the fit at the chosen
 //! value is the full solve.
 
 use super::fit::Searched;
+use super::hat_span::HatSpan;
 use super::problem::Reference;
 use super::{PositioningEffect, PositioningProblem};
 use crate::discovery::least_squares::RANK_TOLERANCE;
 use crate::math::{Real, dot};
 use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
 
 impl PositioningProblem {
     /// The training sum of squares of `effects` on the rows where `train` is true, as a
@@ -65,28 +68,20 @@ impl PositioningProblem {
         };
         // The profile's span depends on the training set only: taken once per fold.
         let hat_span = || {
-            let hats = self.hats(&reference.knots);
-            let kept: Vec<Vec<Real>> = hats.iter().filter_map(|c| scaled(c)).collect();
-            (reference.knots.clone(), span(&kept, rows.len()))
+            (
+                reference.knots.clone(),
+                self.hat_span(&reference.knots, &rows),
+            )
         };
-        let held = self.hat_spans.get(train, hat_span);
-        let fresh;
-        let hat_basis = if held.0 == reference.knots {
-            &held.1
-        } else {
-            fresh = hat_span().1;
-            &fresh
-        };
+        let mut hats = self.hat_spans.get(train, hat_span);
+        if hats.0 != reference.knots {
+            hats = Arc::new(hat_span());
+        }
         let kept: Vec<Vec<Real>> = fixed_columns.iter().filter_map(|c| scaled(c)).collect();
-        let basis = extend(hat_basis.as_ref(), &kept, rows.len());
-        let project = move |v: Vec<Real>| -> Vec<Real> {
-            let mut v = DVector::from_vec(v);
-            if let Some(u) = &basis {
-                // v − U·(Uᵀv), without forming Uᵀ.
-                let along = u.tr_mul(&v);
-                v.gemv(-1.0, u, &along, 1.0);
-            }
-            v.data.into()
+        let fixed = FixedSpan::new(hats, &kept, rows.len());
+        let project = move |mut v: Vec<Real>| -> Vec<Real> {
+            fixed.project(&mut v);
+            v
         };
         let on_rows =
             move |values: &[Real]| -> Vec<Real> { rows.iter().map(|&i| values[i]).collect() };
@@ -139,6 +134,59 @@ impl PositioningProblem {
     }
 }
 
+/// The span a search holds fixed: the profile's hats and the fixed effects' columns.
+enum FixedSpan {
+    /// The banded hats, and the fixed columns off them, orthonormal (Gram–Schmidt, twice).
+    Banded(Arc<(Vec<Real>, HatSpan)>, Vec<Vec<Real>>),
+    /// An orthonormal basis of it all (the hats' dense basis extended); `None` when empty.
+    Dense(Option<DMatrix<Real>>),
+}
+
+impl FixedSpan {
+    /// The span of `hats` and `columns` (each of length `rows`, unit norm): each column off the
+    /// span and the columns before it by Gram–Schmidt (twice), kept when more than
+    /// [`RANK_TOLERANCE`] of it is left, as a trial keeps its changing columns.
+    fn new(hats: Arc<(Vec<Real>, HatSpan)>, columns: &[Vec<Real>], rows: usize) -> FixedSpan {
+        match &hats.1 {
+            HatSpan::Dense(basis) => FixedSpan::Dense(extend(basis.as_ref(), columns, rows)),
+            HatSpan::Banded(banded) => {
+                let mut added: Vec<Vec<Real>> = Vec::with_capacity(columns.len());
+                for column in columns {
+                    let mut v = column.clone();
+                    for _ in 0..2 {
+                        banded.project(&mut v);
+                        for q in &added {
+                            subtract_along(&mut v, q);
+                        }
+                    }
+                    let left = dot(&v, &v).sqrt();
+                    if left > RANK_TOLERANCE {
+                        v.iter_mut().for_each(|x| *x /= left);
+                        added.push(v);
+                    }
+                }
+                FixedSpan::Banded(hats, added)
+            }
+        }
+    }
+
+    /// `v` (one value per training row) off the span.
+    fn project(&self, v: &mut [Real]) {
+        match self {
+            FixedSpan::Dense(Some(u)) => project_off(u, v),
+            FixedSpan::Dense(None) => {}
+            FixedSpan::Banded(hats, added) => {
+                if let HatSpan::Banded(banded) = &hats.1 {
+                    banded.project(v);
+                }
+                for q in added {
+                    subtract_along(v, q);
+                }
+            }
+        }
+    }
+}
+
 /// An orthonormal basis (rows × r) of the span of `basis` (orthonormal) and `columns` (each
 /// of length `rows`, unit norm): each column off the basis and the columns before it by
 /// Gram–Schmidt (twice), kept when more than [`RANK_TOLERANCE`] of it is left, as a trial
@@ -153,8 +201,7 @@ fn extend(
         let mut v = DVector::from_column_slice(column);
         for _ in 0..2 {
             if let Some(u) = basis {
-                let along = u.tr_mul(&v);
-                v.gemv(-1.0, u, &along, 1.0);
+                project_off(u, v.as_mut_slice());
             }
             for q in &added {
                 subtract_along(v.as_mut_slice(), q);
@@ -179,6 +226,41 @@ fn extend(
     }))
 }
 
+/// `v` less its components along the orthonormal columns of `u`: v − U·(Uᵀv), each Uᵀv entry a
+/// [`dot8`], then the columns taken off in order, as nalgebra's `tr_mul` and `gemv(−1, U, ·, 1)`
+/// do it (bit for bit, tested), over slices the compiler vectorises.
+fn project_off(u: &DMatrix<Real>, v: &mut [Real]) {
+    let rows = v.len();
+    debug_assert_eq!(u.nrows(), rows);
+    let columns = u.as_slice();
+    let along: Vec<Real> = columns.chunks_exact(rows).map(|c| dot8(c, v)).collect();
+    for (c, a) in columns.chunks_exact(rows).zip(&along) {
+        v.iter_mut().zip(c).for_each(|(v, c)| *v -= c * a);
+    }
+}
+
+/// Σ aᵢbᵢ summed as nalgebra's `dot` sums it: eight running sums over blocks of eight, joined
+/// as (s₀ + s₄) + (s₁ + s₅) + (s₂ + s₆) + (s₃ + s₇), then the remainder in order.
+fn dot8(a: &[Real], b: &[Real]) -> Real {
+    let mut sums = [0.0; 8];
+    let (a_blocks, b_blocks) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (a_rest, b_rest) = (a_blocks.remainder(), b_blocks.remainder());
+    for (x, y) in a_blocks.zip(b_blocks) {
+        for k in 0..8 {
+            sums[k] += x[k] * y[k];
+        }
+    }
+    let mut total = 0.0;
+    total += sums[0] + sums[4];
+    total += sums[1] + sums[5];
+    total += sums[2] + sums[6];
+    total += sums[3] + sums[7];
+    for (x, y) in a_rest.iter().zip(b_rest) {
+        total += x * y;
+    }
+    total
+}
+
 /// `v` less its component along the unit vector `q`.
 fn subtract_along(v: &mut [Real], q: &[Real]) {
     let d = dot(v, q);
@@ -194,33 +276,6 @@ pub(super) const TAU_PROBES: [Real; 2] = [600.0, 36_000.0];
 /// 5 mm steps …) puts both on a whole number of cycles.
 pub(super) const FREQUENCY_PROBES: [Real; 2] =
     [1e3 / std::f64::consts::PI, 1e2 / std::f64::consts::E];
-
-/// An orthonormal basis (rows × r) of the span of `columns` (each of length `rows`, scaled to
-/// unit norm): the left singular vectors above the rank cut; `None` without columns. Tall
-/// (the usual case), by Householder QR first and the SVD of the small triangle, U = Q·U_R:
-/// the same singular values at a fraction of the cost of bidiagonalising the tall matrix.
-fn span(columns: &[Vec<Real>], rows: usize) -> Option<DMatrix<Real>> {
-    if columns.is_empty() || rows == 0 {
-        return None;
-    }
-    let m = DMatrix::from_fn(rows, columns.len(), |i, j| columns[j][i]);
-    let (q, svd) = if rows > columns.len() {
-        let qr = m.qr();
-        (Some(qr.q()), qr.r().svd(true, false))
-    } else {
-        (None, m.svd(true, false))
-    };
-    let u = svd.u.expect("computed");
-    let largest = svd.singular_values.max();
-    let keep: Vec<usize> = (0..svd.singular_values.len())
-        .filter(|&k| svd.singular_values[k] > largest * RANK_TOLERANCE)
-        .collect();
-    let kept = DMatrix::from_fn(u.nrows(), keep.len(), |i, j| u[(i, keep[j])]);
-    Some(match q {
-        Some(q) => q * kept,
-        None => kept,
-    })
-}
 
 #[cfg(test)]
 mod tests {
@@ -363,6 +418,28 @@ mod tests {
                     (fast - full).abs() <= 1e-9 * full + 1e-24,
                     "fold {fold:?}, period {period_mm} mm: {fast} against {full}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn the_projection_is_nalgebras_bit_for_bit() {
+        // Lengths about the blocks of eight (7, 8, 9, 250 rows), values spread over
+        // magnitudes so that any change of the order of the sums shows in the last bits.
+        for rows in [7, 8, 9, 250] {
+            let value = |i: usize, j: usize| {
+                let k = (i * 7919 + j * 104_729) % 1009;
+                (k as Real / 1009.0 - 0.5) * 10f64.powi((k % 7) as i32 - 3)
+            };
+            let u = DMatrix::from_fn(rows, 5, value);
+            let v: Vec<Real> = (0..rows).map(|i| value(i, 11)).collect();
+            let mut expected = DVector::from_column_slice(&v);
+            let along = u.tr_mul(&expected);
+            expected.gemv(-1.0, &u, &along, 1.0);
+            let mut fast = v.clone();
+            project_off(&u, &mut fast);
+            for (a, b) in fast.iter().zip(expected.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{rows} rows: {a} against {b}");
             }
         }
     }
