@@ -94,8 +94,9 @@ impl Design {
     /// reflects each column to the right of a step independently, so the leading steps and the
     /// reflections they apply to the later columns are the same whatever those are.
     pub fn solve_after(&self, prefix: &Prefix, y: &[Real]) -> Vec<Real> {
-        let (lead, columns) = (prefix.scales.len(), lead_plus(prefix, self));
-        if self.rows != prefix.design.rows || self.rows <= columns || lead > self.rows {
+        let lead = prefix.scales.len();
+        let columns = lead + self.columns.len();
+        if self.rows != prefix.design.rows || self.rows <= columns {
             let mut whole = prefix.design.clone();
             self.columns.iter().for_each(|c| whole.push(c.clone()));
             return whole.solve(y);
@@ -173,11 +174,6 @@ impl Design {
             .expect("both factors were computed");
         (0..columns).map(|j| solution[j] * scale(j)).collect()
     }
-}
-
-/// The number of columns of `prefix` and `rest` together.
-fn lead_plus(prefix: &Prefix, rest: &Design) -> usize {
-    prefix.scales.len() + rest.columns.len()
 }
 
 /// A design's leading columns with their Householder steps taken ([`Design::prefix`]).

@@ -8,7 +8,6 @@ use crate::discovery::least_squares::Design;
 use crate::math::{M_PER_MM, Real};
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
-use std::sync::Arc;
 
 /// The values of the searched parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -208,17 +207,15 @@ impl PositioningProblem {
         // The profile's columns lead every design on a fold: their Householder steps are taken
         // once per fold ([`Design::solve_after`], bit for bit the whole solve).
         let hats = reference.knots.len();
-        let prefix = || {
-            let mut design = Design::new(rows.len());
-            for column in &columns[..hats] {
-                design.push(rows.iter().map(|&i| column[i]).collect());
-            }
-            (reference.knots.clone(), design.prefix())
-        };
-        let mut lead = self.hat_prefixes.get(train, prefix);
-        if lead.0 != reference.knots {
-            lead = Arc::new(prefix());
-        }
+        let lead = self
+            .hat_prefixes
+            .get_for_knots(train, &reference.knots, || {
+                let mut design = Design::new(rows.len());
+                for column in &columns[..hats] {
+                    design.push(rows.iter().map(|&i| column[i]).collect());
+                }
+                design.prefix()
+            });
         let mut design = Design::new(rows.len());
         for column in &columns[hats..] {
             design.push(rows.iter().map(|&i| column[i]).collect());

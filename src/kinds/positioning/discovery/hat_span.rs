@@ -21,6 +21,7 @@ use super::PositioningProblem;
 use crate::discovery::least_squares::RANK_TOLERANCE;
 use crate::math::{Real, dot};
 use nalgebra::DMatrix;
+use std::sync::Arc;
 
 /// The smallest eigenvalue of the unit-scaled hats' Gram matrix for the banded projection.
 pub(super) const WELL_CONDITIONED: Real = 1e-2;
@@ -29,7 +30,7 @@ pub(super) const WELL_CONDITIONED: Real = 1e-2;
 #[derive(Clone, Debug)]
 pub(super) enum HatSpan {
     /// Through the tridiagonal normal equations (well-conditioned hats).
-    Banded(Banded),
+    Banded(Arc<Banded>),
     /// An orthonormal basis (rows × rank) above the rank cut; `None` without hats or rows.
     Dense(Option<DMatrix<Real>>),
 }
@@ -69,7 +70,7 @@ impl PositioningProblem {
             .map(|&i| Self::hat_weights(knots, self.x[i]))
             .collect();
         if let Some(banded) = Banded::new(weights, knots.len()) {
-            return HatSpan::Banded(banded);
+            return HatSpan::Banded(Arc::new(banded));
         }
         let hats = self.hats(knots);
         let kept: Vec<Vec<Real>> = hats
@@ -244,8 +245,8 @@ mod tests {
     fn hats_that_only_readings_between_them_tell_apart_are_left_to_the_dense_basis() {
         // A hat without readings (knot 10 mm, nothing between 0 and 25 mm but at 0 and 25):
         // its Gram diagonal is zero. Two hats seen only by one reading between them (at
-        // 5 mm, knots 0 and 10) are proportional. Readings piled against one knot of a pair
-        // (0.1 and 9.9 mm, no reading at the knots) make the scaled Gram matrix nearly
+        // 5 mm, knots 0 and 10) are proportional. Three readings piled about the middle of
+        // that pair (4.999 to 5.001 mm, none at its knots) make the scaled Gram matrix nearly
         // singular, though not singular.
         let knots = [0.0, 10.0, 25.0];
         let weights = |x: &[Real]| -> Vec<(usize, Real, Real)> {

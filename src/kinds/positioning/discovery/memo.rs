@@ -80,6 +80,25 @@ impl<T> PerTraining<T> {
     }
 }
 
+impl<T> PerTraining<(Vec<f64>, T)> {
+    /// The value for `train` made for `knots` (a fit's reference knots, which the training set
+    /// decides): kept per training set; one asked for with other knots is made afresh and not
+    /// kept.
+    pub(super) fn get_for_knots(
+        &self,
+        train: &[bool],
+        knots: &[f64],
+        make: impl Fn() -> T,
+    ) -> Arc<(Vec<f64>, T)> {
+        let held = self.get(train, || (knots.to_vec(), make()));
+        if held.0 == knots {
+            held
+        } else {
+            Arc::new((knots.to_vec(), make()))
+        }
+    }
+}
+
 impl<T> Default for PerTraining<T> {
     fn default() -> PerTraining<T> {
         PerTraining(Mutex::new(Vec::new()))

@@ -17,7 +17,7 @@
 //! value is the full solve.
 
 use super::fit::Searched;
-use super::hat_span::HatSpan;
+use super::hat_span::{Banded, HatSpan};
 use super::problem::Reference;
 use super::{PositioningEffect, PositioningProblem};
 use crate::discovery::least_squares::RANK_TOLERANCE;
@@ -67,18 +67,11 @@ impl PositioningProblem {
             (norm > 0.0).then(|| values.iter().map(|v| v / norm).collect())
         };
         // The profile's span depends on the training set only: taken once per fold.
-        let hat_span = || {
-            (
-                reference.knots.clone(),
-                self.hat_span(&reference.knots, &rows),
-            )
-        };
-        let mut hats = self.hat_spans.get(train, hat_span);
-        if hats.0 != reference.knots {
-            hats = Arc::new(hat_span());
-        }
+        let hats = self.hat_spans.get_for_knots(train, &reference.knots, || {
+            self.hat_span(&reference.knots, &rows)
+        });
         let kept: Vec<Vec<Real>> = fixed_columns.iter().filter_map(|c| scaled(c)).collect();
-        let fixed = FixedSpan::new(hats, &kept, rows.len());
+        let fixed = FixedSpan::new(&hats.1, &kept, rows.len());
         let project = move |mut v: Vec<Real>| -> Vec<Real> {
             fixed.project(&mut v);
             v
@@ -137,7 +130,7 @@ impl PositioningProblem {
 /// The span a search holds fixed: the profile's hats and the fixed effects' columns.
 enum FixedSpan {
     /// The banded hats, and the fixed columns off them, orthonormal (Gram–Schmidt, twice).
-    Banded(Arc<(Vec<Real>, HatSpan)>, Vec<Vec<Real>>),
+    Banded(Arc<Banded>, Vec<Vec<Real>>),
     /// An orthonormal basis of it all (the hats' dense basis extended); `None` when empty.
     Dense(Option<DMatrix<Real>>),
 }
@@ -146,8 +139,8 @@ impl FixedSpan {
     /// The span of `hats` and `columns` (each of length `rows`, unit norm): each column off the
     /// span and the columns before it by Gram–Schmidt (twice), kept when more than
     /// [`RANK_TOLERANCE`] of it is left, as a trial keeps its changing columns.
-    fn new(hats: Arc<(Vec<Real>, HatSpan)>, columns: &[Vec<Real>], rows: usize) -> FixedSpan {
-        match &hats.1 {
+    fn new(hats: &HatSpan, columns: &[Vec<Real>], rows: usize) -> FixedSpan {
+        match hats {
             HatSpan::Dense(basis) => FixedSpan::Dense(extend(basis.as_ref(), columns, rows)),
             HatSpan::Banded(banded) => {
                 let mut added: Vec<Vec<Real>> = Vec::with_capacity(columns.len());
@@ -165,7 +158,7 @@ impl FixedSpan {
                         added.push(v);
                     }
                 }
-                FixedSpan::Banded(hats, added)
+                FixedSpan::Banded(Arc::clone(banded), added)
             }
         }
     }
@@ -175,10 +168,8 @@ impl FixedSpan {
         match self {
             FixedSpan::Dense(Some(u)) => project_off(u, v),
             FixedSpan::Dense(None) => {}
-            FixedSpan::Banded(hats, added) => {
-                if let HatSpan::Banded(banded) = &hats.1 {
-                    banded.project(v);
-                }
+            FixedSpan::Banded(banded, added) => {
+                banded.project(v);
                 for q in added {
                     subtract_along(v, q);
                 }
