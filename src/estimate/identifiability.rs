@@ -32,9 +32,13 @@
 //!
 //! # Combinations
 //! - **Null combinations**: a readable basis of the null space, the reduced row echelon form of
-//!   the null basis with the pivots taken in parameter order (partial pivoting within a column),
-//!   so that each combination is as sparse as it can be: `EX0C − sphere1.x` reads "a change of
-//!   EX0C with the opposite change of sphere1.x gives the same readings".
+//!   the null basis with the pivots taken in parameter order (partial pivoting within a column,
+//!   a pivot at least a thousandth of what is left to reduce), so that each combination is as
+//!   sparse as it can be: `EX0C − sphere1.x` reads "a change of EX0C with the opposite change of
+//!   sphere1.x gives the same readings". The null basis is known only to the noise of the
+//!   design (by Wedin's bound, its largest unidentified singular value over its smallest
+//!   identified one: 10⁻⁷ for a Jacobian by finite differences); coefficients within a hundred
+//!   times that are neither kept (when that small) nor ordered apart.
 //! - **Seen combinations**: among the unidentifiable parameters, a basis of what the data do see
 //!   (the orthogonal complement of the null space within the span of those parameters), in the
 //!   same echelon form: with the null combination `EA0A − EA0C`, only `EA0A + EA0C` is seen.
@@ -62,9 +66,14 @@
 //! All of them, and κ, are NaN when nothing is identified (`r = 0`).
 
 use crate::math::Real;
-use nalgebra::{DMatrix, DVector, QR, SVD, SymmetricEigen};
+use nalgebra::{DMatrix, QR, SVD, SymmetricEigen};
 use serde_json::{Value, json};
 use std::fmt::Write;
+
+mod combination;
+
+pub use combination::Combination;
+use combination::readable;
 
 /// A parameter whose null share (the length of its unit vector's projection onto the null
 /// space) exceeds this is unidentifiable; the same bound decides whether a combination is
@@ -73,12 +82,6 @@ pub const NULL_SHARE: Real = 1e-6;
 
 /// Singular values below this fraction of the largest are numerical zeros whatever the noise.
 pub const NUMERICAL_ZERO: Real = 1e-10;
-
-/// Coefficients of a [`Combination`] smaller than this fraction of its largest are dropped.
-const NEGLIGIBLE_TERM: Real = 1e-6;
-
-/// Entries at or below this (on unit-norm rows) cannot be pivots of the echelon form.
-const PIVOT_TOLERANCE: Real = 1e-9;
 
 /// The thresholds of the analysis, in µm-equivalents (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,104 +109,6 @@ impl Options {
     /// `max(1/largest_uncertainty, 1e-10·s_max)`.
     pub fn tolerance(&self, s_max: Real) -> Real {
         (1.0 / self.largest_uncertainty).max(NUMERICAL_ZERO * s_max)
-    }
-}
-
-/// A linear combination of parameters: unit-norm coefficients, sparse.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Combination {
-    /// (column index, coefficient), sorted by |coefficient| descending (ties by column), the
-    /// largest positive, coefficients below 1e-6 of the largest dropped, Euclidean norm 1.
-    pub terms: Vec<(usize, Real)>,
-}
-
-impl Combination {
-    /// The combination along `vector` (any length and sign; the zero vector gives no terms).
-    pub fn from_vector(vector: &DVector<Real>) -> Self {
-        let largest = vector.amax();
-        if largest == 0.0 || !largest.is_finite() {
-            return Self { terms: Vec::new() };
-        }
-        let mut terms: Vec<(usize, Real)> = vector
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.abs() >= NEGLIGIBLE_TERM * largest)
-            .map(|(j, &c)| (j, c))
-            .collect();
-        // A total order that treats magnitudes equal to 1e-9 as ties (kept in column order).
-        let key = |c: Real| -((c.abs() / largest) * 1e9).round() as i64;
-        terms.sort_by_key(|&(j, c)| (key(c), j));
-        let norm = terms.iter().map(|(_, c)| c * c).sum::<Real>().sqrt();
-        let scale = norm.copysign(terms[0].1);
-        for term in &mut terms {
-            term.1 /= scale;
-        }
-        Self { terms }
-    }
-
-    /// The combination as a vector over `n` parameters.
-    pub fn to_vector(&self, n: usize) -> DVector<Real> {
-        let mut v = DVector::zeros(n);
-        for &(j, c) in &self.terms {
-            v[j] = c;
-        }
-        v
-    }
-
-    /// The largest coefficient (positive; 0 for an empty combination): the combination as
-    /// described is `terms / leading()`.
-    pub fn leading(&self) -> Real {
-        self.terms.first().map_or(0.0, |t| t.1)
-    }
-
-    /// The coefficients as described: the largest scaled to 1, rounded to 12 decimals (so that
-    /// an exact −1 does not print as −1.0000000000000002).
-    pub fn described_terms(&self) -> Vec<(usize, Real)> {
-        let lead = self.leading();
-        self.terms
-            .iter()
-            .map(|&(j, c)| (j, ((c / lead) * 1e12).round() / 1e12))
-            .collect()
-    }
-
-    /// The combination in words, its largest coefficient scaled to 1 and the others to three
-    /// significant figures, with the parameters' names and the typographic minus used across
-    /// mtwin's reports: `EA0A − EA0C`, `EX0C − 0.5 EY0C + 0.173 sphere1.x` (`0` when empty).
-    /// A column without a label is written `#j`.
-    pub fn describe(&self, labels: &[String]) -> String {
-        let mut text = String::new();
-        for (k, (j, c)) in self.described_terms().into_iter().enumerate() {
-            let name = labels.get(j).cloned().unwrap_or_else(|| format!("#{j}"));
-            if k > 0 {
-                text.push_str(if c < 0.0 { " − " } else { " + " });
-            }
-            let magnitude = significant(c.abs());
-            if magnitude == "1" {
-                text.push_str(&name);
-            } else {
-                let _ = write!(text, "{magnitude} {name}");
-            }
-        }
-        if text.is_empty() {
-            text.push('0');
-        }
-        text
-    }
-
-    /// The combination with stable keys: `description` ([`Self::describe`]) and `terms`, a list
-    /// of `{"parameter": name, "coefficient": c}` with the coefficients as described (largest 1).
-    pub fn to_json(&self, labels: &[String]) -> Value {
-        let terms: Vec<Value> = self
-            .described_terms()
-            .into_iter()
-            .map(|(j, c)| {
-                json!({
-                    "parameter": labels.get(j).cloned().unwrap_or_else(|| format!("#{j}")),
-                    "coefficient": c,
-                })
-            })
-            .collect();
-        json!({ "description": self.describe(labels), "terms": terms })
     }
 }
 
@@ -388,54 +293,6 @@ fn combination_uncertainty(
     Some(w.dot(&(covariance * &w)).max(0.0).sqrt())
 }
 
-/// The reduced row echelon form of `rows` (pivots in column order, partial pivoting within a
-/// column, entries at or below `tolerance` never pivots); only the pivoted rows are returned.
-fn rref(rows: &DMatrix<Real>, tolerance: Real) -> DMatrix<Real> {
-    let mut a = rows.clone();
-    let (m, n) = a.shape();
-    let mut next = 0;
-    for col in 0..n {
-        if next == m {
-            break;
-        }
-        let (best, value) = (next..m)
-            .map(|i| (i, a[(i, col)].abs()))
-            .fold((next, -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
-        if value <= tolerance {
-            continue;
-        }
-        a.swap_rows(next, best);
-        let pivot = a[(next, col)];
-        for j in 0..n {
-            a[(next, j)] /= pivot;
-        }
-        for i in 0..m {
-            let factor = a[(i, col)];
-            if i != next && factor != 0.0 {
-                for j in 0..n {
-                    let d = factor * a[(next, j)];
-                    a[(i, j)] -= d;
-                }
-            }
-        }
-        next += 1;
-    }
-    a.rows(0, next).into_owned()
-}
-
-/// The readable combinations spanning the columns of `basis` (n × d, orthonormal columns).
-fn readable(basis: &DMatrix<Real>) -> Vec<Combination> {
-    if basis.ncols() == 0 {
-        return Vec::new();
-    }
-    let echelon = rref(&basis.transpose(), PIVOT_TOLERANCE);
-    echelon
-        .row_iter()
-        .map(|row| Combination::from_vector(&row.transpose()))
-        .filter(|c| !c.terms.is_empty())
-        .collect()
-}
-
 /// Analyses `design` (rows: readings weighted by 1/σ; columns: parameters in µm-equivalents,
 /// named by `labels`) under the rank rule of `options`.
 ///
@@ -456,7 +313,14 @@ pub fn analyse(design: &DMatrix<Real>, labels: &[String], options: &Options) -> 
 
     let shares: Vec<Real> = (0..n).map(|j| null_space.row(j).norm()).collect();
     let unidentifiable: Vec<usize> = (0..n).filter(|&j| shares[j] > NULL_SHARE).collect();
-    let null_combinations = readable(&null_space);
+    // Wedin's bound: the null basis is known to the perturbation of the design, which the
+    // largest unidentified singular value shows (a Jacobian by finite differences: 10⁻⁷ of the
+    // largest), over the gap to the smallest identified one.
+    let noise = match (r, d.singular_values.get(r)) {
+        (1.., Some(&s)) => s / d.singular_values[r - 1],
+        _ => 0.0,
+    };
+    let null_combinations = readable(&null_space, noise);
 
     // What is seen among the unidentifiable parameters: the eigenvectors (eigenvalue ≈ 1) of the
     // projector onto the complement of the null space within their span.
@@ -472,7 +336,7 @@ pub fn analyse(design: &DMatrix<Real>, labels: &[String], options: &Options) -> 
                 .position(|&j| j == row)
                 .map_or(0.0, |a| eigen.eigenvectors[(a, kept[col])])
         });
-        readable(&basis)
+        readable(&basis, noise)
     } else {
         Vec::new()
     };

@@ -8,6 +8,7 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+mod null_combinations;
 mod wrong_data;
 
 fn root(path: &str) -> PathBuf {

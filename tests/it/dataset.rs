@@ -173,7 +173,15 @@ fn a_killed_run_resumes_to_the_uninterrupted_result() {
         .spawn()
         .unwrap();
     let records = resumed.join("_shards");
-    let recorded = || std::fs::read_dir(&records).map_or(0, |d| d.count());
+    // A record is written under a hidden temporary name and renamed into place: only the
+    // visible names are recorded shards (counting the temporary one raced the kill).
+    let recorded = || {
+        std::fs::read_dir(&records).map_or(0, |d| {
+            d.flatten()
+                .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+                .count()
+        })
+    };
     let started = std::time::Instant::now();
     while recorded() < 2 && started.elapsed().as_secs() < 120 {
         std::thread::sleep(std::time::Duration::from_millis(2));
