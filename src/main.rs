@@ -104,8 +104,9 @@ enum Command {
         /// The machine model the tables were measured on (URDF).
         #[arg(long, value_name = "M.urdf")]
         machine: PathBuf,
-        /// The parameters: ISO names (EX0C, EC0Y, EXX:3) and presets (location, zero,
-        /// squareness, tool, linear21[:N]), separated by commas.
+        /// The parameters: ISO names (EX0C, EC0Y, EXX:3), lost motions (EXX.reversal,
+        /// ECC.reversal) and presets (location, zero, squareness, tool, linear21[:N], reversal:
+        /// every linear axis's lost motion), separated by commas.
         #[arg(long, value_name = "SPEC")]
         params: String,
         /// Measurement tables; a table whose first line does not name its kind takes a

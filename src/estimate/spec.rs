@@ -11,6 +11,15 @@
 //! | `linear21` or `linear21:N` | the 18 component errors of the linear axes as polynomials of degree N (default 3) plus the 3 squareness errors |
 //! | `EX0C`, `EC0Y`, … | one location, squareness or tool error (a constant) |
 //! | `EXX`, `EXX:N` | one component error, a polynomial of degree N (default 3) |
+//! | `reversal` | the lost motion of every linear axis: a reversal term in `EXX`, `EYY`, `EZZ` |
+//! | `EXX.reversal`, `ECC.reversal` | the lost motion of one axis (linear or rotary) |
+//!
+//! A reversal term is the error model's [`ErrorFunction::Reversal`]: the axis lags the command
+//! by half the lost motion against its direction of travel, so the readings of the two
+//! directions differ by the lost motion (ISO 230-2's reversal value B of a positioning test,
+//! less its scatter). It is added to the axis's positioning error beside the polynomial asked
+//! for (`EXX:3,reversal`), or alone. Only tables that travel both ways see it: a positioning
+//! test's two approaches, a ball-bar's two senses.
 //!
 //! Component errors are estimated **without their constant term**: a component error is taken
 //! as zero at the axis zero, as the laser and ball-bar see it (a constant error motion of a
@@ -75,6 +84,12 @@ impl ParameterSet {
             message,
         };
         let mut wanted: Vec<(ParameterName, Option<usize>)> = Vec::new();
+        let mut reversals: Vec<ParameterName> = Vec::new();
+        let mut reversal = |name: ParameterName| {
+            if !reversals.contains(&name) {
+                reversals.push(name);
+            }
+        };
         let mut twice: Option<ParameterName> = None;
         let mut push = |name: ParameterName, degree: Option<usize>| match wanted
             .iter()
@@ -124,6 +139,11 @@ impl ParameterSet {
                     "\"{item}\": {head} errors are constants; a degree is for component errors (EXX:3, linear21:3)"
                 )));
             }
+            if degree.is_some() && (head == "reversal" || head.ends_with(".reversal")) {
+                return Err(fail(format!(
+                    "\"{item}\": a lost motion is one number per axis; a degree is for component errors (EXX:3)"
+                )));
+            }
             match head {
                 "" => {
                     return Err(fail(
@@ -150,6 +170,35 @@ impl ParameterSet {
                         }
                     }
                 }
+                "reversal" => {
+                    if linear.is_empty() {
+                        return Err(fail(format!(
+                            "\"reversal\": machine \"{}\" has no linear axis (give ECC.reversal, …)",
+                            machine.name()
+                        )));
+                    }
+                    for axis in &linear {
+                        reversal(format!("E{axis}{axis}").parse().expect("a valid name"));
+                    }
+                }
+                text if text.ends_with(".reversal") => {
+                    let base = text.trim_end_matches(".reversal");
+                    let name: ParameterName = base
+                        .parse()
+                        .map_err(|m: String| fail(format!("\"{text}\": {m}")))?;
+                    let Some(axis) = positioning_axis(name) else {
+                        return Err(fail(format!(
+                            "\"{text}\": a lost motion belongs to an axis's positioning error (EXX, EYY, EZZ, EAA, EBB, ECC)"
+                        )));
+                    };
+                    if !machine.has_axis(axis) {
+                        return Err(fail(format!(
+                            "{name}: machine \"{}\" has no axis {axis}",
+                            machine.name()
+                        )));
+                    }
+                    reversal(name);
+                }
                 "squareness" => squareness().into_iter().for_each(|n| push(n, None)),
                 "tool" => ["EXT", "EYT", "EZT"]
                     .into_iter()
@@ -173,7 +222,7 @@ impl ParameterSet {
                 text => {
                     let name: ParameterName = text.parse().map_err(|m: String| {
                         fail(format!(
-                            "\"{text}\": {m}; or a preset: location, zero, squareness, tool, linear21"
+                            "\"{text}\": {m}; or a preset: location, zero, squareness, tool, linear21, reversal"
                         ))
                     })?;
                     if let Some(axis) = name.axis().filter(|a| !machine.has_axis(*a)) {
@@ -205,14 +254,32 @@ impl ParameterSet {
                 "{name} is asked for twice with different degrees"
             )));
         }
+        // A lost motion joins the axis's positioning error when that is asked for too, and is
+        // its only term otherwise (after the others, in the order asked).
+        for name in &reversals {
+            if !wanted.iter().any(|(n, _)| n == name) {
+                wanted.push((*name, None));
+            }
+        }
         let parameters = wanted
             .iter()
-            .map(|(name, degree)| ErrorParameter {
-                name: *name,
-                function: match degree {
-                    Some(d) => ErrorFunction::Polynomial(vec![0.0; d + 1]),
-                    None => ErrorFunction::Constant(0.0),
-                },
+            .map(|(name, degree)| {
+                let base = match degree {
+                    Some(d) => Some(ErrorFunction::Polynomial(vec![0.0; d + 1])),
+                    None if reversals.contains(name) => None,
+                    None => Some(ErrorFunction::Constant(0.0)),
+                };
+                let function = match (base, reversals.contains(name)) {
+                    (Some(base), true) => {
+                        ErrorFunction::Sum(vec![base, ErrorFunction::Reversal(0.0)])
+                    }
+                    (Some(base), false) => base,
+                    (None, _) => ErrorFunction::Reversal(0.0),
+                };
+                ErrorParameter {
+                    name: *name,
+                    function,
+                }
             })
             .collect();
         let model = ErrorModel::new(machine, parameters).map_err(|e| fail(e.to_string()))?;
@@ -233,32 +300,55 @@ impl ParameterSet {
         let mut index = 0;
         let parameters = set.model.parameters().to_vec();
         for (owner, parameter) in parameters.iter().enumerate() {
-            let rotation = !parameter.name.motion().is_translation();
-            match &parameter.function {
-                ErrorFunction::Polynomial(c) => {
-                    let travel = travel_of(machine, parameter.name);
-                    for k in first_degree(parameter.name)..c.len() {
-                        set.push(
-                            index + k,
-                            format!("{}.polynomial[{k}]", parameter.name),
-                            scale(rotation) / travel.powi(k as i32),
-                            (rotation, owner, k),
-                        );
-                    }
-                    index += c.len();
-                }
-                _ => {
-                    set.push(
-                        index,
-                        parameter.name.to_string(),
-                        scale(rotation),
-                        (rotation, owner, 0),
-                    );
-                    index += 1;
-                }
+            let terms = match &parameter.function {
+                ErrorFunction::Sum(terms) => terms.as_slice(),
+                single => std::slice::from_ref(single),
+            };
+            for term in terms {
+                index += set.push_term(term, parameter.name, owner, index, machine);
             }
         }
         set
+    }
+
+    /// Adds the free coefficients of `term` (a polynomial without the degrees below
+    /// [`first_degree`], a reversal, or a constant) of parameter `owner`, whose first
+    /// coefficient is `index`; returns its number of coefficients.
+    fn push_term(
+        &mut self,
+        term: &ErrorFunction,
+        name: ParameterName,
+        owner: usize,
+        index: usize,
+        machine: &Machine,
+    ) -> usize {
+        let rotation = !name.motion().is_translation();
+        match term {
+            ErrorFunction::Polynomial(c) => {
+                let travel = travel_of(machine, name);
+                for k in first_degree(name)..c.len() {
+                    self.push(
+                        index + k,
+                        format!("{name}.polynomial[{k}]"),
+                        scale(rotation) / travel.powi(k as i32),
+                        (rotation, owner, k),
+                    );
+                }
+            }
+            ErrorFunction::Reversal(_) => self.push(
+                index,
+                format!("{name}.reversal"),
+                scale(rotation),
+                (rotation, owner, 0),
+            ),
+            _ => self.push(
+                index,
+                name.to_string(),
+                scale(rotation),
+                (rotation, owner, 0),
+            ),
+        }
+        term.coefficient_count()
     }
 
     /// Adds free coefficient `index` with its label, scale, and (rotation, owner, degree).
@@ -301,6 +391,17 @@ impl ParameterSet {
             all[i] = v;
         }
         model.set_coefficients(&all);
+    }
+}
+
+/// The axis whose positioning error `name` is (`EXX` → X, `ECC` → C), if it is one.
+fn positioning_axis(name: ParameterName) -> Option<Axis> {
+    match name {
+        ParameterName::Component { motion, axis } if axis.is_linear() || axis.is_rotary() => {
+            let offset = if axis.is_linear() { 0 } else { 3 };
+            (motion.index() == axis.coordinate() + offset).then_some(axis)
+        }
+        _ => None,
     }
 }
 

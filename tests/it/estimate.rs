@@ -704,3 +704,4 @@ fn probed_with(
 }
 
 mod probes_and_foreign;
+mod reversal;
