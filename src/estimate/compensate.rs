@@ -137,6 +137,19 @@ pub enum CompensateError {
         /// `mm` or `deg`.
         unit: &'static str,
     },
+    /// More interpolation points than a SINUMERIK table is written with.
+    #[error(
+        "axis {axis}: {points} interpolation points at this spacing, more than the {maximum} a \
+         SINUMERIK compensation table is written with: use a larger spacing"
+    )]
+    TooManyPoints {
+        /// The axis.
+        axis: Axis,
+        /// Points at the spacing asked for.
+        points: usize,
+        /// The most written.
+        maximum: usize,
+    },
 }
 
 /// The most entries LinuxCNC keeps per joint (`EMCMOT_COMP_SIZE` in `src/emc/motion/motion.h`).

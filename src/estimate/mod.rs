@@ -7,8 +7,9 @@
 //!   Jacobian), the combinations it cannot see and those it can, in ISO names.
 //! - [`Readings`]: what a test kind supplies: its measured values, their uncertainties and the
 //!   model of each reading on the twin's own chain (each kind's `readings.rs`).
-//! - [`compensate`] and [`score`]: the identified machine written out (corrected URDF,
-//!   LinuxCNC pitch tables) and scored against the truth.
+//! - [`compensate`], [`sinumerik`] and [`score`]: the identified machine written out
+//!   (corrected URDF, LinuxCNC pitch tables, SINUMERIK measuring-system error compensation)
+//!   and scored against the truth.
 
 pub mod compensate;
 pub mod fit;
@@ -19,6 +20,7 @@ pub mod plan;
 mod readings;
 pub mod report;
 pub mod score;
+pub mod sinumerik;
 pub mod spec;
 
 pub use readings::{Quantity, ReadingModel, Readings, ReadingsError};

@@ -703,5 +703,6 @@ fn probed_with(
     (scenario, fit, scales, labels, set.len())
 }
 
+mod controllers;
 mod probes_and_foreign;
 mod reversal;

@@ -460,6 +460,12 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     for (axis, table) in tables {
         files.push((format!("linuxcnc_{axis}.comp"), table.into_bytes()));
     }
+    let tables =
+        crate::estimate::sinumerik::lec_tables(&machine, &identified, 0.01, 1f64.to_radians())
+            .map_err(|e| IdentifyError::Input(format!("SINUMERIK tables: {e}")))?;
+    for (axis, table) in tables {
+        files.push((format!("sinumerik_{axis}_eec.ini"), table.into_bytes()));
+    }
     if let Some((path, base)) = &scenario {
         files.push((
             "compensated.toml".to_string(),

@@ -112,8 +112,8 @@ fn the_spec_names_lost_motions_and_refuses_what_is_not_one() {
 }
 
 /// The loop through the command line: `identify --params EXX:2,EXX.reversal` on the simulated
-/// table writes the lost motion in estimate.json (within 4 u of the injected 3 µm) and in the
-/// LinuxCNC table, whose forward and reverse trims differ by it on every line (by hand: the
+/// table writes the lost motion in estimate.json (within 4 u of the injected 3 µm), which
+/// `score` sets against the run's truth, and in the LinuxCNC table, whose forward and reverse trims differ by it on every line (by hand: the
 /// reverse approach reads the lost motion beyond the forward one, so the trims, each the
 /// negated error of its direction, differ by it); and the scenario compensated with the
 /// estimate, simulated again, reverses by what is left of the lost motion: its ISO 230-2
@@ -165,6 +165,22 @@ fn lost_motion_is_written_out_and_compensated() {
     let r = exx["terms"]["reversal_um"].as_f64().unwrap();
     let u = exx["standard_uncertainty"]["reversal_um"].as_f64().unwrap();
     assert!((r - 3.0).abs() <= 4.0 * u, "{r} ± {u} µm against 3 µm");
+    // `score` compares it with the truth the run wrote, term for term.
+    let score: serde_json::Value = serde_json::from_str(&ok(&[
+        "score".as_ref(),
+        id.join("estimate.json").as_os_str(),
+        table.with_file_name("truth.json").as_os_str(),
+        "--json".as_ref(),
+    ]))
+    .unwrap();
+    let scored = score["parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "EXX.reversal_um")
+        .unwrap_or_else(|| panic!("{score:#}"));
+    assert_eq!(scored["truth"].as_f64(), Some(3.0), "{scored}");
+    assert!((scored["estimate"].as_f64().unwrap() - r).abs() < 1e-12);
     let comp = std::fs::read_to_string(id.join("linuxcnc_X.comp")).unwrap();
     let mut lines = 0;
     for line in comp.lines() {

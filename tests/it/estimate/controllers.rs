@@ -1,0 +1,103 @@
+//! Controller compensation files read back by a reader written here from the vendors'
+//! descriptions, and applied as the control applies them.
+
+use super::*;
+use mtwin::machine::Direction;
+
+/// A SINUMERIK LEC file read back: `(min, step, max, modulo, values)` in file units.
+fn read_lec(text: &str, axis: &str) -> (Real, Real, Real, bool, Vec<Real>) {
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("%_N_AX_EEC_INI"));
+    assert_eq!(lines.next(), Some("CHANDATA(1)"));
+    assert_eq!(text.lines().last(), Some("M17"));
+    let (mut min, mut step, mut max, mut modulo) = (None, None, None, None);
+    let mut values: Vec<(usize, Real)> = Vec::new();
+    for line in lines.filter(|l| !l.starts_with(';') && *l != "M17") {
+        let (key, value) = line.split_once('=').unwrap();
+        let value: Real = value.parse().unwrap();
+        let inside = |prefix: &str| {
+            key.strip_prefix(prefix)
+                .and_then(|k| k.strip_suffix(']'))
+                .map(|k| k.split(',').map(str::to_string).collect::<Vec<_>>())
+        };
+        if let Some(i) = inside("$AA_ENC_COMP[") {
+            assert_eq!((i[0].as_str(), i[2].as_str()), ("0", axis), "{line}");
+            values.push((i[1].parse().unwrap(), value));
+        } else if let Some(i) = inside("$AA_ENC_COMP_STEP[") {
+            assert_eq!(i, ["0", axis]);
+            step = Some(value);
+        } else if inside("$AA_ENC_COMP_MIN[").is_some() {
+            min = Some(value);
+        } else if inside("$AA_ENC_COMP_MAX[").is_some() {
+            max = Some(value);
+        } else if inside("$AA_ENC_COMP_IS_MODULO[").is_some() {
+            modulo = Some(value == 1.0);
+        } else {
+            panic!("unexpected line {line}");
+        }
+    }
+    for (k, (n, _)) in values.iter().enumerate() {
+        assert_eq!(*n, k, "interpolation points in order");
+    }
+    let values: Vec<Real> = values.into_iter().map(|(_, v)| v).collect();
+    let (min, step, max) = (min.unwrap(), step.unwrap(), max.unwrap());
+    assert!((min + (values.len() - 1) as Real * step - max).abs() < 1e-9);
+    (min, step, max, modulo.unwrap(), values)
+}
+
+/// The LEC value at axis position `q` as the control interpolates it: linearly between the
+/// points, the first and last values held beyond the table.
+fn lec_value((min, step, _, _, values): &(Real, Real, Real, bool, Vec<Real>), q: Real) -> Real {
+    let x = ((q - min) / step).clamp(0.0, (values.len() - 1) as Real);
+    let k = (x.floor() as usize).min(values.len() - 2);
+    let w = x - k as Real;
+    values[k] * (1.0 - w) + values[k + 1] * w
+}
+
+/// vmc3's X with a scale, a curvature and 3 µm of lost motion, compensated by the SINUMERIK
+/// table mtwin writes, applied as the K3 manual describes it: the control adds the value to
+/// the axis's actual position, so a positive value moves the axis negative, and the axis
+/// commanded to `n` stops at `q` with `q + v(q) = n`. By hand, what is left at the tool is
+/// then the direction-dependent half of the lost motion, −1.5 µm travelling up and +1.5 µm
+/// down (which the backlash compensation the header names takes), to the table's linear
+/// interpolation of the curvature (8·10⁻⁶ µm/mm² over 10 mm steps: 10⁻⁴ µm) and its 1 nm
+/// rounding; the header states the lost motion, 0.003 mm.
+#[test]
+fn a_sinumerik_lec_table_leaves_only_the_lost_motion() {
+    let text = "schema = 1\nmachine = \"MODELS/vmc3.urdf\"\nseed = 1\n\
+        [errors.EXX]\npolynomial_um = [0.0, 0.012, -8.0e-6]\nreversal_um = 3.0\n\
+        [volumetric]\nx_mm = { from = 0.0, to = 760.0, count = 2 }\n\
+        y_mm = { from = 0.0, to = 410.0, count = 2 }\nz_mm = { from = 0.0, to = 520.0, count = 2 }\n";
+    let scenario = load(text);
+    let machine = &scenario.twin.machine;
+    let errors = &scenario.twin.errors;
+    let tables = mtwin::estimate::sinumerik::lec_tables(machine, errors, 0.01, 0.01).unwrap();
+    assert_eq!(tables.len(), 1);
+    let (axis, file) = &tables[0];
+    assert_eq!(*axis, mtwin::machine::Axis::X);
+    assert!(file.contains("; lost motion 0.003 mm"), "{file}");
+    let table = read_lec(file, "X1");
+    assert!(!table.3, "a linear axis is not modulo");
+    let exx = &errors.parameter("EXX".parse().unwrap()).unwrap().function;
+    let (lower, upper) = machine
+        .axis(mtwin::machine::Axis::X)
+        .unwrap()
+        .limits
+        .unwrap();
+    for k in 0..=97 {
+        let n = lower + (upper - lower) * k as Real / 97.0;
+        for (direction, left_um) in [(Direction::Positive, -1.5), (Direction::Negative, 1.5)] {
+            // The position the axis stops at (mm in the table, m in the model).
+            let mut q = n;
+            for _ in 0..20 {
+                q = n - lec_value(&table, q * 1e3) * 1e-3;
+            }
+            let at_tool = q + exx.value(q, direction) - n;
+            assert!(
+                (at_tool * 1e6 - left_um).abs() < 1.5e-3,
+                "n = {n} m, {direction:?}: {} µm left",
+                at_tool * 1e6
+            );
+        }
+    }
+}
