@@ -666,6 +666,19 @@ pub fn linuxcnc_tables(
     spacing_m: Real,
     spacing_rad: Real,
 ) -> Result<Vec<(Axis, String)>, CompensateError> {
+    per_positioning_error(machine, errors, spacing_m, spacing_rad, table)
+}
+
+/// `write(axis, its positioning error, spacing)` for every axis of `machine` whose positioning
+/// error (`EXX` … `ECC`) `errors` has, in ISO order, the spacing `spacing_m` for linear axes
+/// and `spacing_rad` for rotary ones: the controller tables' common walk.
+pub(super) fn per_positioning_error(
+    machine: &Machine,
+    errors: &ErrorModel,
+    spacing_m: Real,
+    spacing_rad: Real,
+    write: impl Fn(&AxisInfo, &ErrorFunction, Real) -> Result<String, CompensateError>,
+) -> Result<Vec<(Axis, String)>, CompensateError> {
     let mut tables = Vec::new();
     for info in machine.axes() {
         let Some(motion) = positioning_motion(info.axis) else {
@@ -683,9 +696,31 @@ pub fn linuxcnc_tables(
         } else {
             spacing_rad
         };
-        tables.push((info.axis, table(info, &parameter.function, spacing)?));
+        if !(spacing.is_finite() && spacing > 0.0) {
+            return Err(CompensateError::Spacing {
+                axis: info.axis,
+                spacing,
+            });
+        }
+        tables.push((info.axis, write(info, &parameter.function, spacing)?));
     }
     Ok(tables)
+}
+
+/// The positioning error `function` of the axis `info` at `q` (SI) travelling in a direction,
+/// a continuous axis's position taken within its turn.
+pub(super) fn error_at(
+    info: &AxisInfo,
+    function: &ErrorFunction,
+    q: Real,
+    direction: Direction,
+) -> Real {
+    let argument = if info.is_continuous() {
+        q.rem_euclid(std::f64::consts::TAU)
+    } else {
+        q
+    };
+    function.value(argument, direction)
 }
 
 /// One axis's compensation file.
@@ -695,9 +730,6 @@ fn table(
     spacing: Real,
 ) -> Result<String, CompensateError> {
     let axis = info.axis;
-    if !(spacing.is_finite() && spacing > 0.0) {
-        return Err(CompensateError::Spacing { axis, spacing });
-    }
     let (lower, upper) = info.limits.unwrap_or((0.0, std::f64::consts::TAU));
     let unit = axis_unit_to_si(axis);
     let (unit_name, trim_decimals) = if axis.is_linear() {
@@ -728,15 +760,7 @@ fn table(
             unit: unit_name,
         });
     }
-    let periodic = info.is_continuous();
-    let error = |q: Real, direction: Direction| {
-        let argument = if periodic {
-            q.rem_euclid(std::f64::consts::TAU)
-        } else {
-            q
-        };
-        function.value(argument, direction)
-    };
+    let error = |q: Real, direction: Direction| error_at(info, function, q, direction);
     // The trim t with n + t + E(n + t) = n.
     let trim = |n: Real, direction: Direction| {
         let mut t = -error(n, direction);

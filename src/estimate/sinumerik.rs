@@ -30,8 +30,8 @@
 //! compensation value causes the corresponding machine axis to move in the negative
 //! direction"); MD32450 BACKLASH in the same manual's "Backlash compensation".
 
-use super::compensate::CompensateError;
-use crate::errors::{ErrorFunction, ErrorModel, Motion, ParameterName};
+use super::compensate::{CompensateError, error_at, per_positioning_error};
+use crate::errors::{ErrorFunction, ErrorModel};
 use crate::machine::{Axis, AxisInfo, Direction, Machine, axis_unit_to_si};
 use crate::math::Real;
 
@@ -48,32 +48,7 @@ pub fn lec_tables(
     spacing_m: Real,
     spacing_rad: Real,
 ) -> Result<Vec<(Axis, String)>, CompensateError> {
-    let mut tables = Vec::new();
-    for info in machine.axes() {
-        let motion = match info.axis {
-            Axis::X => Motion::X,
-            Axis::Y => Motion::Y,
-            Axis::Z => Motion::Z,
-            Axis::A => Motion::A,
-            Axis::B => Motion::B,
-            Axis::C => Motion::C,
-            Axis::S => continue,
-        };
-        let name = ParameterName::Component {
-            motion,
-            axis: info.axis,
-        };
-        let Some(parameter) = errors.parameter(name) else {
-            continue;
-        };
-        let spacing = if info.axis.is_linear() {
-            spacing_m
-        } else {
-            spacing_rad
-        };
-        tables.push((info.axis, lec_table(info, &parameter.function, spacing)?));
-    }
-    Ok(tables)
+    per_positioning_error(machine, errors, spacing_m, spacing_rad, lec_table)
 }
 
 /// One axis's file.
@@ -83,9 +58,6 @@ fn lec_table(
     spacing: Real,
 ) -> Result<String, CompensateError> {
     let axis = info.axis;
-    if !(spacing.is_finite() && spacing > 0.0) {
-        return Err(CompensateError::Spacing { axis, spacing });
-    }
     let modulo = info.is_continuous();
     let (lower, upper) = info.limits.unwrap_or((0.0, std::f64::consts::TAU));
     let unit = axis_unit_to_si(axis);
@@ -105,14 +77,7 @@ fn lec_table(
     } else {
         spacing
     };
-    let error = |q: Real, direction: Direction| {
-        let argument = if modulo {
-            q.rem_euclid(std::f64::consts::TAU)
-        } else {
-            q
-        };
-        function.value(argument, direction)
-    };
+    let error = |q: Real, direction: Direction| error_at(info, function, q, direction);
     let lost_motion = error(lower, Direction::Negative) - error(lower, Direction::Positive);
     let machine_axis = format!("{axis}1");
     let (unit_name, decimals) = if axis.is_linear() {

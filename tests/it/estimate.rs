@@ -66,6 +66,25 @@ fn simulated(text: &str, setup: Setup) -> (Scenario, Readings) {
     (scenario, set)
 }
 
+/// The ball-bar tables of a simulated scenario as readings.
+fn ballbar_readings(scenario: &Scenario) -> Vec<Readings> {
+    let machine = &scenario.twin.machine;
+    simulate(scenario)
+        .unwrap()
+        .ballbar
+        .iter()
+        .map(|table| {
+            mtwin::kinds::ballbar::readings::readings(
+                table,
+                "simulated",
+                machine,
+                &Default::default(),
+            )
+            .unwrap()
+        })
+        .collect()
+}
+
 fn truth_of(scenario: &Scenario, label: &str) -> Real {
     let name = label.split('.').next().unwrap().parse().unwrap();
     scenario.twin.errors.parameter(name).map_or(0.0, |p| {

@@ -43,22 +43,7 @@ mod laser_and_ballbar {
     /// The ball-bar in XY, YZ and ZX (150 mm, 500 mm/min, equal position-loop gains, no
     /// reversal spikes: the readings' model leaves the servo out).
     fn ballbar(seed: u64) -> Vec<Readings> {
-        let scenario = load(&ballbar_text(seed));
-        let machine = &scenario.twin.machine;
-        simulate(&scenario)
-            .unwrap()
-            .ballbar
-            .iter()
-            .map(|table| {
-                mtwin::kinds::ballbar::readings::readings(
-                    table,
-                    "simulated",
-                    machine,
-                    &Default::default(),
-                )
-                .unwrap()
-            })
-            .collect()
+        ballbar_readings(&load(&ballbar_text(seed)))
     }
 
     fn ballbar_text(seed: u64) -> String {

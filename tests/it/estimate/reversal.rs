@@ -229,20 +229,7 @@ fn lost_motion_is_identified_from_a_ballbar_trace() {
         noise_um = 0.1\nresolution_um = 0.1\n";
     let scenario = load(text);
     let machine = &scenario.twin.machine;
-    let sets: Vec<Readings> = simulate(&scenario)
-        .unwrap()
-        .ballbar
-        .iter()
-        .map(|table| {
-            mtwin::kinds::ballbar::readings::readings(
-                table,
-                "simulated",
-                machine,
-                &Default::default(),
-            )
-            .unwrap()
-        })
-        .collect();
+    let sets = ballbar_readings(&scenario);
     let (set, fit, scales, labels) = estimate(machine, "EC0Y,EXX:2,EYY:2,reversal", &sets, 0);
     assert!(
         fit.birge_scaled.is_none(),
