@@ -101,3 +101,47 @@ fn a_sinumerik_lec_table_leaves_only_the_lost_motion() {
         }
     }
 }
+
+/// trunnion5's C axis turns without end: its table spans one turn and is modulo, in degrees.
+/// With an angular positioning error of 20 µrad once and 8 µrad twice a turn and 10 µrad of
+/// lost motion, applied as above (the axis position within the turn), what is left is ∓5 µrad
+/// by direction to the linear interpolation of the harmonics between 1° points (by hand:
+/// curvature × step²/8 = (20 + 4·8) µrad × (π/180)²/8 ≈ 2·10⁻³ µrad) and the 0.2 nrad rounding.
+#[test]
+fn a_sinumerik_lec_table_of_a_continuous_axis_is_modulo() {
+    let text = "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = 1\n\
+        [errors.ECC]\nreversal_urad = 10.0\nharmonic = [\
+        { period_deg = 360.0, amplitude_urad = 20.0, phase_deg = 30.0 }, \
+        { period_deg = 180.0, amplitude_urad = 8.0, phase_deg = -45.0 }]\n\
+        [volumetric]\nx_mm = { from = 0.0, to = 100.0, count = 2 }\n\
+        y_mm = { from = 0.0, to = 100.0, count = 2 }\nz_mm = { from = 0.0, to = 100.0, count = 2 }\n";
+    let scenario = load(text);
+    let machine = &scenario.twin.machine;
+    let errors = &scenario.twin.errors;
+    let one_degree = 1f64.to_radians();
+    let tables = mtwin::estimate::sinumerik::lec_tables(machine, errors, 0.01, one_degree).unwrap();
+    let (axis, file) = &tables[0];
+    assert_eq!((tables.len(), *axis), (1, mtwin::machine::Axis::C));
+    let table = read_lec(file, "C1");
+    assert!(table.3, "a continuous axis is modulo:\n{file}");
+    assert_eq!((table.0, table.2, table.4.len()), (0.0, 360.0, 361));
+    // One turn: the first and last values are the same position's.
+    assert!((table.4[0] - table.4[360]).abs() < 1e-8);
+    let ecc = &errors.parameter("ECC".parse().unwrap()).unwrap().function;
+    for k in 0..=720 {
+        let n = 2.0 * std::f64::consts::TAU * k as Real / 720.0 - 1.0;
+        for (direction, left_urad) in [(Direction::Positive, -5.0), (Direction::Negative, 5.0)] {
+            let within = |q: Real| q.rem_euclid(std::f64::consts::TAU).to_degrees();
+            let mut q = n;
+            for _ in 0..20 {
+                q = n - lec_value(&table, within(q)).to_radians();
+            }
+            let at_tool = q + ecc.value(q.rem_euclid(std::f64::consts::TAU), direction) - n;
+            assert!(
+                (at_tool * 1e6 - left_urad).abs() < 5e-3,
+                "n = {n} rad, {direction:?}: {} µrad left",
+                at_tool * 1e6
+            );
+        }
+    }
+}
