@@ -388,11 +388,16 @@ fn why_not_folded(name: ParameterName, axis: Axis, function: &ErrorFunction) -> 
              function of the {axis} position (if it really is constant, refit it as a location \
              error or set it as a controller offset)"
         )
+    } else if function.value(0.0, Direction::Positive) != function.value(0.0, Direction::Negative) {
+        format!("a function of the {axis} position and direction of travel")
     } else {
         format!("a function of the {axis} position")
     };
     if positioning_motion(axis) == Some(name.motion()) {
-        format!("{what}: see the LinuxCNC compensation table (linuxcnc_tables)")
+        format!(
+            "{what}: see the LinuxCNC and SINUMERIK compensation tables (linuxcnc_{axis}.comp, \
+             sinumerik_{axis}_eec.ini)"
+        )
     } else if axis == Axis::S {
         format!("{what}: a spindle error motion, which no URDF or axis table holds")
     } else {
