@@ -135,9 +135,13 @@ impl Banded {
         // One slot past the last hat for the rows beyond the ends (weight 0 there).
         let mut c = vec![0.0; hats + 1];
         let rows = self.left.iter().zip(&self.a).zip(&self.b);
+        // A reading on a knot has no second hat (b = 0): its term adds an exact zero there, so
+        // it is left out (the sum is the same to the bit; the slot never holds −0).
         for (((&j, &a), &b), &v) in rows.clone().zip(v.iter()) {
             c[j] += a * v;
-            c[j + 1] += b * v;
+            if b != 0.0 {
+                c[j + 1] += b * v;
+            }
         }
         // (L·D·Lᵀ)·c = Hᵀv on the hats; the slot past them stays 0.
         c[hats] = 0.0;
@@ -149,7 +153,11 @@ impl Banded {
             c[j] -= self.multipliers[j] * c[j + 1];
         }
         for (((&j, &a), &b), v) in rows.zip(v.iter_mut()) {
-            *v -= a * c[j] + b * c[j + 1];
+            *v -= if b != 0.0 {
+                a * c[j] + b * c[j + 1]
+            } else {
+                a * c[j]
+            };
         }
     }
 }
