@@ -85,6 +85,21 @@ impl ParameterName {
         }
     }
 
+    /// The positioning error of `axis` (`EXX`, `EYY`, `EZZ`, `EAA`, `EBB`, `ECC`): its motion
+    /// along or about the axis's own direction; none for the spindle.
+    pub fn positioning(axis: Axis) -> Option<ParameterName> {
+        let motion = match axis {
+            Axis::X => Motion::X,
+            Axis::Y => Motion::Y,
+            Axis::Z => Motion::Z,
+            Axis::A => Motion::A,
+            Axis::B => Motion::B,
+            Axis::C => Motion::C,
+            Axis::S => return None,
+        };
+        Some(ParameterName::Component { motion, axis })
+    }
+
     /// The axis it belongs to (`None` for tool errors).
     pub fn axis(self) -> Option<Axis> {
         match self {

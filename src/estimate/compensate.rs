@@ -63,7 +63,7 @@
 //! corrected link frames, which differ from the physical parts by `C_ℓ` (micrometres).
 //! Numbers are written in Rust's shortest round-trip form, so they read back bit for bit.
 
-use crate::errors::{ErrorFunction, ErrorModel, Motion, ParameterName};
+use crate::errors::{ErrorFunction, ErrorModel, ParameterName};
 use crate::machine::{Axis, AxisInfo, AxisValues, Direction, Machine, Side, axis_unit_to_si};
 use crate::math::{
     Pose, Real, Rotation, Vector, fixed, rigid_inverse, rotation_from_rpy, small_motion, trimmed,
@@ -393,7 +393,7 @@ fn why_not_folded(name: ParameterName, axis: Axis, function: &ErrorFunction) -> 
     } else {
         format!("a function of the {axis} position")
     };
-    if positioning_motion(axis) == Some(name.motion()) {
+    if ParameterName::positioning(axis) == Some(name) {
         format!(
             "{what}: see the LinuxCNC and SINUMERIK compensation tables (linuxcnc_{axis}.comp, \
              sinumerik_{axis}_eec.ini)"
@@ -406,20 +406,6 @@ fn why_not_folded(name: ParameterName, axis: Axis, function: &ErrorFunction) -> 
              positioning along the axis only; it needs volumetric compensation in the controller"
         )
     }
-}
-
-/// The motion of an axis's positioning error (EXX, EYY, EZZ, EAA, EBB, ECC); none for the
-/// spindle.
-fn positioning_motion(axis: Axis) -> Option<Motion> {
-    Some(match axis {
-        Axis::X => Motion::X,
-        Axis::Y => Motion::Y,
-        Axis::Z => Motion::Z,
-        Axis::A => Motion::A,
-        Axis::B => Motion::B,
-        Axis::C => Motion::C,
-        Axis::S => return None,
-    })
 }
 
 /// A joint's actual motion as `P · J(b, q) · Q` (see the module docs).
@@ -686,14 +672,9 @@ pub(super) fn per_positioning_error(
 ) -> Result<Vec<(Axis, String)>, CompensateError> {
     let mut tables = Vec::new();
     for info in machine.axes() {
-        let Some(motion) = positioning_motion(info.axis) else {
-            continue;
-        };
-        let name = ParameterName::Component {
-            motion,
-            axis: info.axis,
-        };
-        let Some(parameter) = errors.parameter(name) else {
+        let Some(parameter) =
+            ParameterName::positioning(info.axis).and_then(|name| errors.parameter(name))
+        else {
             continue;
         };
         let spacing = if info.axis.is_linear() {

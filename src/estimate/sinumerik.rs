@@ -33,7 +33,7 @@
 use super::compensate::{CompensateError, error_at, per_positioning_error};
 use crate::errors::{ErrorFunction, ErrorModel};
 use crate::machine::{Axis, AxisInfo, Direction, Machine, axis_unit_to_si};
-use crate::math::Real;
+use crate::math::{Real, trimmed};
 
 /// The largest number of interpolation points written per table (MD38000 allows up to 5 000
 /// per axis in the manual's example configurations; the table is refused beyond it).
@@ -93,19 +93,19 @@ fn lec_table(
     out += &format!(
         "; lost motion {} {unit_name} (reverse approach beyond forward): not in this table; \
          set it as MD32450 $MA_BACKLASH[0] of {machine_axis}\n",
-        fixed(lost_motion / unit, decimals)
+        trimmed(lost_motion / unit, decimals)
     );
     for k in 0..points {
         let q = lower + k as Real * step;
         let value = 0.5 * (error(q, Direction::Positive) + error(q, Direction::Negative));
         out += &format!(
             "$AA_ENC_COMP[0,{k},{machine_axis}]={}\n",
-            fixed(value / unit, decimals)
+            trimmed(value / unit, decimals)
         );
     }
     // Positions as REAL numbers with a decimal point, as the manual's example writes them.
     let position = |q: Real| {
-        let text = fixed(q / unit, 9);
+        let text = trimmed(q / unit, 9);
         if text.contains('.') {
             text
         } else {
@@ -123,14 +123,4 @@ fn lec_table(
         u8::from(modulo)
     );
     Ok(out)
-}
-
-/// `value` with `decimals` decimals, trailing zeros (and a lone point) trimmed, `-0` as `0`.
-fn fixed(value: Real, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    match text {
-        "-0" | "" => "0".into(),
-        t => t.into(),
-    }
 }

@@ -177,8 +177,8 @@ impl ParameterSet {
                             machine.name()
                         )));
                     }
-                    for axis in &linear {
-                        reversal(format!("E{axis}{axis}").parse().expect("a valid name"));
+                    for &axis in &linear {
+                        reversal(ParameterName::positioning(axis).expect("a linear axis"));
                     }
                 }
                 text if text.ends_with(".reversal") => {
@@ -186,7 +186,10 @@ impl ParameterSet {
                     let name: ParameterName = base
                         .parse()
                         .map_err(|m: String| fail(format!("\"{text}\": {m}")))?;
-                    let Some(axis) = positioning_axis(name) else {
+                    let positioning = name
+                        .axis()
+                        .filter(|&axis| ParameterName::positioning(axis) == Some(name));
+                    let Some(axis) = positioning else {
                         return Err(fail(format!(
                             "\"{text}\": a lost motion belongs to an axis's positioning error (EXX, EYY, EZZ, EAA, EBB, ECC)"
                         )));
@@ -264,17 +267,14 @@ impl ParameterSet {
         let parameters = wanted
             .iter()
             .map(|(name, degree)| {
-                let base = match degree {
-                    Some(d) => Some(ErrorFunction::Polynomial(vec![0.0; d + 1])),
-                    None if reversals.contains(name) => None,
-                    None => Some(ErrorFunction::Constant(0.0)),
-                };
-                let function = match (base, reversals.contains(name)) {
-                    (Some(base), true) => {
-                        ErrorFunction::Sum(vec![base, ErrorFunction::Reversal(0.0)])
+                let polynomial = |d: usize| ErrorFunction::Polynomial(vec![0.0; d + 1]);
+                let function = match (degree, reversals.contains(name)) {
+                    (Some(d), false) => polynomial(*d),
+                    (Some(d), true) => {
+                        ErrorFunction::Sum(vec![polynomial(*d), ErrorFunction::Reversal(0.0)])
                     }
-                    (Some(base), false) => base,
-                    (None, _) => ErrorFunction::Reversal(0.0),
+                    (None, false) => ErrorFunction::Constant(0.0),
+                    (None, true) => ErrorFunction::Reversal(0.0),
                 };
                 ErrorParameter {
                     name: *name,
@@ -391,17 +391,6 @@ impl ParameterSet {
             all[i] = v;
         }
         model.set_coefficients(&all);
-    }
-}
-
-/// The axis whose positioning error `name` is (`EXX` → X, `ECC` → C), if it is one.
-fn positioning_axis(name: ParameterName) -> Option<Axis> {
-    match name {
-        ParameterName::Component { motion, axis } if axis.is_linear() || axis.is_rotary() => {
-            let offset = if axis.is_linear() { 0 } else { 3 };
-            (motion.index() == axis.coordinate() + offset).then_some(axis)
-        }
-        _ => None,
     }
 }
 
