@@ -395,8 +395,8 @@ fn why_not_folded(name: ParameterName, axis: Axis, function: &ErrorFunction) -> 
     };
     if ParameterName::positioning(axis) == Some(name) {
         format!(
-            "{what}: see the LinuxCNC and SINUMERIK compensation tables (linuxcnc_{axis}.comp, \
-             sinumerik_{axis}_eec.ini)"
+            "{what}: see the LinuxCNC, SINUMERIK and HEIDENHAIN compensation tables \
+             (linuxcnc_{axis}.comp, sinumerik_{axis}_eec.ini, heidenhain_{axis}.com)"
         )
     } else if axis == Axis::S {
         format!("{what}: a spindle error motion, which no URDF or axis table holds")

@@ -7,12 +7,13 @@
 //!   Jacobian), the combinations it cannot see and those it can, in ISO names.
 //! - [`Readings`]: what a test kind supplies: its measured values, their uncertainties and the
 //!   model of each reading on the twin's own chain (each kind's `readings.rs`).
-//! - [`compensate`], [`sinumerik`] and [`score`]: the identified machine written out
-//!   (corrected URDF, LinuxCNC pitch tables, SINUMERIK measuring-system error compensation)
-//!   and scored against the truth.
+//! - [`compensate`], [`sinumerik`], [`heidenhain`] and [`score`]: the identified machine
+//!   written out (corrected URDF, LinuxCNC pitch tables, SINUMERIK measuring-system error
+//!   compensation, HEIDENHAIN nonlinear axis-error tables) and scored against the truth.
 
 pub mod compensate;
 pub mod fit;
+pub mod heidenhain;
 pub mod identifiability;
 pub mod influence;
 pub mod lm;

@@ -466,6 +466,12 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     for (axis, table) in tables {
         files.push((format!("sinumerik_{axis}_eec.ini"), table.into_bytes()));
     }
+    let tables =
+        crate::estimate::heidenhain::com_tables(&machine, &identified, 0.01, 1f64.to_radians())
+            .map_err(|e| IdentifyError::Input(format!("HEIDENHAIN tables: {e}")))?;
+    for (axis, table) in tables {
+        files.push((format!("heidenhain_{axis}.com"), table.into_bytes()));
+    }
     if let Some((path, base)) = &scenario {
         files.push((
             "compensated.toml".to_string(),

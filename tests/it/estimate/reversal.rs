@@ -108,7 +108,8 @@ fn the_spec_names_lost_motions_and_refuses_what_is_not_one() {
 /// table writes the lost motion in estimate.json (within 4 u of the injected 3 µm), which
 /// `score` sets against the run's truth, and in the LinuxCNC table, whose forward and reverse trims differ by it on every line (by hand: the
 /// reverse approach reads the lost motion beyond the forward one, so the trims, each the
-/// negated error of its direction, differ by it); and the scenario compensated with the
+/// negated error of its direction, differ by it) and in the HEIDENHAIN table's BACKLASH
+/// column, which reads it beyond the axis column; and the scenario compensated with the
 /// estimate, simulated again, reverses by what is left of the lost motion: its ISO 230-2
 /// reversal value B falls below a tenth of the uncompensated one.
 #[test]
@@ -189,6 +190,14 @@ fn lost_motion_is_written_out_and_compensated() {
         lines += 1;
     }
     assert!(lines > 2, "{comp}");
+    // The HEIDENHAIN table holds both directions' curves: the BACKLASH column (travelling
+    // negative) reads the lost motion beyond the axis column on every line.
+    let com = std::fs::read_to_string(id.join("heidenhain_X.com")).unwrap();
+    let (positions, forward, backward) = super::controllers::read_com(&com, "X");
+    assert!(positions.len() > 2, "{com}");
+    for (f, b) in forward.iter().zip(&backward) {
+        assert!(((b - f) * 1e3 - r).abs() < 2e-3, "{f} {b} against {r} µm");
+    }
     let reversal_value = |table: &Path| {
         let json: serde_json::Value = serde_json::from_str(&ok(&[
             "analyze".as_ref(),
