@@ -640,3 +640,39 @@ fn the_axial_probes_direction_error_tilts_it_about_the_nests_x_and_y() {
         );
     }
 }
+
+/// The directions of travel by hand: C goes 0 → 1 → 1 → 0.5 → 0.5 → 2 (up, stands, down,
+/// stands, up), X only goes down (−1 at the second pose, then stands), Y never moves. Each
+/// arrives in the direction of its last move; at the first pose, of its first one (C up, X
+/// down); Y, which never moves, is positive.
+#[test]
+fn each_axis_arrives_in_the_direction_it_last_moved_and_starts_as_it_goes_on() {
+    use mtwin::kinds::rtest::program::arrival_directions;
+    use mtwin::machine::{AxisValues, Direction::Negative as N, Direction::Positive as P};
+    let commands: Vec<AxisValues> = [
+        (0.0, 0.0),
+        (1.0, -1.0),
+        (1.0, -1.0),
+        (0.5, -1.0),
+        (0.5, -1.0),
+        (2.0, -1.0),
+    ]
+    .iter()
+    .map(|&(c, x)| {
+        let mut v = AxisValues::ZERO;
+        v[Axis::C] = c;
+        v[Axis::X] = x;
+        v
+    })
+    .collect();
+    let directions = arrival_directions(&commands);
+    let of = |axis: Axis| {
+        directions
+            .iter()
+            .map(|d| d[axis.index()])
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(of(Axis::C), [P, P, P, N, N, P]);
+    assert_eq!(of(Axis::X), [N, N, N, N, N, N]);
+    assert_eq!(of(Axis::Y), [P, P, P, P, P, P]);
+}

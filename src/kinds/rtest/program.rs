@@ -9,7 +9,7 @@
 //!   axis each interpolation period and each axis follows through its position loop
 //!   ([`crate::program::AxisLoop`]); the nest samples on the move at its rate.
 
-use crate::machine::{Axis, AxisValues, Machine, MachineState, Workspace};
+use crate::machine::{Axis, AxisValues, Direction, Machine, MachineState, Workspace};
 use crate::math::{Real, Vector};
 use crate::program::servo::{Sampling, sample_loops};
 use crate::program::{AxisLoop, AxisServo};
@@ -155,7 +155,8 @@ pub struct Pose {
     pub state: MachineState,
 }
 
-/// The static poses of `test`: stop at each of `points`, `dwell` seconds apart.
+/// The static poses of `test`: stop at each of `points`, `dwell` seconds apart, each axis
+/// arriving as [`arrival_directions`] says.
 pub fn static_poses(
     machine: &Machine,
     workspace: &mut Workspace,
@@ -163,34 +164,65 @@ pub fn static_poses(
     sphere: Vector,
     dwell: Real,
 ) -> Result<Vec<Pose>, FollowError> {
-    let mut poses = Vec::with_capacity(test.points);
-    let mut previous: Option<AxisValues> = None;
-    let mut state = MachineState::at(AxisValues::ZERO);
-    for k in 0..test.points {
-        let lambda = k as Real / (test.points - 1) as Real;
-        let command = follow(machine, workspace, &test.angles_at(machine, lambda), sphere)?;
-        // Each axis arrives in the direction it last moved (kept while it stands still).
-        if let Some(previous) = previous {
-            for info in machine.axes() {
-                let step = command[info.axis] - previous[info.axis];
-                if step != 0.0 {
-                    state.direction[info.axis.index()] = if step > 0.0 {
-                        crate::machine::Direction::Positive
-                    } else {
-                        crate::machine::Direction::Negative
-                    };
+    let commands = (0..test.points)
+        .map(|k| {
+            let lambda = k as Real / (test.points - 1) as Real;
+            follow(machine, workspace, &test.angles_at(machine, lambda), sphere)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let directions = arrival_directions(&commands);
+    Ok(commands
+        .iter()
+        .zip(directions)
+        .enumerate()
+        .map(|(k, (&command, direction))| Pose {
+            time: k as Real * dwell,
+            command,
+            state: MachineState {
+                direction,
+                ..MachineState::at(command)
+            },
+        })
+        .collect())
+}
+
+/// The direction each axis arrives at each of a test's `commands` in: the direction it last
+/// moved (kept while it stands still), and at the first pose the direction of its first move
+/// in the test (the start approached the way the test goes on, as a test programme's
+/// pre-positioning does; `Positive` for an axis that does not move). The simulation and the
+/// model of a table's readings ([`super::readings`]) both use this rule, so that a lost motion
+/// of a rotary axis reads the same in both.
+pub fn arrival_directions(commands: &[AxisValues]) -> Vec<[Direction; 7]> {
+    let step_direction = |a: Real, b: Real| {
+        if b > a {
+            Some(Direction::Positive)
+        } else if b < a {
+            Some(Direction::Negative)
+        } else {
+            None
+        }
+    };
+    let mut current = [Direction::Positive; 7];
+    for (i, direction) in current.iter_mut().enumerate() {
+        if let Some(first) = commands
+            .windows(2)
+            .find_map(|w| step_direction(w[0].0[i], w[1].0[i]))
+        {
+            *direction = first;
+        }
+    }
+    let mut out = Vec::with_capacity(commands.len());
+    for (k, command) in commands.iter().enumerate() {
+        if k > 0 {
+            for (i, direction) in current.iter_mut().enumerate() {
+                if let Some(moved) = step_direction(commands[k - 1].0[i], command.0[i]) {
+                    *direction = moved;
                 }
             }
         }
-        state.position = command;
-        previous = Some(command);
-        poses.push(Pose {
-            time: k as Real * dwell,
-            command,
-            state,
-        });
+        out.push(current);
     }
-    Ok(poses)
+    out
 }
 
 /// Dynamic mode: the loops rest this long (s) at each end of a test, so they start and end
@@ -249,6 +281,10 @@ pub fn dynamic_poses(
         follow(machine, workspace, &test.angles_at(machine, lambda), sphere)
     };
     let start = command_at(workspace, 0.0)?;
+    // Each loop starts at rest having last moved the way the test goes on (as the static
+    // poses do): the first step of the path, a thousandth of it.
+    let first_step = follow(machine, workspace, &test.angles_at(machine, 1e-3), sphere)?;
+    let initial = arrival_directions(&[start, first_step])[0];
     let mut loops: Vec<AxisLoop> = machine
         .axes()
         .iter()
@@ -258,7 +294,7 @@ pub fn dynamic_poses(
                 dynamic.servo(info.axis),
                 info.axis,
                 start[info.axis],
-                crate::machine::Direction::Positive,
+                initial[info.axis.index()],
             )
         })
         .collect();

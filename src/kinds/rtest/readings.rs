@@ -19,9 +19,13 @@
 //! Simplifications, stated: the conversion of the probe readings is taken as exact (flat tips,
 //! calibrated nest): the six-point calibration's gain and direction errors (1e-4–1e-3 of the
 //! reading) and the point tips' cross-talk are left in the residuals; a dynamic test's rows
-//! are modelled at their commanded poses (the servo lag is not in the model).
+//! are modelled at their commanded poses (the servo lag is not in the model). Each axis's
+//! direction of travel at a row is the one it arrived in, by the rule of the simulation
+//! ([`super::program::arrival_directions`]): the direction of its last move in the test, and
+//! at a test's first row that of its first move; on a dynamic table the commanded motion's,
+//! which the actual one follows but for the servo lag at a reversal.
 
-use super::program::follow;
+use super::program::{arrival_directions, follow};
 use super::table::RtestTable;
 use crate::errors::ErrorModel;
 use crate::estimate::{Quantity, ReadingModel, Readings, ReadingsError};
@@ -262,6 +266,17 @@ pub fn readings(
     }
     if rows.is_empty() {
         return Err(fail("no rows".into()));
+    }
+    // The directions of travel, test by test in the table's order, by the rule the
+    // simulation follows (a lost motion of an axis then reads as it was simulated).
+    for (name, _) in table.tests() {
+        let members: Vec<usize> = (0..rows.len())
+            .filter(|&i| table.rows[i].test == name)
+            .collect();
+        let commands: Vec<AxisValues> = members.iter().map(|&i| rows[i].state.position).collect();
+        for (&i, direction) in members.iter().zip(arrival_directions(&commands)) {
+            rows[i].state.direction = direction;
+        }
     }
     if let Some(message) = constant_offset(&offsets, sphere) {
         return Err(fail(message));
