@@ -741,3 +741,48 @@ const DIAGNOSTIC_KEYS: [&str; 13] = [
 ];
 
 mod recovery;
+
+/// The error model runs on the circle's clock: a tool offset along X drifting 360 µm/h (0.1
+/// µm/s) from the start moves each reading, by hand, by `δ·cos θ + δ²·sin²θ/(2R)` with
+/// `δ = 0.1 µm/s · t` the drift at its time, against the same circle without the drift (exact
+/// bar, same servo). Allowed: 0.1 nm, what the servo's µm off the circle and µrad off the
+/// angle make of δ (≤ 6 µm × 10⁻⁵).
+#[test]
+fn a_drift_acts_on_the_circles_clock() {
+    let text = |errors: &str| {
+        format!(
+            "schema = 1\nmachine = \"MODELS/vmc3.urdf\"\nseed = 1\n{errors}\n\
+             [ballbar]\nplanes = [\"XY\"]\nlength_mm = 150.0\nfeed_mm_per_min = 1000.0\n\
+             centre_mm = {{ x = 380.0, y = 205.0, z = 300.0 }}\nnoise_um = 0.0\nresolution_um = 0.0\n"
+        )
+    };
+    let table = |errors: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let models = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+        let path = dir.path().join("s.toml");
+        std::fs::write(
+            &path,
+            text(errors).replace("MODELS", &models.display().to_string()),
+        )
+        .unwrap();
+        let scenario = mtwin::app::Scenario::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        mtwin::app::simulate(&scenario).unwrap().ballbar.remove(0)
+    };
+    let drifting = table("[errors.EXT]\ndrift = [{ um_per_h = 360.0, from_min = 0.0 }]");
+    let still = table("");
+    let mut largest: Real = 0.0;
+    for (reading, moved) in difference(&drifting, &still) {
+        let t = reading.time.expect("the simulated table records the time");
+        let delta = 0.1e-6 * t;
+        let (sin, cos) = reading.angle.sin_cos();
+        let expected = delta * cos + delta * delta * sin * sin / (2.0 * 0.15);
+        assert!(
+            (moved - expected).abs() < 1e-10,
+            "at {} s, {}°: moved {moved:e} m, expected {expected:e} m",
+            t,
+            reading.angle.to_degrees()
+        );
+        largest = largest.max(moved.abs());
+    }
+    assert!(largest > 1e-6, "the drift shows: {largest:e} m");
+}

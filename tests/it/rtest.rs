@@ -676,3 +676,37 @@ fn each_axis_arrives_in_the_direction_it_last_moved_and_starts_as_it_goes_on() {
     assert_eq!(of(Axis::X), [N, N, N, N, N, N]);
     assert_eq!(of(Axis::Y), [P, P, P, P, P, P]);
 }
+
+/// The error model is evaluated on the programme's clock across the tests: with a tool length
+/// drifting 6 µm/h from the start and nothing else, an exact nest zeroed once at the first pose
+/// (nominal conversion, no noise) reads along the tool axis, by hand, 6 µm/h × the time since
+/// the start: the first test's poses at 0, 60, …, 240 s (dwell 60 s), the second's from 300 s
+/// (one dwell after the last reading), and nothing across it. The table's `time_s` stays the
+/// time since the start of each test.
+#[test]
+fn a_drift_acts_on_the_programmes_clock_through_the_tests() {
+    let text = "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = 3\n\
+        [errors.EZT]\ndrift = [{ um_per_h = 6.0, from_min = 0.0 }]\n\
+        [rtest]\nsphere_mm = [100.0, 0.0, 250.0]\nnoise_um = 0.0\nresolution_um = 0.0\n\
+        calibration = \"nominal\"\nzero = \"first_pose\"\ndwell_s = 60.0\n\
+        [[rtest.test]]\nname = \"CK1 A0\"\nfrom_deg = { A = 0.0, C = 0.0 }\nto_deg = { C = 360.0 }\npoints = 5\n\
+        [[rtest.test]]\nname = \"CK1 A-45\"\nfrom_deg = { A = -45.0, C = 0.0 }\nto_deg = { C = 360.0 }\npoints = 5\n";
+    let table = run(text);
+    assert_eq!(table.rows.len(), 10);
+    for (i, row) in table.rows.iter().enumerate() {
+        let since_test_start = 60.0 * (i % 5) as Real;
+        assert_eq!(row.time, Some(since_test_start), "row {i}");
+        let clock = since_test_start + if i < 5 { 0.0 } else { 300.0 };
+        let expected = 6.0 * UM * clock / 3600.0;
+        let d = row.deviation;
+        assert!(
+            d.x.abs() < 1e-12 && d.y.abs() < 1e-12 && (d.z.abs() - expected).abs() < 1e-12,
+            "row {i}: {d:?} against ±{expected:e} m along z"
+        );
+        // One sign throughout: the tool axis is the same direction at every pose.
+        assert!(
+            i == 0 || d.z * table.rows[1].deviation.z > 0.0,
+            "row {i}: {d:?}"
+        );
+    }
+}

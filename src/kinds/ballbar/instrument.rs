@@ -92,8 +92,11 @@ impl Ballbar {
             if assigned.sense != sense || !circle.in_data(assigned.angle) {
                 continue;
             }
+            // The error model on the circle's clock (drift and heating act during the run;
+            // the centre was set at its start).
+            let state = sample.state.at_time(sample.time);
             let tool = errors
-                .workpiece_from_tool(machine, &mut workspace, &sample.state)
+                .workpiece_from_tool(machine, &mut workspace, &state)
                 .translation;
             let reading = (tool - centre).length() - self.length
                 + self.calibration_error

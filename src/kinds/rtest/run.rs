@@ -51,15 +51,26 @@ pub fn simulate(twin: &Twin, test: &RTest, seed: u64) -> Result<RtestTable, Rtes
     let mut readings = vec![0.0; test.nest.probes.len()];
     let mut change = vec![0.0; test.nest.probes.len()];
     let mut first: Option<Vec<Real>> = None;
+    // The programme's clock at the start of each test: the error model is evaluated at it
+    // (drift, heating and time-dependent error motions act through the sequence), while the
+    // table's `time_s` is the time since the start of the test. The next test starts one dwell
+    // (static) or one sample period (dynamic) after the last reading of the one before.
+    let mut clock = 0.0;
     for k_test in &test.tests {
-        let poses: Vec<Pose> = match &test.mode {
-            Mode::Static { dwell } => {
-                static_poses(machine, &mut workspace, k_test, test.sphere, *dwell)?
-            }
-            Mode::Dynamic(dynamic) => {
-                dynamic_poses(machine, &mut workspace, k_test, test.sphere, dynamic)?
-            }
+        let (mut poses, gap): (Vec<Pose>, Real) = match &test.mode {
+            Mode::Static { dwell } => (
+                static_poses(machine, &mut workspace, k_test, test.sphere, *dwell)?,
+                *dwell,
+            ),
+            Mode::Dynamic(dynamic) => (
+                dynamic_poses(machine, &mut workspace, k_test, test.sphere, dynamic)?,
+                1.0 / dynamic.sample_rate,
+            ),
         };
+        for pose in &mut poses {
+            pose.state.time = clock + pose.time;
+        }
+        clock += poses.last().map_or(0.0, |pose| pose.time) + gap;
         if test.zero == Zero::EachTest {
             first = None;
         }
