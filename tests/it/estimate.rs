@@ -216,6 +216,7 @@ mod identifiability_facts {
             from: angles(from),
             to: to_angles,
             points,
+            back: false,
         }
     }
 

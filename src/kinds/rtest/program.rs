@@ -23,19 +23,38 @@ pub struct KTest {
     pub from: AxisValues,
     /// The rotary angles at the end (rad).
     pub to: AxisValues,
-    /// Poses read in static mode (≥ 2, ends included).
+    /// Poses read in static mode from `from` to `to` (≥ 2, ends included).
     pub points: usize,
+    /// Whether the test then returns to `from` along the same path (the poses read again in
+    /// reverse order, the end read once): each pose approached both ways, and the start read
+    /// again at the end, an anchor for drift.
+    pub back: bool,
 }
 
 impl KTest {
-    /// The rotary angles a fraction `lambda` ∈ [0, 1] along the test.
+    /// The rotary angles a fraction `lambda` ∈ [0, 1] along the test (out and, with
+    /// [`KTest::back`], back: the end at one half).
     pub fn angles_at(&self, machine: &Machine, lambda: Real) -> AxisValues {
+        let along = if self.back {
+            1.0 - (1.0 - 2.0 * lambda).abs()
+        } else {
+            lambda
+        };
         let mut out = AxisValues::ZERO;
         for info in machine.rotary_axes() {
             let (a, b) = (self.from[info.axis], self.to[info.axis]);
-            out[info.axis] = a + (b - a) * lambda;
+            out[info.axis] = a + (b - a) * along;
         }
         out
+    }
+
+    /// The poses a static test reads: [`KTest::points`], or `2·points − 1` going back.
+    pub fn pose_count(&self) -> usize {
+        if self.back {
+            2 * self.points - 1
+        } else {
+            self.points
+        }
     }
 
     /// The rotary axis that turns furthest: the angle the analysis fits against.
@@ -48,12 +67,13 @@ impl KTest {
             .map(|(axis, _)| axis)
     }
 
-    /// The largest rotary travel of the test (rad).
+    /// The largest rotary travel of the test (rad), both ways with [`KTest::back`].
     pub fn rotary_travel(&self, machine: &Machine) -> Real {
-        machine
+        let one_way = machine
             .rotary_axes()
             .map(|info| (self.to[info.axis] - self.from[info.axis]).abs())
-            .fold(0.0, Real::max)
+            .fold(0.0, Real::max);
+        if self.back { 2.0 * one_way } else { one_way }
     }
 }
 
@@ -164,9 +184,10 @@ pub fn static_poses(
     sphere: Vector,
     dwell: Real,
 ) -> Result<Vec<Pose>, FollowError> {
-    let commands = (0..test.points)
+    let count = test.pose_count();
+    let commands = (0..count)
         .map(|k| {
-            let lambda = k as Real / (test.points - 1) as Real;
+            let lambda = k as Real / (count - 1) as Real;
             follow(machine, workspace, &test.angles_at(machine, lambda), sphere)
         })
         .collect::<Result<Vec<_>, _>>()?;

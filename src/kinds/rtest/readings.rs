@@ -432,6 +432,7 @@ pub fn candidates(machine: &Machine) -> Vec<super::KTest> {
             from: a,
             to: b,
             points: 13,
+            back: false,
         }
     };
     let Some(turning) = turning else {

@@ -269,12 +269,19 @@ pub fn truth(test: &RTest) -> Value {
             Calibration::Nominal => json!({"kind": "nominal"}),
             Calibration::SixPoint { step } => json!({"kind": "six_point", "step_mm": step / M_PER_MM}),
         },
-        "tests": test.tests.iter().map(|t| json!({
-            "name": t.name,
-            "points": t.points,
-            "from_deg": rotary_degrees(&t.from),
-            "to_deg": rotary_degrees(&t.to),
-        })).collect::<Vec<_>>(),
+        "tests": test.tests.iter().map(|t| {
+            let mut test = json!({
+                "name": t.name,
+                "points": t.points,
+                "from_deg": rotary_degrees(&t.from),
+                "to_deg": rotary_degrees(&t.to),
+            });
+            if t.back {
+                // Only when set: the truth of a test one way is as it always was.
+                test["back"] = json!(true);
+            }
+            test
+        }).collect::<Vec<_>>(),
     })
 }
 

@@ -33,6 +33,8 @@
 //! from_deg = { A = 0.0, C = 0.0 }   # rotary angles at the start (absent axes: 0)
 //! to_deg = { C = 360.0 }            # at the end (absent axes: as at the start)
 //! points = 25                       # static poses, ends included
+//! back = false                      # true: then back to the start along the same path (each
+//!                                   # pose approached both ways; 2·points − 1 poses)
 //! ```
 
 use super::instrument::{Calibration, Nest, Probe, Tip, probe_axis};
@@ -78,6 +80,7 @@ struct RawKTest {
     from_deg: Option<Spanned<BTreeMap<String, Real>>>,
     to_deg: Option<Spanned<BTreeMap<String, Real>>>,
     points: Option<Spanned<i64>>,
+    back: Option<bool>,
 }
 
 /// How the tests run.
@@ -134,7 +137,7 @@ impl RTest {
     pub fn describe(&self) -> Vec<String> {
         self.tests
             .iter()
-            .map(|t| format!("R-test \"{}\": {} poses", t.name, t.points))
+            .map(|t| format!("R-test \"{}\": {} poses", t.name, t.pose_count()))
             .collect()
     }
 }
@@ -565,12 +568,13 @@ pub(crate) fn rtest(
             from,
             to,
             points,
+            back: raw_test.back.unwrap_or(false),
         };
         // Every pose must be reachable, and the path free of collisions: check it finely.
         // The times the table will carry: static poses `dwell` apart; in dynamic mode the
         // motion starts after the loops have settled.
         let (start_time, move_time) = match &mode {
-            Mode::Static { dwell } => (0.0, (test.points - 1) as Real * dwell),
+            Mode::Static { dwell } => (0.0, (test.pose_count() - 1) as Real * dwell),
             Mode::Dynamic(d) => (SETTLE, test.rotary_travel(machine) / d.rate),
         };
         if let Mode::Dynamic(d) = &mode {
