@@ -693,6 +693,13 @@ pub(super) fn per_positioning_error(
     Ok(tables)
 }
 
+/// The number of intervals of `spacing` from `lower` that reach `upper` (the last point at or
+/// beyond it, a billionth of a step of rounding forgiven; at least one): the controller
+/// tables' points.
+pub(super) fn intervals_to(lower: Real, upper: Real, spacing: Real) -> usize {
+    ((upper - lower) / spacing - 1e-9).ceil().max(1.0) as usize
+}
+
 /// The positioning error `function` of the axis `info` at `q` (SI) travelling in a direction,
 /// a continuous axis's position taken within its turn.
 pub(super) fn error_at(

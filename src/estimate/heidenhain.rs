@@ -39,7 +39,7 @@
 //! and "Nonlinear axis-error compensation" (one table per axis and dependency, 256 entries,
 //! 0–360° for an axis of rotation).
 
-use super::compensate::{CompensateError, error_at, per_positioning_error};
+use super::compensate::{CompensateError, error_at, intervals_to, per_positioning_error};
 use crate::errors::{ErrorFunction, ErrorModel};
 use crate::machine::{Axis, AxisInfo, Direction, Machine, axis_unit_to_si};
 use crate::math::Real;
@@ -73,7 +73,7 @@ fn com_table(
         info.limits.unwrap_or((0.0, std::f64::consts::TAU))
     };
     let unit = axis_unit_to_si(axis);
-    let wanted = ((upper - lower) / spacing - 1e-9).ceil().max(1.0) as usize;
+    let wanted = intervals_to(lower, upper, spacing);
     let intervals = wanted.min(HEIDENHAIN_MAX_POINTS - 1);
     let step = if intervals < wanted || info.is_continuous() {
         (upper - lower) / intervals as Real
@@ -86,30 +86,32 @@ fn com_table(
         .iter()
         .any(|&q| error(q, Direction::Positive) != error(q, Direction::Negative));
     let decimals = if axis.is_linear() { 6 } else { 8 }; // 1 nm, 0.2 nrad
-    let width = 16;
+    // One line of columns: NR 6 wide, AXISPOS and the axis's 16, BACKLASH last.
+    let line = |nr: String, position: String, forward: String, backward: String| {
+        let text = format!("{nr:<6}{position:<16}{forward:<16}{backward}");
+        text.trim_end().to_string() + "\n"
+    };
     let mut out = format!("BEGIN {axis}.COM MM\n");
-    out += &format!(
-        "{:<6}{:<width$}{:<width$}",
-        "NR",
-        "AXISPOS",
-        axis.to_string()
+    let backlash = if two_curves { "BACKLASH" } else { "" };
+    out += &line(
+        "NR".into(),
+        "AXISPOS".into(),
+        axis.to_string(),
+        backlash.into(),
     );
-    if two_curves {
-        out += "BACKLASH";
-    }
-    out = out.trim_end().to_string() + "\n";
     for (k, &q) in points.iter().enumerate() {
         let value = |direction| format!("{:+.decimals$}", error(q, direction) / unit);
-        let mut line = format!(
-            "{k:<6}{:<width$}{:<width$}",
+        let backward = if two_curves {
+            value(Direction::Negative)
+        } else {
+            String::new()
+        };
+        out += &line(
+            k.to_string(),
             format!("{:+.9}", q / unit),
-            value(Direction::Positive)
+            value(Direction::Positive),
+            backward,
         );
-        if two_curves {
-            line += &value(Direction::Negative);
-        }
-        out += line.trim_end();
-        out += "\n";
     }
     out += "[END]\n";
     Ok(out)

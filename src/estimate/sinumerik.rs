@@ -30,7 +30,7 @@
 //! compensation value causes the corresponding machine axis to move in the negative
 //! direction"); MD32450 BACKLASH in the same manual's "Backlash compensation".
 
-use super::compensate::{CompensateError, error_at, per_positioning_error};
+use super::compensate::{CompensateError, error_at, intervals_to, per_positioning_error};
 use crate::errors::{ErrorFunction, ErrorModel};
 use crate::machine::{Axis, AxisInfo, Direction, Machine, axis_unit_to_si};
 use crate::math::{Real, trimmed};
@@ -63,7 +63,7 @@ fn lec_table(
     let unit = axis_unit_to_si(axis);
     // Points from the lower end, the last one at or beyond the upper end (the control holds
     // the last value beyond MAX; a modulo table ends exactly one turn on).
-    let intervals = ((upper - lower) / spacing - 1e-9).ceil().max(1.0) as usize;
+    let intervals = intervals_to(lower, upper, spacing);
     let points = intervals + 1;
     if points > SINUMERIK_MAX_POINTS {
         return Err(CompensateError::TooManyPoints {

@@ -378,7 +378,8 @@ pub struct Sampling {
 /// them: periods of `ipo_period` from 0 to `duration` (the last one cut at `duration`), the
 /// command at each period's end from `command_at(t1)` (from `start` at 0), every loop
 /// integrated exactly, and `sample(t, state)` called every `sample_period` from t = 0 with the
-/// loops' actual positions and directions written into `base`'s axes (at most
+/// loops' actual positions and directions written into `base`'s axes and its time advanced
+/// by `t`, so that time-dependent error terms act during the run (at most
 /// `⌊duration / sample_period⌋ + 1` samples; a sample on a period boundary belongs to the
 /// period it starts, the very last to the last period). Allocates one scratch period per loop.
 pub fn sample_loops<E>(
@@ -419,7 +420,7 @@ pub fn sample_loops<E>(
             if next_sample >= samples || t > t1 || (t == t1 && !last) {
                 break;
             }
-            let mut state = base;
+            let mut state = base.at_time(base.time + t);
             for (l, span) in loops.iter().zip(&spans) {
                 let (position, direction) = l.actual(span, t);
                 state.position[l.axis] = position;

@@ -92,11 +92,10 @@ impl Ballbar {
             if assigned.sense != sense || !circle.in_data(assigned.angle) {
                 continue;
             }
-            // The error model on the circle's clock (drift and heating act during the run;
-            // the centre was set at its start).
-            let state = sample.state.at_time(sample.time);
+            // On the circle's clock (the sample's state carries its time; the centre was set
+            // at the start).
             let tool = errors
-                .workpiece_from_tool(machine, &mut workspace, &state)
+                .workpiece_from_tool(machine, &mut workspace, &sample.state)
                 .translation;
             let reading = (tool - centre).length() - self.length
                 + self.calibration_error

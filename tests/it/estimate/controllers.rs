@@ -54,6 +54,16 @@ fn lec_value((min, step, _, _, values): &(Real, Real, Real, bool, Vec<Real>), q:
     values[k] * (1.0 - w) + values[k + 1] * w
 }
 
+/// Where an axis commanded to `n` stops when the control corrects it by `value(q)` at its
+/// position `q`: the fixed point of `q = n − value(q)` (a contraction for errors of µm per m).
+fn stops_at(n: Real, value: impl Fn(Real) -> Real) -> Real {
+    let mut q = n;
+    for _ in 0..20 {
+        q = n - value(q);
+    }
+    q
+}
+
 /// vmc3 with an X positioning error of a scale (12 µm/m), a curvature and 3 µm of lost motion.
 fn vmc3_x_with_lost_motion() -> Scenario {
     load(
@@ -62,6 +72,24 @@ fn vmc3_x_with_lost_motion() -> Scenario {
         [volumetric]\nx_mm = { from = 0.0, to = 760.0, count = 2 }\n\
         y_mm = { from = 0.0, to = 410.0, count = 2 }\nz_mm = { from = 0.0, to = 520.0, count = 2 }\n",
     )
+}
+
+/// The one table written, for vmc3's X, and X's travel (m).
+fn the_x_table<'a>(
+    tables: &'a [(mtwin::machine::Axis, String)],
+    scenario: &Scenario,
+) -> (&'a str, (Real, Real)) {
+    assert_eq!(tables.len(), 1);
+    let (axis, file) = &tables[0];
+    assert_eq!(*axis, mtwin::machine::Axis::X);
+    let travel = scenario
+        .twin
+        .machine
+        .axis(mtwin::machine::Axis::X)
+        .unwrap()
+        .limits
+        .unwrap();
+    (file, travel)
 }
 
 /// vmc3's X with a scale, a curvature and 3 µm of lost motion, compensated by the SINUMERIK
@@ -78,26 +106,16 @@ fn a_sinumerik_lec_table_leaves_only_the_lost_motion() {
     let machine = &scenario.twin.machine;
     let errors = &scenario.twin.errors;
     let tables = mtwin::estimate::sinumerik::lec_tables(machine, errors, 0.01, 0.01).unwrap();
-    assert_eq!(tables.len(), 1);
-    let (axis, file) = &tables[0];
-    assert_eq!(*axis, mtwin::machine::Axis::X);
+    let (file, (lower, upper)) = the_x_table(&tables, &scenario);
     assert!(file.contains("; lost motion 0.003 mm"), "{file}");
     let table = read_lec(file, "X1");
     assert!(!table.3, "a linear axis is not modulo");
     let exx = &errors.parameter("EXX".parse().unwrap()).unwrap().function;
-    let (lower, upper) = machine
-        .axis(mtwin::machine::Axis::X)
-        .unwrap()
-        .limits
-        .unwrap();
     for k in 0..=97 {
         let n = lower + (upper - lower) * k as Real / 97.0;
         for (direction, left_um) in [(Direction::Positive, -1.5), (Direction::Negative, 1.5)] {
             // The position the axis stops at (mm in the table, m in the model).
-            let mut q = n;
-            for _ in 0..20 {
-                q = n - lec_value(&table, q * 1e3) * 1e-3;
-            }
+            let q = stops_at(n, |q| lec_value(&table, q * 1e3) * 1e-3);
             let at_tool = q + exx.value(q, direction) - n;
             assert!(
                 (at_tool * 1e6 - left_um).abs() < 1.5e-3,
@@ -108,6 +126,19 @@ fn a_sinumerik_lec_table_leaves_only_the_lost_motion() {
     }
 }
 
+/// trunnion5's C with an angular positioning error of 20 µrad once and 8 µrad twice a turn,
+/// and `more` keys of ECC.
+fn trunnion5_c_harmonics(more: &str) -> Scenario {
+    load(&format!(
+        "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = 1\n\
+         [errors.ECC]\n{more}harmonic = [\
+         {{ period_deg = 360.0, amplitude_urad = 20.0, phase_deg = 30.0 }}, \
+         {{ period_deg = 180.0, amplitude_urad = 8.0, phase_deg = -45.0 }}]\n\
+         [volumetric]\nx_mm = {{ from = 0.0, to = 100.0, count = 2 }}\n\
+         y_mm = {{ from = 0.0, to = 100.0, count = 2 }}\nz_mm = {{ from = 0.0, to = 100.0, count = 2 }}\n"
+    ))
+}
+
 /// trunnion5's C axis turns without end: its table spans one turn and is modulo, in degrees.
 /// With an angular positioning error of 20 µrad once and 8 µrad twice a turn and 10 µrad of
 /// lost motion, applied as above (the axis position within the turn), what is left is ∓5 µrad
@@ -115,13 +146,7 @@ fn a_sinumerik_lec_table_leaves_only_the_lost_motion() {
 /// curvature × step²/8 = (20 + 4·8) µrad × (π/180)²/8 ≈ 2·10⁻³ µrad) and the 0.2 nrad rounding.
 #[test]
 fn a_sinumerik_lec_table_of_a_continuous_axis_is_modulo() {
-    let text = "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = 1\n\
-        [errors.ECC]\nreversal_urad = 10.0\nharmonic = [\
-        { period_deg = 360.0, amplitude_urad = 20.0, phase_deg = 30.0 }, \
-        { period_deg = 180.0, amplitude_urad = 8.0, phase_deg = -45.0 }]\n\
-        [volumetric]\nx_mm = { from = 0.0, to = 100.0, count = 2 }\n\
-        y_mm = { from = 0.0, to = 100.0, count = 2 }\nz_mm = { from = 0.0, to = 100.0, count = 2 }\n";
-    let scenario = load(text);
+    let scenario = trunnion5_c_harmonics("reversal_urad = 10.0\n");
     let machine = &scenario.twin.machine;
     let errors = &scenario.twin.errors;
     let one_degree = 1f64.to_radians();
@@ -138,10 +163,7 @@ fn a_sinumerik_lec_table_of_a_continuous_axis_is_modulo() {
         let n = 2.0 * std::f64::consts::TAU * k as Real / 720.0 - 1.0;
         for (direction, left_urad) in [(Direction::Positive, -5.0), (Direction::Negative, 5.0)] {
             let within = |q: Real| q.rem_euclid(std::f64::consts::TAU).to_degrees();
-            let mut q = n;
-            for _ in 0..20 {
-                q = n - lec_value(&table, within(q)).to_radians();
-            }
+            let q = stops_at(n, |q| lec_value(&table, within(q)).to_radians());
             let at_tool = q + ecc.value(q.rem_euclid(std::f64::consts::TAU), direction) - n;
             assert!(
                 (at_tool * 1e6 - left_urad).abs() < 5e-3,
@@ -209,16 +231,9 @@ fn a_heidenhain_com_table_leaves_nothing_in_either_direction() {
     let machine = &scenario.twin.machine;
     let errors = &scenario.twin.errors;
     let tables = mtwin::estimate::heidenhain::com_tables(machine, errors, 0.01, 0.01).unwrap();
-    assert_eq!(tables.len(), 1);
-    let (axis, file) = &tables[0];
-    assert_eq!(*axis, mtwin::machine::Axis::X);
+    let (file, (lower, upper)) = the_x_table(&tables, &scenario);
     let (positions, forward, backward) = read_com(file, "X");
     let exx = &errors.parameter("EXX".parse().unwrap()).unwrap().function;
-    let (lower, upper) = machine
-        .axis(mtwin::machine::Axis::X)
-        .unwrap()
-        .limits
-        .unwrap();
     // 10 mm points from the lower end of the travel, the last at or beyond the upper one.
     assert_eq!(positions[0], lower * 1e3);
     assert!((positions[1] - positions[0] - 10.0).abs() < 1e-9);
@@ -233,10 +248,7 @@ fn a_heidenhain_com_table_leaves_nothing_in_either_direction() {
             (Direction::Positive, &forward),
             (Direction::Negative, &backward),
         ] {
-            let mut q = n;
-            for _ in 0..20 {
-                q = n - com_value(&positions, curve, q * 1e3) * 1e-3;
-            }
+            let q = stops_at(n, |q| com_value(&positions, curve, q * 1e3) * 1e-3);
             let at_tool = q + exx.value(q, direction) - n;
             assert!(
                 (at_tool * 1e6).abs() < 1.5e-3,
@@ -253,13 +265,7 @@ fn a_heidenhain_com_table_leaves_nothing_in_either_direction() {
 /// step (by hand (20 + 4·8) µrad × (1.41°·π/180)²/8 ≈ 4·10⁻³ µrad) and the rounding.
 #[test]
 fn a_heidenhain_com_table_of_a_continuous_axis_covers_one_turn_in_256_points() {
-    let text = "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = 1\n\
-        [errors.ECC]\nharmonic = [\
-        { period_deg = 360.0, amplitude_urad = 20.0, phase_deg = 30.0 }, \
-        { period_deg = 180.0, amplitude_urad = 8.0, phase_deg = -45.0 }]\n\
-        [volumetric]\nx_mm = { from = 0.0, to = 100.0, count = 2 }\n\
-        y_mm = { from = 0.0, to = 100.0, count = 2 }\nz_mm = { from = 0.0, to = 100.0, count = 2 }\n";
-    let scenario = load(text);
+    let scenario = trunnion5_c_harmonics("");
     let machine = &scenario.twin.machine;
     let errors = &scenario.twin.errors;
     let one_degree = 1f64.to_radians();
@@ -272,19 +278,15 @@ fn a_heidenhain_com_table_of_a_continuous_axis_covers_one_turn_in_256_points() {
         forward, backward,
         "no BACKLASH column without a reversal term:\n{file}"
     );
-    assert_eq!(
-        positions.len(),
-        mtwin::estimate::heidenhain::HEIDENHAIN_MAX_POINTS
-    );
+    assert_eq!(positions.len(), 256, "the manual's limit");
     assert_eq!((positions[0], *positions.last().unwrap()), (0.0, 360.0));
     let ecc = &errors.parameter("ECC".parse().unwrap()).unwrap().function;
     for k in 0..=720 {
         let n = 2.0 * std::f64::consts::TAU * k as Real / 720.0 - 1.0;
         let within = |q: Real| q.rem_euclid(std::f64::consts::TAU).to_degrees();
-        let mut q = n;
-        for _ in 0..20 {
-            q = n - com_value(&positions, &forward, within(q)).to_radians();
-        }
+        let q = stops_at(n, |q| {
+            com_value(&positions, &forward, within(q)).to_radians()
+        });
         let at_tool = q + ecc.value(q.rem_euclid(std::f64::consts::TAU), Direction::Positive) - n;
         assert!(
             (at_tool * 1e6).abs() < 6e-3,

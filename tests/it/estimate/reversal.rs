@@ -377,7 +377,8 @@ fn a_test_out_and_back_reads_a_rotary_lost_motion_against_its_own_datum() {
         fit.identifiability.report()
     );
     let (scenario, both) = bundled_rtest_with_c_lost_motion(true);
-    assert_eq!(both.measured.len(), 3 * (37 + 73 + 19 + 37));
+    // Three readings a pose: the circle at A = 0 out and back (2·37 − 1), then 37, 19, 37.
+    assert_eq!(both.measured.len(), 3 * (73 + 37 + 19 + 37));
     let (set, fit, scales, labels) = estimate(&machine, spec, std::slice::from_ref(&both), 0);
     assert!(
         fit.identifiability.null_combinations.is_empty(),
