@@ -104,9 +104,11 @@ enum Command {
         /// The machine model the tables were measured on (URDF).
         #[arg(long, value_name = "M.urdf")]
         machine: PathBuf,
-        /// The parameters: ISO names (EX0C, EC0Y, EXX:3), lost motions (EXX.reversal,
-        /// ECC.reversal) and presets (location, zero, squareness, tool, linear21[:N], reversal:
-        /// every linear axis's lost motion), separated by commas.
+        /// The parameters: ISO names (EX0C, EC0Y, EXX:3 a polynomial, EXC:2 a rotary axis's
+        /// Fourier series), lost motions (EXX.reversal, ECC.reversal) and presets (location,
+        /// zero, squareness, tool, linear21[:N], reversal: every linear axis's lost motion,
+        /// rotary_components[:C][:N]: the six component errors of the rotary axes), separated
+        /// by commas.
         #[arg(long, value_name = "SPEC")]
         params: String,
         /// Measurement tables; a table whose first line does not name its kind takes a

@@ -660,6 +660,22 @@ pub fn linuxcnc_tables(
     per_positioning_error(machine, errors, spacing_m, spacing_rad, table)
 }
 
+/// The spacings (linear, rotary; SI) at which every axis of `machine` fits
+/// [`LINUXCNC_MAX_ENTRIES`]: those asked for, widened where an axis's travel (one turn for a
+/// continuous axis) would need more entries (as [`CompensateError::TooManyEntries`] advises).
+pub fn linuxcnc_spacings(machine: &Machine, spacing_m: Real, spacing_rad: Real) -> (Real, Real) {
+    let widest = |linear: bool| {
+        (machine.axes().iter())
+            .filter(|info| info.axis.is_linear() == linear && info.axis != Axis::S)
+            .map(|info| {
+                let (lower, upper) = info.limits.unwrap_or((0.0, std::f64::consts::TAU));
+                (upper - lower) / (LINUXCNC_MAX_ENTRIES - 2) as Real * 1.0001
+            })
+            .fold(0.0, Real::max)
+    };
+    (spacing_m.max(widest(true)), spacing_rad.max(widest(false)))
+}
+
 /// `write(axis, its positioning error, spacing)` for every axis of `machine` whose positioning
 /// error (`EXX` … `ECC`) `errors` has, in ISO order, the spacing `spacing_m` for linear axes
 /// and `spacing_rad` for rotary ones: the controller tables' common walk.

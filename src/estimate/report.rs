@@ -6,9 +6,9 @@
 //! |---|---|
 //! | `mtwin`, `schema` | `"estimate"`, 1 |
 //! | `machine`, `machine_file` | the machine's name and the URDF given |
-//! | `errors` | per identified parameter, as in `truth.json`: `axis`, `kind`, `unit`, `terms` (file units), plus `standard_uncertainty` (linearised: the readings' noise and the known set-up quantities) and `interval_95` mirroring `terms` key by key (`interval_95` from the Monte Carlo, which draws the same noise and set-up, when it ran, else ± 1.96 u) |
+//! | `errors` | per identified parameter, as in `truth.json`: `axis`, `kind`, `unit`, `terms` (file units), plus `standard_uncertainty` (linearised: the readings' noise and the known set-up quantities) and `interval_95` mirroring `terms` key by key (`interval_95` from the Monte Carlo, which draws the same noise and set-up, when it ran, else ± 1.96 u); a harmonic's mirror gives its two coefficients, `sin_um` (A cos φ) and `cos_um` (A sin φ), as the fit has them, and the amplitude and phase linearised from their covariance (`phase_deg` null at zero amplitude) |
 //! | `uncertainty` | how `standard_uncertainty` and `interval_95` were formed: `standard_uncertainty` (`"linearised: noise and set-up"`), `interval_95` (`"monte_carlo"` or `"linearised"`), `monte_carlo_trials` |
-//! | `unidentifiable` | the parameters the tables cannot identify: no number is given for them (a polynomial with any unidentified coefficient is listed whole; `coefficients` has the others) |
+//! | `unidentifiable` | the parameters the tables cannot identify: no number is given for them (a polynomial or a Fourier series with any unidentified coefficient is listed whole; `coefficients` has the others) |
 //! | `null_combinations` | what cannot be told apart (each a text in ISO names) |
 //! | `seen_combinations` | what the tables do see among the unidentifiable parameters: `combination`, `value_um`, `standard_uncertainty_um` (solver units: µm, a rotation as its motion at 100 mm, a polynomial coefficient at the end of travel) |
 //! | `nuisance` | the set-up unknowns: `name`, `value_um` or `value_urad`, `standard_uncertainty_…` |
@@ -53,6 +53,8 @@ fn interval_si(problem: &Problem<'_>, fit: &Fit, si: &[Real], j: usize) -> (Real
 
 /// The identified value, uncertainty and interval of one parameter (SI functions).
 struct Identified {
+    /// Its index in the parameter set.
+    owner: usize,
     name: ParameterName,
     value: ErrorFunction,
     uncertainty: ErrorFunction,
@@ -79,13 +81,16 @@ fn parameters(
     let mut identified = Vec::new();
     let mut missing = Vec::new();
     for (owner, parameter) in set.model.parameters().iter().enumerate() {
-        let mut free = (0..set.len()).filter(|j| set.owner[*j] == owner).peekable();
+        let mut free = (0..set.len())
+            .filter(|j| set.owners(*j).any(|o| o == owner))
+            .peekable();
         if free.peek().is_none() || free.any(|j| !fit.identified[j]) {
             missing.push(parameter.name);
             continue;
         }
         let function = |m: &crate::errors::ErrorModel| m.parameters()[owner].function.clone();
         identified.push(Identified {
+            owner,
             name: parameter.name,
             value: function(&values),
             uncertainty: function(&uncertainties),
@@ -141,18 +146,24 @@ pub fn to_json(
         };
         let low = serde_json::to_value(spec_of(&p.low, p.name)).unwrap_or(Value::Null);
         let high = serde_json::to_value(spec_of(&p.high, p.name)).unwrap_or(Value::Null);
-        errors.insert(
-            p.name.to_string(),
-            json!({
-                "axis": p.name.axis().map(|a| a.to_string()),
-                "axis_side": axis_side,
-                "kind": kind,
-                "unit": p.name.file_unit(),
-                "terms": spec_of(&p.value, p.name),
-                "standard_uncertainty": spec_of(&p.uncertainty, p.name),
-                "interval_95": pair(&low, &high),
-            }),
-        );
+        let mut entry = json!({
+            "axis": p.name.axis().map(|a| a.to_string()),
+            "axis_side": axis_side,
+            "kind": kind,
+            "unit": p.name.file_unit(),
+            "terms": spec_of(&p.value, p.name),
+            "standard_uncertainty": spec_of(&p.uncertainty, p.name),
+            "interval_95": pair(&low, &high),
+        });
+        let harmonics = harmonics(set, problem, fit, p.owner);
+        if !harmonics.is_empty() {
+            let unit = p.name.file_unit();
+            let (u, interval): (Vec<Value>, Vec<Value>) =
+                harmonics.iter().map(|h| h.mirrors(unit)).unzip();
+            entry["standard_uncertainty"]["harmonic"] = Value::Array(u);
+            entry["interval_95"]["harmonic"] = Value::Array(interval);
+        }
+        errors.insert(p.name.to_string(), entry);
     }
     let labels = problem.labels();
     let scales = problem.scales();
@@ -275,7 +286,8 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
         } else {
             "µm"
         };
-        let degree = set.degree.get(j).copied().unwrap_or(0);
+        let polynomial = problem.labels()[j].contains(".polynomial[");
+        let degree = if polynomial { set.degree[j] } else { 0 };
         // File units: µm (µrad) per mm^k for a polynomial coefficient of a linear axis.
         let factor = 1e6 * 1e-3_f64.powi(degree as i32);
         let unit = match degree {
@@ -297,6 +309,46 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
             lo * factor,
             hi * factor
         );
+    }
+    let fourier: Vec<String> = (set.model.parameters().iter().enumerate())
+        .filter(|(owner, _)| {
+            (0..set.len())
+                .filter(|j| set.owners(*j).any(|o| o == *owner))
+                .all(|j| fit.identified[j])
+        })
+        .flat_map(|(owner, parameter)| {
+            let unit = if parameter.name.motion().is_translation() {
+                "µm"
+            } else {
+                "µrad"
+            };
+            harmonics(set, problem, fit, owner)
+                .into_iter()
+                .map(move |h| {
+                    let (a, u) = (h.amplitude(), h.amplitude_uncertainty());
+                    // Within 2 u of zero, the phase is anything.
+                    let phase = if a > 2.0 * u {
+                        format!(
+                            "phase {:.2} ± {:.2}°",
+                            h.phase().to_degrees(),
+                            h.phase_uncertainty().to_degrees()
+                        )
+                    } else {
+                        "phase not determined (amplitude within 2 u of zero)".to_string()
+                    };
+                    format!(
+                        "  {:<6} {} per turn: amplitude {:.4} ± {:.4} {unit}, {phase}\n",
+                        parameter.name.to_string(),
+                        h.order,
+                        a * 1e6,
+                        u * 1e6,
+                    )
+                })
+        })
+        .collect();
+    if !fourier.is_empty() {
+        out += "rotary component errors, as amplitude · sin(k·q + phase) (u, k = 1):\n";
+        out += &fourier.concat();
     }
     out += &format!(
         "fit: χ² = {:.1} for {} degrees of freedom (χ²/dof = {:.2}), {} iterations",
@@ -324,5 +376,139 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
             None => "95 % intervals: ± 1.96 u".to_string(),
         }
     );
+    out
+}
+
+/// One harmonic of an estimated parameter: its two coefficients (SI), their covariance, and
+/// their 95 % intervals.
+struct Harmonic {
+    /// Cycles per turn.
+    order: usize,
+    /// The coefficients of sin(k q) and cos(k q): `A cos φ`, `A sin φ`.
+    parts: [Real; 2],
+    /// Their covariance (SI²).
+    covariance: [[Real; 2]; 2],
+    /// Their 95 % intervals (the Monte Carlo's when it ran, else ± 1.96 u).
+    intervals: [(Real, Real); 2],
+}
+
+impl Harmonic {
+    fn amplitude(&self) -> Real {
+        self.parts[0].hypot(self.parts[1])
+    }
+
+    /// φ, with the value `A sin(k q + φ)`.
+    fn phase(&self) -> Real {
+        self.parts[1].atan2(self.parts[0])
+    }
+
+    /// The linearised u of the amplitude: `∂A = (s ∂s + c ∂c) / A`.
+    fn amplitude_uncertainty(&self) -> Real {
+        let a = self.amplitude();
+        if a == 0.0 {
+            return self.covariance[0][0]
+                .max(self.covariance[1][1])
+                .max(0.0)
+                .sqrt();
+        }
+        self.propagate([self.parts[0] / a, self.parts[1] / a])
+    }
+
+    /// The linearised u of the phase (rad): `∂φ = (s ∂c − c ∂s) / A²`; infinite at A = 0.
+    fn phase_uncertainty(&self) -> Real {
+        let a2 = self.parts[0].powi(2) + self.parts[1].powi(2);
+        if a2 == 0.0 {
+            return Real::INFINITY;
+        }
+        self.propagate([-self.parts[1] / a2, self.parts[0] / a2])
+    }
+
+    fn propagate(&self, g: [Real; 2]) -> Real {
+        let c = &self.covariance;
+        (g[0] * g[0] * c[0][0] + 2.0 * g[0] * g[1] * c[0][1] + g[1] * g[1] * c[1][1])
+            .max(0.0)
+            .sqrt()
+    }
+
+    /// The `standard_uncertainty` and `interval_95` mirrors of the harmonic in file units:
+    /// the two coefficients (`sin_um`, `cos_um`: Gaussian, what a coverage is counted on)
+    /// and, linearised, the amplitude and the phase (`amplitude_um`, `phase_deg`).
+    fn mirrors(&self, unit: &str) -> (Value, Value) {
+        let f = 1e6;
+        let (ua, up) = (
+            self.amplitude_uncertainty(),
+            self.phase_uncertainty().to_degrees(),
+        );
+        let (a, phase) = (self.amplitude(), self.phase().to_degrees());
+        let k = COVERAGE_FACTOR;
+        let u = json!({
+            format!("sin_{unit}"): self.covariance[0][0].max(0.0).sqrt() * f,
+            format!("cos_{unit}"): self.covariance[1][1].max(0.0).sqrt() * f,
+            format!("amplitude_{unit}"): ua * f,
+            "phase_deg": up.is_finite().then_some(up),
+        });
+        let interval = json!({
+            format!("sin_{unit}"): [self.intervals[0].0 * f, self.intervals[0].1 * f],
+            format!("cos_{unit}"): [self.intervals[1].0 * f, self.intervals[1].1 * f],
+            format!("amplitude_{unit}"): [(a - k * ua) * f, (a + k * ua) * f],
+            "phase_deg": up.is_finite().then_some([phase - k * up, phase + k * up]),
+        });
+        (u, interval)
+    }
+}
+
+/// The harmonics of parameter `owner` of `set`, in the order of its terms, with their
+/// coefficients' covariance from the fit: each coefficient is its free unknown's value, or a
+/// tie's factor times it (see [`super::spec`]).
+fn harmonics(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, owner: usize) -> Vec<Harmonic> {
+    let parameters = set.model.parameters();
+    let first: usize = parameters[..owner]
+        .iter()
+        .map(|p| p.function.coefficient_count())
+        .sum();
+    let terms = match &parameters[owner].function {
+        ErrorFunction::Sum(terms) => terms.as_slice(),
+        single => std::slice::from_ref(single),
+    };
+    let si = problem.si(&fit.z);
+    let scales = problem.scales();
+    // The unknown setting coefficient `i`, and its factor.
+    let source = |i: usize| {
+        (0..set.len()).find_map(|j| {
+            if set.free[j] == i {
+                return Some((j, 1.0));
+            }
+            set.tied[j]
+                .iter()
+                .find(|t| t.coefficient == i)
+                .map(|t| (j, t.factor))
+        })
+    };
+    let mut out = Vec::new();
+    let mut at = first;
+    for term in terms {
+        if let ErrorFunction::Harmonic { period, .. } = term {
+            let sources = [source(at), source(at + 1)];
+            if let [Some((js, fs)), Some((jc, fc))] = sources {
+                let (gs, gc) = (fs * scales[js], fc * scales[jc]);
+                let cov = |a: usize, b: usize| fit.covariance[(a, b)];
+                let interval = |j: usize, factor: Real| {
+                    let (lo, hi) = interval_si(problem, fit, &si, j);
+                    let (a, b) = (factor * lo, factor * hi);
+                    (a.min(b), a.max(b))
+                };
+                out.push(Harmonic {
+                    order: (std::f64::consts::TAU / period).round() as usize,
+                    parts: [fs * si[js], fc * si[jc]],
+                    covariance: [
+                        [gs * gs * cov(js, js), gs * gc * cov(js, jc)],
+                        [gs * gc * cov(jc, js), gc * gc * cov(jc, jc)],
+                    ],
+                    intervals: [interval(js, fs), interval(jc, fc)],
+                });
+            }
+        }
+        at += term.coefficient_count();
+    }
     out
 }

@@ -13,6 +13,8 @@
 //! | `EXX`, `EXX:N` | one component error, a polynomial of degree N (default 3) |
 //! | `reversal` | the lost motion of every linear axis: a reversal term in `EXX`, `EYY`, `EZZ` |
 //! | `EXX.reversal`, `ECC.reversal` | the lost motion of one axis (linear or rotary) |
+//! | `EXC`, `EXC:N` (a rotary axis's component error) | a Fourier series in the angle, orders 1 to N (default 3) |
+//! | `rotary_components`, `rotary_components:C`, `rotary_components:C:N`, `rotary_components:N` | the six component errors of every rotary axis (or of one), each a Fourier series of orders 1 to N (default 3) |
 //!
 //! A reversal term is the error model's [`ErrorFunction::Reversal`]: the axis lags the command
 //! by half the lost motion against its direction of travel, so the readings of the two
@@ -44,6 +46,9 @@ pub const REFERENCE_LENGTH: Real = 0.1;
 /// Default polynomial degree of a component error.
 pub const DEFAULT_DEGREE: usize = 3;
 
+/// Default highest Fourier order of a rotary axis's component error.
+pub const DEFAULT_ORDER: usize = 3;
+
 /// The parameters to estimate, bound to a machine: a template error model (every coefficient
 /// zero), which of its coefficients are free, and their scales.
 #[derive(Clone, Debug)]
@@ -62,8 +67,23 @@ pub struct ParameterSet {
     pub rotation: Vec<bool>,
     /// The parameter (index into [`ErrorModel::parameters`]) each free coefficient belongs to.
     pub owner: Vec<usize>,
-    /// The polynomial degree of each free coefficient (0 for a constant).
+    /// The polynomial degree of each free coefficient (0 for a constant), or its Fourier
+    /// order (a rotary axis's component error).
     pub degree: Vec<usize>,
+    /// Further coefficients each free coefficient sets, besides its own (the order-1 radial
+    /// and tilt terms of a rotary axis, see the module doc).
+    pub tied: Vec<Vec<Tie>>,
+}
+
+/// A coefficient that a free coefficient also sets: `factor` × its value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tie {
+    /// Index into [`ErrorModel::coefficients`].
+    pub coefficient: usize,
+    /// The factor (±1).
+    pub factor: Real,
+    /// The parameter (index into [`ErrorModel::parameters`]) the coefficient belongs to.
+    pub owner: usize,
 }
 
 /// Why a SPEC cannot be used with a machine.
@@ -112,6 +132,19 @@ impl ParameterSet {
                 .collect::<Vec<_>>()
         };
         for item in spec.split(',').map(str::trim) {
+            if let Some(rest) = item.strip_prefix("rotary_components")
+                && (rest.is_empty() || rest.starts_with(':'))
+            {
+                let (axes, order) = rotary_components(rest, &rotary, machine)
+                    .map_err(|m| fail(format!("\"{item}\": {m}")))?;
+                for axis in axes {
+                    for motion in "XYZABC".chars() {
+                        let name = format!("E{motion}{axis}").parse().expect("a valid name");
+                        push(name, Some(order));
+                    }
+                }
+                continue;
+            }
             let (head, degree) = match item.split_once(':') {
                 Some((head, degree)) => {
                     let degree: usize = degree.trim().parse().map_err(|_| {
@@ -225,7 +258,7 @@ impl ParameterSet {
                 text => {
                     let name: ParameterName = text.parse().map_err(|m: String| {
                         fail(format!(
-                            "\"{text}\": {m}; or a preset: location, zero, squareness, tool, linear21, reversal"
+                            "\"{text}\": {m}; or a preset: location, zero, squareness, tool, linear21, reversal, rotary_components"
                         ))
                     })?;
                     if let Some(axis) = name.axis().filter(|a| !machine.has_axis(*a)) {
@@ -240,15 +273,20 @@ impl ParameterSet {
                             "{name}: location, squareness and tool errors are constants; a degree is for component errors (EXX:3)"
                         )));
                     }
-                    if component && name.axis().is_some_and(|a| !a.is_linear()) {
+                    if component && name.axis() == Some(Axis::S) {
                         return Err(fail(format!(
-                            "{name}: component errors of rotary axes are not estimated yet (only those of linear axes, as polynomials)"
+                            "{name}: the spindle's error motions are not calibration parameters (measure them with `analyze spindle`)"
                         )));
                     }
                     if first_degree(name) == 2 {
                         straightness_degree(text, degree)?;
                     }
-                    push(name, component.then(|| degree.unwrap_or(DEFAULT_DEGREE)));
+                    let default = if is_rotary_component(name) {
+                        DEFAULT_ORDER
+                    } else {
+                        DEFAULT_DEGREE
+                    };
+                    push(name, component.then(|| degree.unwrap_or(default)));
                 }
             }
         }
@@ -269,6 +307,13 @@ impl ParameterSet {
             .map(|(name, degree)| {
                 let polynomial = |d: usize| ErrorFunction::Polynomial(vec![0.0; d + 1]);
                 let function = match (degree, reversals.contains(name)) {
+                    (Some(n), reversal) if is_rotary_component(*name) => {
+                        let mut terms = fourier_series(*n);
+                        if reversal {
+                            terms.push(ErrorFunction::Reversal(0.0));
+                        }
+                        ErrorFunction::Sum(terms)
+                    }
                     (Some(d), false) => polynomial(*d),
                     (Some(d), true) => {
                         ErrorFunction::Sum(vec![polynomial(*d), ErrorFunction::Reversal(0.0)])
@@ -296,6 +341,7 @@ impl ParameterSet {
             rotation: Vec::new(),
             owner: Vec::new(),
             degree: Vec::new(),
+            tied: Vec::new(),
         };
         let mut index = 0;
         let parameters = set.model.parameters().to_vec();
@@ -308,7 +354,68 @@ impl ParameterSet {
                 index += set.push_term(term, parameter.name, owner, index, machine);
             }
         }
+        set.tie_first_orders(machine);
         set
+    }
+
+    /// Keeps, of each order-1 radial and tilt pair of a rotary axis, only the part turning
+    /// against the axis (see the module doc): `E_u.harmonic[1].cos` (Re N) also sets
+    /// `E_v.harmonic[1].sin` to −s·Re N, `E_v.harmonic[1].cos` (Im N) sets `E_u.harmonic[1].sin`
+    /// to s·Im N, with s = ±1 the joint's sense about its ISO direction; the two sines leave
+    /// the unknowns.
+    fn tie_first_orders(&mut self, machine: &Machine) {
+        for info in machine.rotary_axes() {
+            let along = info.joint_axis.dot(info.axis.unit());
+            if (along.abs() - 1.0).abs() > 1e-9 {
+                continue;
+            }
+            let sense = along.signum();
+            let across = |first: usize, k: usize| {
+                "XYZABC".as_bytes()[first + (info.axis.coordinate() + k) % 3] as char
+            };
+            for first in [0, 3] {
+                let find = |motion: char, part: &str| {
+                    let label = format!("E{motion}{}.harmonic[1].{part}", info.axis);
+                    self.labels.iter().position(|l| *l == label)
+                };
+                let (u, v) = (across(first, 1), across(first, 2));
+                let (Some(u_sin), Some(u_cos), Some(v_sin), Some(v_cos)) = (
+                    find(u, "sin"),
+                    find(u, "cos"),
+                    find(v, "sin"),
+                    find(v, "cos"),
+                ) else {
+                    continue;
+                };
+                let tie = |j: usize, factor: Real| Tie {
+                    coefficient: self.free[j],
+                    factor,
+                    owner: self.owner[j],
+                };
+                let (re, im) = (tie(v_sin, -sense), tie(u_sin, sense));
+                self.tied[u_cos].push(re);
+                self.tied[v_cos].push(im);
+                self.remove(u_sin.max(v_sin));
+                self.remove(u_sin.min(v_sin));
+            }
+        }
+    }
+
+    /// Removes free coefficient `j`.
+    fn remove(&mut self, j: usize) {
+        self.free.remove(j);
+        self.labels.remove(j);
+        self.scales.remove(j);
+        self.rotation.remove(j);
+        self.owner.remove(j);
+        self.degree.remove(j);
+        self.tied.remove(j);
+    }
+
+    /// The parameters (indices into [`ErrorModel::parameters`]) free coefficient `j` sets: its
+    /// own, then those of its ties.
+    pub fn owners(&self, j: usize) -> impl Iterator<Item = usize> + '_ {
+        std::iter::once(self.owner[j]).chain(self.tied[j].iter().map(|t| t.owner))
     }
 
     /// Adds the free coefficients of `term` (a polynomial without the degrees below
@@ -332,6 +439,17 @@ impl ParameterSet {
                         format!("{name}.polynomial[{k}]"),
                         scale(rotation) / travel.powi(k as i32),
                         (rotation, owner, k),
+                    );
+                }
+            }
+            ErrorFunction::Harmonic { period, .. } => {
+                let order = (std::f64::consts::TAU / period).round() as usize;
+                for (offset, part) in ["sin", "cos"].into_iter().enumerate() {
+                    self.push(
+                        index + offset,
+                        format!("{name}.harmonic[{order}].{part}"),
+                        scale(rotation),
+                        (rotation, owner, order),
                     );
                 }
             }
@@ -365,6 +483,7 @@ impl ParameterSet {
         self.rotation.push(rotation);
         self.owner.push(owner);
         self.degree.push(degree);
+        self.tied.push(Vec::new());
     }
 
     /// The number of free coefficients.
@@ -387,8 +506,11 @@ impl ParameterSet {
     /// Sets the free coefficients of `model` (a clone of the template) to `values` (SI).
     pub fn write(&self, model: &mut ErrorModel, values: &[Real]) {
         let mut all = vec![0.0; model.coefficient_count()];
-        for (&i, &v) in self.free.iter().zip(values) {
-            all[i] = v;
+        for ((&i, tied), &v) in self.free.iter().zip(&self.tied).zip(values) {
+            all[i] += v;
+            for tie in tied {
+                all[tie.coefficient] += tie.factor * v;
+            }
         }
         model.set_coefficients(&all);
     }
@@ -409,6 +531,73 @@ fn first_degree(name: ParameterName) -> usize {
         }
         _ => 1,
     }
+}
+
+/// Whether `name` is a component error of a rotary axis (A, B, C): a Fourier series.
+fn is_rotary_component(name: ParameterName) -> bool {
+    matches!(name, ParameterName::Component { axis, .. } if matches!(axis, Axis::A | Axis::B | Axis::C))
+}
+
+/// The Fourier series of orders 1 to `order`: one harmonic of period 360°/k each, zero.
+fn fourier_series(order: usize) -> Vec<ErrorFunction> {
+    (1..=order)
+        .map(|k| ErrorFunction::Harmonic {
+            period: std::f64::consts::TAU / k as Real,
+            amplitude: 0.0,
+            phase: 0.0,
+        })
+        .collect()
+}
+
+/// The axes and order of `rotary_components[:AXIS][:ORDER]` (`rest` is what follows the
+/// word): every rotary axis of the machine, or the one named, at [`DEFAULT_ORDER`] or the one
+/// given (1 to 9).
+fn rotary_components(
+    rest: &str,
+    rotary: &[Axis],
+    machine: &Machine,
+) -> Result<(Vec<Axis>, usize), String> {
+    if rotary.is_empty() {
+        return Err(format!("machine \"{}\" has no rotary axis", machine.name()));
+    }
+    let mut axes = rotary.to_vec();
+    let mut order = DEFAULT_ORDER;
+    let parts: Vec<&str> = rest.split(':').skip(1).map(str::trim).collect();
+    if parts.len() > 2 {
+        return Err(
+            "expected rotary_components, rotary_components:C or rotary_components:C:3".into(),
+        );
+    }
+    for (i, part) in parts.iter().enumerate() {
+        if let Ok(n) = part.parse::<usize>() {
+            if i + 1 != parts.len() {
+                return Err("the order comes last (rotary_components:C:3)".into());
+            }
+            if !(1..=9).contains(&n) {
+                return Err("the order after ':' must be from 1 to 9".into());
+            }
+            order = n;
+        } else {
+            let axis = match *part {
+                "A" => Axis::A,
+                "B" => Axis::B,
+                "C" => Axis::C,
+                other => {
+                    return Err(format!(
+                        "\"{other}\" is neither a rotary axis (A, B, C) nor an order (1 to 9)"
+                    ));
+                }
+            };
+            if i != 0 {
+                return Err("the axis comes first (rotary_components:C:3)".into());
+            }
+            if !rotary.contains(&axis) {
+                return Err(format!("machine \"{}\" has no axis {axis}", machine.name()));
+            }
+            axes = vec![axis];
+        }
+    }
+    Ok((axes, order))
 }
 
 /// SI per solver unit of a constant: 1 µm, or the rotation that moves a point at the

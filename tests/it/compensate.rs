@@ -605,3 +605,38 @@ fn linuxcnc_tables_refuse_more_entries_than_linuxcnc_takes() {
     let error = linuxcnc_tables(&machine, &errors, 0.0, 0.1).unwrap_err();
     assert!(matches!(error, CompensateError::Spacing { .. }), "{error}");
 }
+
+/// One turn of trunnion5's continuous C at 1° is 361 entries, beyond LinuxCNC's 256: the
+/// spacings `identify` writes at are widened to the turn over 254 intervals (by hand 1.4173°),
+/// the linear ones left at 10 mm (vmc3's longest travel, 650 mm, is 66 entries), and the
+/// table then holds C's error in at most 256 lines.
+#[test]
+fn the_linuxcnc_spacing_is_widened_to_hold_a_turn() {
+    let trunnion = machine("trunnion5");
+    let (linear, rotary) =
+        mtwin::estimate::compensate::linuxcnc_spacings(&trunnion, 0.01, 1f64.to_radians());
+    assert_eq!(linear, 0.01);
+    assert!(
+        (rotary.to_degrees() - 360.0 / 254.0).abs() < 1e-3,
+        "{}",
+        rotary.to_degrees()
+    );
+    let errors = ErrorModel::new(
+        &trunnion,
+        vec![ErrorParameter {
+            name: "ECC".parse().unwrap(),
+            function: ErrorFunction::Harmonic {
+                period: std::f64::consts::PI,
+                amplitude: 6e-6,
+                phase: 0.2,
+            },
+        }],
+    )
+    .unwrap();
+    assert!(linuxcnc_tables(&trunnion, &errors, linear, 1f64.to_radians()).is_err());
+    let tables = linuxcnc_tables(&trunnion, &errors, linear, rotary).unwrap();
+    let (axis, text) = &tables[0];
+    assert_eq!(*axis, Axis::C);
+    let lines = text.lines().count();
+    assert!((250..=LINUXCNC_MAX_ENTRIES).contains(&lines), "{lines}");
+}

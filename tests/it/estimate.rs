@@ -726,3 +726,4 @@ fn probed_with(
 mod controllers;
 mod probes_and_foreign;
 mod reversal;
+mod rotary_components;

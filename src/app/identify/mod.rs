@@ -451,11 +451,17 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         .map_err(|e| IdentifyError::Input(format!("{machine_file}: cannot read: {e}")))?;
     let corrected = compensate::corrected_urdf(&urdf_text, &machine, &identified)
         .map_err(|e| IdentifyError::Input(format!("corrected URDF: {e}")))?;
+    for (name, why) in &corrected.not_folded {
+        text += &format!("not in {}_identified.urdf: {name}, {why}\n", machine.name());
+    }
     files.push((
         format!("{}_identified.urdf", machine.name()),
         corrected.urdf.into_bytes(),
     ));
-    let tables = compensate::linuxcnc_tables(&machine, &identified, 0.01, 1f64.to_radians())
+    // 10 mm and 1°, wider where LinuxCNC's 256 entries would not hold the travel (one turn
+    // of a continuous axis at 1° is 361).
+    let (spacing_m, spacing_rad) = compensate::linuxcnc_spacings(&machine, 0.01, 1f64.to_radians());
+    let tables = compensate::linuxcnc_tables(&machine, &identified, spacing_m, spacing_rad)
         .map_err(|e| IdentifyError::Input(format!("LinuxCNC tables: {e}")))?;
     for (axis, table) in tables {
         files.push((format!("linuxcnc_{axis}.comp"), table.into_bytes()));

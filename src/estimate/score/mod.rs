@@ -32,8 +32,12 @@
 //!   truth's coefficient of that degree (0 when missing), plus the truth's constant at degree 0
 //!   when the estimate has no constant of its own;
 //! - **reversal** (`EXX.reversal_um`): against the truth's reversal;
-//! - **harmonics** (`EXX.harmonic[0].amplitude_um`, `….phase_deg`), matched by period (to
-//!   1e-9 relative): amplitude and phase; the truth's `(a, φ)` is written `(−a, φ + 180°)` when
+//! - **harmonics**, matched by period (to 1e-9 relative): when the estimate's
+//!   `standard_uncertainty` gives the harmonic's two coefficients (`sin_um`, `cos_um`, as
+//!   `mtwin identify` writes them), those two (`EXC.harmonic[1].sin_um` = A cos φ, `….cos_um`
+//!   = A sin φ; a coverage counted on them is that of Gaussian quantities, which an amplitude
+//!   near zero is not); otherwise (`EXX.harmonic[0].amplitude_um`, `….phase_deg`) amplitude
+//!   and phase; the truth's `(a, φ)` is written `(−a, φ + 180°)` when
 //!   the signs of the amplitudes differ, and its phase is taken within ±180° of the
 //!   estimate's. A harmonic with no truth counterpart is scored against amplitude 0 (no phase);
 //! - **table** (`EXX.table.values_um[i]`): at each knot, against the value of the truth's
@@ -230,7 +234,20 @@ pub fn score(estimate: &Value, truth: &Value, machine: &Machine) -> Result<Score
             }
         };
         let name = entry.name.to_string();
-        for term in compare(entry.name, &entry.spec, truth_spec, &mut unmodelled_terms) {
+        // Harmonics whose uncertainty the estimate gives per coefficient are scored so.
+        let part_key = format!("sin_{}", entry.name.file_unit());
+        let by_parts = |i: usize| {
+            (entry.raw.get("standard_uncertainty"))
+                .and_then(|u| u.get("harmonic")?.get(i)?.get(&part_key))
+                .is_some_and(|u| !u.is_null())
+        };
+        for term in compare(
+            entry.name,
+            &entry.spec,
+            truth_spec,
+            &by_parts,
+            &mut unmodelled_terms,
+        ) {
             parameters
                 .push(score_term(term, &entry.raw, &name).map_err(|e| e.in_file("estimate"))?);
         }

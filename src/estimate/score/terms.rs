@@ -142,6 +142,7 @@ pub(super) fn compare(
     name: ParameterName,
     estimate: &ErrorSpec,
     truth: &ErrorSpec,
+    by_parts: &dyn Fn(usize) -> bool,
     unmodelled: &mut Vec<String>,
 ) -> Vec<Term> {
     let unit = name.file_unit();
@@ -259,6 +260,29 @@ pub(super) fn compare(
             !matched[j] && (h.0 - period).abs() <= SAME_PERIOD * period.abs().max(h.0.abs())
         });
         let with = |field: &str| vec![key("harmonic"), Step::Index(i), key(field)];
+        if by_parts(i) {
+            // The two coefficients, A cos φ of sin(2π q / p) and A sin φ of its cosine.
+            let parts = |a: Real, phase: Real| {
+                let phase = phase.to_radians();
+                [a * phase.cos(), a * phase.sin()]
+            };
+            let truth = found.map_or([0.0; 2], |j| {
+                matched[j] = true;
+                parts(t.harmonics[j].1, t.harmonics[j].2)
+            });
+            let estimate = parts(est_a, est_phase);
+            for (k, part) in ["sin", "cos"].into_iter().enumerate() {
+                let field = format!("{part}_{unit}");
+                terms.push(plain(
+                    format!("{name}.harmonic[{i}].{field}"),
+                    unit.into(),
+                    with(&field),
+                    estimate[k],
+                    truth[k],
+                ));
+            }
+            continue;
+        }
         let amplitude_label = format!("{name}.harmonic[{i}].{amplitude_key}");
         let Some(j) = found else {
             terms.push(plain(
@@ -434,7 +458,13 @@ mod tests {
         };
         let mut unmodelled = Vec::new();
         // −0.4 at 210° is 0.4 at 30°; 350° is −10°.
-        let terms = compare(name, &spec(0.4, 350.0), &spec(-0.4, 210.0), &mut unmodelled);
+        let terms = compare(
+            name,
+            &spec(0.4, 350.0),
+            &spec(-0.4, 210.0),
+            &|_| false,
+            &mut unmodelled,
+        );
         assert!(unmodelled.is_empty());
         assert_eq!(terms[0].truth, 0.4);
         assert!((terms[1].truth - 390.0).abs() < 1e-12, "{}", terms[1].truth);
