@@ -4,6 +4,11 @@
 //! - `estimate/identify_location_1440`: the 8 location errors of A and C (plus the 12 zero
 //!   offsets of the four tests) from the simulated table: the identifiability analysis at the
 //!   start, the Levenberg–Marquardt fit on the exact chain, the covariance;
+//! - `estimate/identify_location_components_2880`: the 8 location errors and 12 component
+//!   coefficients of C (`EAC:2,EBC:2,EZC:2,ECC:1`: orders 1–2 of the tilts, the order-1 pair
+//!   turning against C, and of the axial motion; order 1 of the angular motion) from two
+//!   spheres 80 mm apart in height, each read by the four K-tests (2 880 poses, 8 640
+//!   readings), on one core;
 //! - `estimate/monte_carlo_1000_one_core`: the same with 1 000 Monte Carlo trials, on a
 //!   one-thread rayon pool;
 //! - `estimate/linear_design_lm`: the solver alone on the linear problem `J z = y` with the
@@ -73,6 +78,29 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             one_core.install(|| {
                 black_box(fit::estimate(&problem, &fit::Options::default()).expect("fits"))
+            })
+        })
+    });
+    // The second sphere 80 mm higher on its post.
+    let mut higher = test.clone();
+    higher.sphere.z += 0.080;
+    let two = [
+        readings(&table, "bench", machine, Setup::default()).expect("readings"),
+        readings(
+            &simulate(&scenario.twin, &higher, 8).expect("runs"),
+            "bench",
+            machine,
+            Setup::default(),
+        )
+        .expect("readings"),
+    ];
+    let components =
+        ParameterSet::parse("location,EAC:2,EBC:2,EZC:2,ECC:1", machine).expect("a spec");
+    let with_components = Problem::new(machine, &components, &two).expect("a problem");
+    group.bench_function("identify_location_components_2880", |b| {
+        b.iter(|| {
+            one_core.install(|| {
+                black_box(fit::estimate(&with_components, &fit::Options::default()).expect("fits"))
             })
         })
     });

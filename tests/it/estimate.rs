@@ -695,18 +695,19 @@ fn sphere_probing_recovers_trunnion5_location_errors() {
 /// The trunnion5 sphere cycle with probe lobing `lobing_um`, estimated for the 8 location
 /// errors.
 fn probed(seed: u64, lobing_um: Real) -> (Scenario, Fit, Vec<Real>, Vec<String>, usize) {
-    probed_with(seed, lobing_um, 0.3e-6)
+    probed_with(seed, (lobing_um, 2.0), 0.3e-6)
 }
 
-/// [`probed`] with each centre coordinate's stated uncertainty `sigma` (m).
+/// [`probed`] with the probe's `(lobing, axial pre-travel)` in µm (its radial pre-travel is
+/// 1 µm) and each centre coordinate's stated uncertainty `sigma` (m).
 fn probed_with(
     seed: u64,
-    lobing_um: Real,
+    (lobing_um, axial_um): (Real, Real),
     sigma: Real,
 ) -> (Scenario, Fit, Vec<Real>, Vec<String>, usize) {
     let text = format!(
         "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = {seed}\n{TRUNNION_ERRORS}\n\
-         [probe]\nstylus_diameter_mm = 6.0\npretravel_um = 1.0\nlobing_um = {lobing_um}\npretravel_axial_um = 2.0\n\
+         [probe]\nstylus_diameter_mm = 6.0\npretravel_um = 1.0\nlobing_um = {lobing_um}\npretravel_axial_um = {axial_um}\n\
          repeatability_um = 0.25\nfeed_mm_per_min = 240.0\nlatency_ms = 0.05\nclearance_mm = 2.0\novertravel_mm = 2.0\n\
          [[probe.sphere]]\ndiameter_mm = 25.0\ncentre_mm = [60.0, 0.0, 150.0]\npoints = 5\nincidence_deg = 30.0\n\
          rotary = [{{ a_deg = 0.0, c_deg = 0.0 }}, {{ a_deg = 0.0, c_deg = 90.0 }}, {{ a_deg = 0.0, c_deg = 180.0 }}, {{ a_deg = 0.0, c_deg = 270.0 }},\n\
