@@ -123,6 +123,10 @@ enum Command {
         /// The R-test sphere position is unknown (no preset at the first pose): estimate it too.
         #[arg(long)]
         free_setup: bool,
+        /// The R-test pivot drifts during each test, linearly in time (thermal drift): three
+        /// nuisances per test, each test its own zero; needs the tables' time_s.
+        #[arg(long)]
+        drift: bool,
         /// Standard uncertainty of the R-test sphere's position as the preset found it (µm;
         /// default 0.5), a set-up input of the Monte Carlo.
         #[arg(long, value_name = "UM", allow_negative_numbers = true)]
@@ -404,6 +408,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             tables,
             sigma_um,
             free_setup,
+            drift,
             sphere_setup_um,
             rtest_sphere_mm,
             monte_carlo,
@@ -466,6 +471,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 tables,
                 sigma,
                 free_setup,
+                drift,
                 sphere_setup: sphere_setup_um.map(|u| u * 1e-6),
                 rtest_sphere,
                 trials: monte_carlo,

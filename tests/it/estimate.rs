@@ -725,6 +725,7 @@ fn probed_with(
 }
 
 mod controllers;
+mod drift;
 mod probes_and_foreign;
 mod reversal;
 mod rotary_components;

@@ -78,6 +78,9 @@ pub struct Request {
     pub sigma: BTreeMap<String, Real>,
     /// The R-test sphere position is unknown (no preset at the first pose).
     pub free_setup: bool,
+    /// The R-test pivot drifts during each test, linearly in time (see
+    /// [`crate::kinds::rtest::readings::Setup::drift`]).
+    pub drift: bool,
     /// Standard uncertainty of the R-test sphere position (m), overriding the default.
     pub sphere_setup: Option<Real>,
     /// The R-test sphere centre (workpiece frame, m) for tables that do not state it.
@@ -198,6 +201,7 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                 let table = rtest::RtestTable::read(&path)?;
                 let mut setup = rtest::readings::Setup {
                     free_sphere: request.free_setup,
+                    drift: request.drift,
                     ..Default::default()
                 };
                 if let Some(s) = sigma {

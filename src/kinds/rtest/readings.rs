@@ -16,6 +16,14 @@
 //! `−R_0 (s_0 − c)`) is kept as an observation of it: this is exactly the generalised least
 //! squares of the zeroed rows, whose noise is correlated through `ε_0`, with independent rows.
 //!
+//! **Drift during a test** ([`Setup::drift`]): the pivot (sphere against nest) drifting as the
+//! machine warms reads, at a row's time `t` since its test's start, as `D·t/T` added to the
+//! reading, with `D` the drift over the test (machine axes) and `T` the test's last time: three
+//! nuisances per test (`NAME.drift.x` …, in µm by the test's end). The model is linear in time
+//! within a test; a drift before the test started is an offset the test's own zero takes, so a
+//! drifting table gets a datum per test even when it says `zero = first_pose`. What anchors `D`
+//! is a pose the test reads twice: a circle's end (C 360° is C 0°), a test out and back.
+//!
 //! Simplifications, stated: the conversion of the probe readings is taken as exact (flat tips,
 //! calibrated nest): the six-point calibration's gain and direction errors (1e-4–1e-3 of the
 //! reading) and the point tips' cross-talk are left in the residuals; a dynamic test's rows
@@ -53,6 +61,9 @@ pub struct Setup {
     /// The sphere centre (workpiece frame, m) for a table whose preamble does not state it (a
     /// foreign export); when both do, they must agree.
     pub sphere: Option<Vector>,
+    /// The pivot drifts during each test, linearly in time (see the module doc): three
+    /// nuisances per test, each test its own datum; needs the table's `time_s`.
+    pub drift: bool,
 }
 
 impl Default for Setup {
@@ -62,6 +73,7 @@ impl Default for Setup {
             sphere_uncertainty: DEFAULT_SETUP_UNCERTAINTY,
             free_sphere: false,
             sphere: None,
+            drift: false,
         }
     }
 }
@@ -74,6 +86,8 @@ struct Row {
     world_from_tool: Rotation,
     /// Index of its test.
     test: usize,
+    /// Its time as a fraction of its test's last time (0 without drift).
+    progress: Real,
 }
 
 /// The model of an R-test table.
@@ -83,6 +97,8 @@ struct RtestModel {
     rows: Vec<Row>,
     tests: usize,
     free_sphere: bool,
+    /// Whether the nuisances hold a drift per test after the zeros.
+    drift: bool,
 }
 
 impl ReadingModel for RtestModel {
@@ -108,6 +124,7 @@ impl ReadingModel for RtestModel {
         out: &mut [Real],
     ) {
         let (offsets, rest) = nuisance.split_at(3 * self.tests);
+        let (drifts, rest) = rest.split_at(if self.drift { 3 * self.tests } else { 0 });
         let mut sphere = self.sphere;
         let shift = if self.free_sphere { rest } else { setup };
         if shift.len() == 3 {
@@ -117,7 +134,11 @@ impl ReadingModel for RtestModel {
             let actual = errors.workpiece_from_tool(machine, workspace, &row.state);
             let s = rigid_inverse(&actual).transform_point3(sphere);
             let c = &offsets[3 * row.test..3 * row.test + 3];
-            let d = -(row.world_from_tool * (s - Vector::new(c[0], c[1], c[2])));
+            let mut d = -(row.world_from_tool * (s - Vector::new(c[0], c[1], c[2])));
+            if self.drift {
+                let drift = &drifts[3 * row.test..3 * row.test + 3];
+                d += Vector::new(drift[0], drift[1], drift[2]) * row.progress;
+            }
             out[3 * i..3 * i + 3].copy_from_slice(&d.to_array());
         }
     }
@@ -188,8 +209,8 @@ pub fn readings(
         _ => sphere_of(table, file)?,
     };
     let mut workspace = Workspace::new(machine);
-    let shared =
-        table.conditions.get("zero").map(|(z, _)| z) == Some(super::Zero::FirstPose.name());
+    let shared = !setup.drift
+        && table.conditions.get("zero").map(|(z, _)| z) == Some(super::Zero::FirstPose.name());
     let names: Vec<&str> = if shared {
         vec!["datum"]
     } else {
@@ -261,6 +282,7 @@ pub fn readings(
                     .position(|n| *n == row.test)
                     .expect("every row's test is listed")
             },
+            progress: 0.0,
         });
         measured.extend_from_slice(&row.deviation.to_array());
     }
@@ -281,15 +303,25 @@ pub fn readings(
     if let Some(message) = constant_offset(&offsets, sphere) {
         return Err(fail(message));
     }
+    if setup.drift {
+        drift_progress(table, &mut rows, &names).map_err(fail)?;
+    }
     let mut nuisance = Vec::new();
-    for name in &names {
-        for c in ["x", "y", "z"] {
-            nuisance.push(Quantity {
-                name: format!("{name}.zero.{c}"),
-                translation: true,
-                start: 0.0,
-                uncertainty: 0.0,
-            });
+    let kinds: &[&str] = if setup.drift {
+        &["zero", "drift"]
+    } else {
+        &["zero"]
+    };
+    for kind in kinds {
+        for name in &names {
+            for c in ["x", "y", "z"] {
+                nuisance.push(Quantity {
+                    name: format!("{name}.{kind}.{c}"),
+                    translation: true,
+                    start: 0.0,
+                    uncertainty: 0.0,
+                });
+            }
         }
     }
     let sphere_quantities = ["x", "y", "z"].map(|c| Quantity {
@@ -322,8 +354,34 @@ pub fn readings(
             rows,
             tests,
             free_sphere: setup.free_sphere,
+            drift: setup.drift,
         }),
     })
+}
+
+/// Each row's time as a fraction of its test's last time, for the drift (rows in the table's
+/// order, `names` the tests); why not, when a row has no time or a test no time after its start.
+fn drift_progress(table: &RtestTable, rows: &mut [Row], names: &[&str]) -> Result<(), String> {
+    let mut last = vec![0.0; names.len()];
+    for (i, row) in table.rows.iter().enumerate() {
+        let time = row.time.filter(|t| t.is_finite() && *t >= 0.0).ok_or_else(|| {
+            format!(
+                "row {}: a drift in time needs each row's time since its test's start (the time_s column)",
+                i + 1
+            )
+        })?;
+        last[rows[i].test] = Real::max(last[rows[i].test], time);
+    }
+    if let Some(k) = last.iter().position(|t| *t <= 0.0) {
+        return Err(format!(
+            "test \"{}\": every row at time 0, so no drift in time can be told from its zero",
+            names[k]
+        ));
+    }
+    for (row, line) in rows.iter_mut().zip(&table.rows) {
+        row.progress = line.time.unwrap_or(0.0) / last[row.test];
+    }
+    Ok(())
 }
 
 /// A planned R-test (no measurements): the poses of `tests` on `machine` with the sphere at
