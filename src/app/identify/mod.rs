@@ -578,7 +578,11 @@ fn negate(function: &ErrorFunction) -> ErrorFunction {
 
 /// Candidate R-tests on `machine` with the sphere at `sphere` (m), each as its design on the
 /// errors of `set` with its own set-up profiled out ([`fit::profiled_design`]): each
-/// candidate is zeroed at its own first pose (what any added test can count on).
+/// candidate is zeroed at its own first pose (what any added test can count on). When `set`
+/// has component errors of a rotary axis, which one sphere cannot separate, the same tests
+/// with the sphere 80 mm higher and 60 mm further from the table's centre are candidates too
+/// (where the machine can reach them): a second height reveals the tilt motions, a second
+/// radius the angular one (`tests/it/estimate/rotary_components.rs`).
 pub fn candidate_designs(
     machine: &Machine,
     set: &ParameterSet,
@@ -591,13 +595,29 @@ pub fn candidate_designs(
         free_sphere,
         ..Default::default()
     };
-    rtest::readings::candidates(machine)
-        .into_iter()
-        .filter_map(|test| {
+    let rotary_components = set.model.parameters().iter().any(|p| {
+        matches!(p.name, crate::errors::ParameterName::Component { axis, .. }
+            if matches!(axis, crate::machine::Axis::A | crate::machine::Axis::B | crate::machine::Axis::C))
+    });
+    let mut spheres = vec![(sphere, String::new())];
+    if rotary_components {
+        let up = crate::math::Vector::new(0.0, 0.0, 0.080);
+        spheres.push((sphere + up, " with the sphere 80 mm higher".to_string()));
+        let across = crate::math::Vector::new(sphere.x, sphere.y, 0.0);
+        if across.length() > 1e-3 {
+            let out = sphere + across.normalize() * 0.060;
+            spheres.push((out, " with the sphere 60 mm further out".to_string()));
+        }
+    }
+    let tests = rtest::readings::candidates(machine);
+    spheres
+        .iter()
+        .flat_map(|(at, moved)| tests.iter().map(move |test| (at, moved, test)))
+        .filter_map(|(at, moved, test)| {
             let readings = rtest::readings::planned(
                 machine,
-                std::slice::from_ref(&test),
-                sphere,
+                std::slice::from_ref(test),
+                *at,
                 rtest::Zero::EachTest,
                 setup,
             )
@@ -605,7 +625,7 @@ pub fn candidate_designs(
             let sets = [readings];
             let problem = Problem::new(machine, set, &sets).ok()?;
             Some((
-                format!("R-test {}", test.name),
+                format!("R-test {}{moved}", test.name),
                 fit::profiled_design(&problem),
             ))
         })
@@ -649,9 +669,8 @@ fn remedies_text(remedies: &[(String, Vec<(String, Real)>)]) -> String {
     if remedies.is_empty() {
         return String::new();
     }
-    let mut out = String::from(
-        "what would make the unseen combinations identifiable (one more R-test, same sphere):\n",
-    );
+    let mut out =
+        String::from("what would make the unseen combinations identifiable (one more R-test):\n");
     for (name, tests) in remedies {
         match tests.first() {
             Some((test, u)) => {
@@ -663,7 +682,7 @@ fn remedies_text(remedies: &[(String, Vec<(String, Real)>)]) -> String {
             }
             None => {
                 out += &format!(
-                    "  {name}: no single candidate R-test sees it (it needs another instrument: a level, a laser, a tool-length measurement)\n"
+                    "  {name}: no single added R-test sees it (it needs several, e.g. a second sphere height and a second radius for a rotary axis's component errors, or another instrument: a level, a laser, a tool-length measurement)\n"
                 )
             }
         }

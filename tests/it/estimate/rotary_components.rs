@@ -450,3 +450,57 @@ fn every_coefficient_within_four_u(
     );
     (set, fit)
 }
+
+/// `identify` on the R-test of one sphere, asked for C's component errors, names what would
+/// reveal them. By the derivation above, a circle at a second height separates the tilts from
+/// the radial and axial motions, so combinations of those get "the sphere 80 mm higher" as
+/// their remedy; order 1 of the angular motion against order 2 of the radial ones needs a
+/// second height and a second radius together, which no single added test gives.
+#[test]
+fn identify_names_a_second_height_and_says_when_one_more_test_is_not_enough() {
+    let dir = tempfile::tempdir().unwrap();
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let tests = [
+        ("CK1 A0", "A = 0.0, C = 0.0", "C = 360.0", 25),
+        ("CK1 A-30", "A = -30.0, C = 0.0", "C = 360.0", 25),
+    ];
+    let text = trunnion_rtest(1, 0.2, "[100.0, 0.0, 250.0]", &tests)
+        .replace("MODELS", &models.display().to_string());
+    let scenario = dir.path().join("one.toml");
+    std::fs::write(&scenario, text).unwrap();
+    let out = dir.path().join("run");
+    crate::common::mtwin(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let output = crate::common::mtwin_output(&[
+        "identify".as_ref(),
+        "--machine".as_ref(),
+        models.join("trunnion5.urdf").as_os_str(),
+        "--params".as_ref(),
+        "location,rotary_components:C:2".as_ref(),
+        out.join("rtest.csv").as_os_str(),
+    ]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        text.contains("what would make the unseen combinations identifiable"),
+        "{text}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    // A remedy line starts with its combination (the table of estimates with one label).
+    let remedy = |start: &str| {
+        (text.lines())
+            .find(|l| l.trim_start().starts_with(start))
+            .unwrap_or_else(|| panic!("no remedy for {start}: {text}"))
+            .to_string()
+    };
+    let tilt = remedy("EXC.harmonic[1].cos − 0.4 EBC.harmonic[1].cos");
+    assert!(tilt.contains("with the sphere 80 mm higher"), "{tilt}");
+    let angular = remedy("ECC.harmonic[1].sin + 0.5 EXC.harmonic[2].cos");
+    assert!(
+        angular.contains("no single added R-test sees it"),
+        "{angular}"
+    );
+}
