@@ -168,7 +168,8 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// Test design: from candidate R-tests (turns of the table at every 15° of the tilting
-    /// axis, sweeps of the tilting axis), choose those that make the parameters identifiable
+    /// axis, sweeps of the tilting axis; with a rotary axis's component errors in --params, each
+    /// also with the sphere 80 mm higher and 60 mm further out), choose those that make the parameters identifiable
     /// with the smallest uncertainty for the readings spent (D-optimal, greedy), and show the
     /// predicted standard uncertainty of every parameter after each test.
     Plan {

@@ -1,8 +1,9 @@
 //! The R-test table as readings for the estimators ([`crate::estimate`]): the model of each
 //! reading is the twin's own chain, as the nest and its software read it ([`super::run`]).
 //!
-//! A row holds the sphere's displacement `(dx, dy, dz)` seen from the tool, in machine axes,
-//! since the test's first pose: the software zeroes the probes there. With `s_i` the sphere
+//! A row holds the tool's displacement relative to the sphere `(dx, dy, dz)` (actual −
+//! nominal, as the table's columns), in machine axes, since the test's first pose: the
+//! software zeroes the probes there. With `s_i` the sphere
 //! centre in the actual nest frame at pose `i` and `R_i` the nominal orientation of the tool
 //! in machine axes,
 //!

@@ -504,3 +504,26 @@ fn identify_names_a_second_height_and_says_when_one_more_test_is_not_enough() {
         "{angular}"
     );
 }
+
+/// `plan` with C's component errors plans beyond one sphere: by the derivation above no set of
+/// tests at one sphere identifies them, and a second height and a second radius do, so the
+/// plan must reach all 28 coefficients, and only once it has taken a test with the sphere
+/// higher and one with it further out.
+#[test]
+fn plan_takes_a_second_height_and_a_second_radius_for_c_components() {
+    let machine = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/trunnion5.urdf");
+    let plan =
+        mtwin::app::identify::plan(&machine, SPEC, Vector::new(0.100, 0.0, 0.250), 0.2e-6, 1000)
+            .unwrap();
+    let after = plan.identifiable_after.expect("identifiable");
+    let taken = &plan.steps[..after];
+    assert!(
+        taken.iter().any(|s| s.test.ends_with("80 mm higher")),
+        "{taken:?}"
+    );
+    assert!(
+        taken.iter().any(|s| s.test.ends_with("60 mm further out")),
+        "{taken:?}"
+    );
+    assert!(plan.structural.is_empty());
+}
