@@ -133,6 +133,20 @@ fn a_second_height_reveals_the_tilts_and_a_second_radius_the_rest() {
 /// The R-test readings of `errors` (TOML, on top of trunnion5's location errors) at the three
 /// spheres, C circles at A = 0 and −30° of 37 poses, 0.2 µm noise, each table its own datum.
 fn three_spheres(seed: u64, errors: &str) -> (Scenario, Vec<Readings>) {
+    three_spheres_set_up(seed, errors, false, Setup::default().sphere_uncertainty)
+}
+
+/// [`three_spheres`], each sphere put off its stated place by N(0, 0.5 µm) per axis when
+/// `drawn` (the default preset uncertainty; seeded per table), the readings stating the
+/// sphere's place to `stated` (m).
+fn three_spheres_set_up(
+    seed: u64,
+    errors: &str,
+    drawn: bool,
+    stated: Real,
+) -> (Scenario, Vec<Readings>) {
+    use mtwin::kinds::rtest::readings::DEFAULT_SETUP_UNCERTAINTY;
+    use mtwin::math::{seeded_rng, standard_normal};
     let tests = [
         ("CK1 A0", "A = 0.0, C = 0.0", "C = 360.0", 37),
         ("CK1 A-30", "A = -30.0, C = 0.0", "C = 360.0", 37),
@@ -143,8 +157,25 @@ fn three_spheres(seed: u64, errors: &str) -> (Scenario, Vec<Readings>) {
         .enumerate()
         .map(|(k, s)| {
             let sphere = format!("[{}, {}, {}]", s[0], s[1], s[2]);
-            let text = trunnion_rtest(seed * 10 + k as u64, 0.2, &sphere, &tests) + errors;
-            let (loaded, set) = simulated(&text, Setup::default());
+            let mut text = trunnion_rtest(seed * 10 + k as u64, 0.2, &sphere, &tests) + errors;
+            if drawn {
+                let mut rng = seeded_rng(seed * 10 + k as u64, "coverage sphere set-up");
+                let off: Vec<String> = (0..3)
+                    .map(|_| {
+                        (DEFAULT_SETUP_UNCERTAINTY * 1e6 * standard_normal(&mut rng)).to_string()
+                    })
+                    .collect();
+                text = text.replacen(
+                    "[rtest]\n",
+                    &format!("[rtest]\nsphere_setup_um = [{}]\n", off.join(", ")),
+                    1,
+                );
+            }
+            let setup = Setup {
+                sphere_uncertainty: stated,
+                ..Setup::default()
+            };
+            let (loaded, set) = simulated(&text, setup);
             scenario.get_or_insert(loaded);
             set
         })
@@ -526,4 +557,41 @@ fn plan_takes_a_second_height_and_a_second_radius_for_c_components() {
         "{taken:?}"
     );
     assert!(plan.structural.is_empty());
+}
+
+/// Coverage with component errors (run on purpose: `cargo test --all-features --test it
+/// coverage_with_c_components -- --ignored --nocapture`, about two minutes): over 200 seeds of
+/// the three spheres with the five series, the linearised 95 % intervals (± 1.96 u) of all 28
+/// error coefficients, against the truth by projection.
+///
+/// - The spheres where the tables say, and stated so: 94.3 % (5 279 of 5 600), every
+///   coefficient's RMS error/u between 0.91 and 1.10. Issue 38 asks 95 ± 2 %.
+/// - Each sphere off its stated place by N(0, 0.5 µm) per axis, and stated so (the default
+///   preset uncertainty): 97.1 %, over. The noise's share of u is right (above), but the
+///   set-up's share overstates some coefficients: RMS error/u 0.62–0.72 for the order-1 radial
+///   and tilt pairs and for ECC's and EZC's order 2, about 1 for the rest. Why is not found yet:
+///   the set-up term propagates the sphere's offset linearly through the same model. Only the
+///   bound that matters is held here: the intervals are not too narrow (≥ 93 %).
+#[test]
+#[ignore = "a measurement: 2 × 200 seeds"]
+fn coverage_with_c_components() {
+    let coverage = |drawn: bool, stated: Real| {
+        let (mut covered, mut total) = (0, 0);
+        for seed in 1..=200 {
+            let (scenario, sets) = three_spheres_set_up(seed, FIVE_SERIES, drawn, stated);
+            let (set, fit, scales, labels) = estimate(&scenario.twin.machine, SPEC, &sets, 0);
+            for j in 0..set.len() {
+                let u = fit.uncertainty(j).unwrap() * scales[j];
+                let error = fit.z[j] * scales[j] - truth_of_label(&scenario, &labels[j]);
+                covered += usize::from(error.abs() <= 1.96 * u);
+                total += 1;
+            }
+        }
+        println!("drawn {drawn}: coverage {covered} of {total}");
+        covered as Real / total as Real
+    };
+    let exact = coverage(false, 0.0);
+    assert!((0.93..=0.97).contains(&exact), "exact sphere: {exact}");
+    let drawn = coverage(true, Setup::default().sphere_uncertainty);
+    assert!(drawn >= 0.93, "sphere drawn and stated: {drawn}");
 }
