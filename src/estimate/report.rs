@@ -310,19 +310,15 @@ pub fn text(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, sources: &[Str
             hi * factor
         );
     }
-    let fourier: Vec<String> = (set.model.parameters().iter().enumerate())
-        .filter(|(owner, _)| {
-            (0..set.len())
-                .filter(|j| set.owners(*j).any(|o| o == *owner))
-                .all(|j| fit.identified[j])
-        })
-        .flat_map(|(owner, parameter)| {
+    let (identified, _) = parameters(set, problem, fit);
+    let fourier: Vec<String> = (identified.iter())
+        .flat_map(|parameter| {
             let unit = if parameter.name.motion().is_translation() {
                 "µm"
             } else {
                 "µrad"
             };
-            harmonics(set, problem, fit, owner)
+            harmonics(set, problem, fit, parameter.owner)
                 .into_iter()
                 .map(move |h| {
                     let (a, u) = (h.amplitude(), h.amplitude_uncertainty());
@@ -498,7 +494,7 @@ fn harmonics(set: &ParameterSet, problem: &Problem<'_>, fit: &Fit, owner: usize)
                     (a.min(b), a.max(b))
                 };
                 out.push(Harmonic {
-                    order: (std::f64::consts::TAU / period).round() as usize,
+                    order: super::spec::order_of(*period),
                     parts: [fs * si[js], fc * si[jc]],
                     covariance: [
                         [gs * gs * cov(js, js), gs * gc * cov(js, jc)],

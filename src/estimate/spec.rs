@@ -443,7 +443,7 @@ impl ParameterSet {
                 }
             }
             ErrorFunction::Harmonic { period, .. } => {
-                let order = (std::f64::consts::TAU / period).round() as usize;
+                let order = order_of(*period);
                 for (offset, part) in ["sin", "cos"].into_iter().enumerate() {
                     self.push(
                         index + offset,
@@ -534,8 +534,13 @@ fn first_degree(name: ParameterName) -> usize {
 }
 
 /// Whether `name` is a component error of a rotary axis (A, B, C): a Fourier series.
-fn is_rotary_component(name: ParameterName) -> bool {
+pub fn is_rotary_component(name: ParameterName) -> bool {
     matches!(name, ParameterName::Component { axis, .. } if matches!(axis, Axis::A | Axis::B | Axis::C))
+}
+
+/// The Fourier order (cycles per turn) of a harmonic of period `period` (rad).
+pub fn order_of(period: Real) -> usize {
+    (std::f64::consts::TAU / period).round() as usize
 }
 
 /// The Fourier series of orders 1 to `order`: one harmonic of period 360°/k each, zero.

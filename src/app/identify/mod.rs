@@ -595,10 +595,8 @@ pub fn candidate_designs(
         free_sphere,
         ..Default::default()
     };
-    let rotary_components = set.model.parameters().iter().any(|p| {
-        matches!(p.name, crate::errors::ParameterName::Component { axis, .. }
-            if matches!(axis, crate::machine::Axis::A | crate::machine::Axis::B | crate::machine::Axis::C))
-    });
+    let rotary_components =
+        (set.model.parameters().iter()).any(|p| crate::estimate::spec::is_rotary_component(p.name));
     let mut spheres = vec![(sphere, String::new())];
     if rotary_components {
         let up = crate::math::Vector::new(0.0, 0.0, 0.080);
