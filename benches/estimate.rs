@@ -9,6 +9,10 @@
 //!   turning against C, and of the axial motion; order 1 of the angular motion) from two
 //!   spheres 80 mm apart in height, each read by the four K-tests (2 880 poses, 8 640
 //!   readings), on one core;
+//! - `estimate/discover_2880`: model selection on the same two spheres' tables (read with a
+//!   drift rate) from the 8 location errors, the library's 41 terms (`identify --discover`,
+//!   [`mtwin::estimate::discover`]): the linearisation, the held-out scores and the search,
+//!   on the machine's cores;
 //! - `estimate/monte_carlo_1000_one_core`: the same with 1 000 Monte Carlo trials, on a
 //!   one-thread rayon pool;
 //! - `estimate/linear_design_lm`: the solver alone on the linear problem `J z = y` with the
@@ -102,6 +106,23 @@ fn bench(c: &mut Criterion) {
             one_core.install(|| {
                 black_box(fit::estimate(&with_components, &fit::Options::default()).expect("fits"))
             })
+        })
+    });
+    let rated = |table, sphere_set: &str| {
+        let setup = Setup {
+            drift: mtwin::kinds::rtest::readings::Drift::Rate,
+            ..Setup::default()
+        };
+        readings(table, sphere_set, machine, setup).expect("readings")
+    };
+    let higher_table = simulate(&scenario.twin, &higher, 8).expect("runs");
+    let two_rated = [rated(&table, "bench"), rated(&higher_table, "bench higher")];
+    group.bench_function("discover_2880", |b| {
+        b.iter(|| {
+            black_box(
+                mtwin::estimate::discover::discover(machine, "location", &two_rated, true, |_| {})
+                    .expect("selects"),
+            )
         })
     });
     let options = fit::Options {

@@ -123,10 +123,19 @@ enum Command {
         /// The R-test sphere position is unknown (no preset at the first pose): estimate it too.
         #[arg(long)]
         free_setup: bool,
-        /// The R-test pivot drifts during each test, linearly in time (thermal drift): three
-        /// nuisances per test, each test its own zero; needs the tables' time_s.
+        /// The R-test pivot drifts in time (thermal drift), each test its own zero; needs the
+        /// tables' time_s. --drift (or --drift=per-test): each test linearly by its own
+        /// amount, three nuisances per test; --drift=rate: at one rate through each table,
+        /// three nuisances (µm per hour).
+        #[arg(long, value_name = "FORM", num_args = 0..=1, require_equals = true,
+              default_missing_value = "per-test", value_parser = ["per-test", "rate"])]
+        drift: Option<String>,
+        /// Model selection first: from --params (the base), add from a library (each rotary
+        /// axis's component errors order by order, lost motions, squareness, a drift rate)
+        /// the terms that predict K-tests and spheres held out of the fit better than noise
+        /// can explain, report each with its held-out gain, then estimate with them.
         #[arg(long)]
-        drift: bool,
+        discover: bool,
         /// Standard uncertainty of the R-test sphere's position as the preset found it (µm;
         /// default 0.5), a set-up input of the Monte Carlo.
         #[arg(long, value_name = "UM", allow_negative_numbers = true)]
@@ -410,6 +419,7 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             sigma_um,
             free_setup,
             drift,
+            discover,
             sphere_setup_um,
             rtest_sphere_mm,
             monte_carlo,
@@ -472,7 +482,12 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 tables,
                 sigma,
                 free_setup,
-                drift,
+                drift: match drift.as_deref() {
+                    None => mtwin::kinds::rtest::readings::Drift::None,
+                    Some("rate") => mtwin::kinds::rtest::readings::Drift::Rate,
+                    Some(_) => mtwin::kinds::rtest::readings::Drift::PerTest,
+                },
+                discover,
                 sphere_setup: sphere_setup_um.map(|u| u * 1e-6),
                 rtest_sphere,
                 trials: monte_carlo,

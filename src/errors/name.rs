@@ -23,7 +23,8 @@ pub enum Motion {
 }
 
 impl Motion {
-    const ALL: [Motion; 6] = [
+    /// The six, in twist order.
+    pub const ALL: [Motion; 6] = [
         Motion::X,
         Motion::Y,
         Motion::Z,

@@ -10,8 +10,11 @@
 //! - [`compensate`], [`sinumerik`], [`heidenhain`] and [`score`]: the identified machine
 //!   written out (corrected URDF, LinuxCNC pitch tables, SINUMERIK measuring-system error
 //!   compensation, HEIDENHAIN nonlinear axis-error tables) and scored against the truth.
+//! - [`discover`]: model selection on a calibration: the terms (component-error orders, lost
+//!   motions, squareness, drift) that predict held-out tests better than noise can explain.
 
 pub mod compensate;
+pub mod discover;
 pub mod fit;
 pub mod heidenhain;
 pub mod identifiability;

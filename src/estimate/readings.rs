@@ -40,6 +40,14 @@ pub trait ReadingModel: Send + Sync {
         1
     }
 
+    /// The group of reading `i` whose readings a held-out check leaves out together (an
+    /// R-test's K-test, a probed sphere; [`crate::estimate::discover`]): its own set-up
+    /// unknowns and the correlations between its readings stay inside it. 0 by default (the
+    /// whole set one group).
+    fn group(&self, _i: usize) -> usize {
+        0
+    }
+
     /// What reading `i` (from 0, in the set's order) is, for people: `reading 7` by default.
     fn reading_name(&self, i: usize) -> String {
         format!("reading {} in file order", i + 1)

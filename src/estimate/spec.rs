@@ -14,6 +14,7 @@
 //! | `reversal` | the lost motion of every linear axis: a reversal term in `EXX`, `EYY`, `EZZ` |
 //! | `EXX.reversal`, `ECC.reversal` | the lost motion of one axis (linear or rotary) |
 //! | `EXC`, `EXC:N` (a rotary axis's component error) | a Fourier series in the angle, orders 1 to N (default 3) |
+//! | `EXC.harmonic[2]` | one Fourier order of a rotary axis's component error (joins `EXC:N` when both are given; `EXC.harmonic[1]` with `EYC.harmonic[1]` is the order-1 pair below) |
 //! | `rotary_components`, `rotary_components:C`, `rotary_components:C:N`, `rotary_components:N` | the six component errors of every rotary axis (or of one), each a Fourier series of orders 1 to N (default 3) |
 //!
 //! A reversal term is the error model's [`ErrorFunction::Reversal`]: the axis lags the command
@@ -131,7 +132,17 @@ impl ParameterSet {
                 .map(|(n, _)| n.parse::<ParameterName>().expect("a valid name"))
                 .collect::<Vec<_>>()
         };
+        // Single Fourier orders asked for by name (`EXC.harmonic[2]`), beside the series.
+        let mut harmonics: Vec<(ParameterName, usize)> = Vec::new();
         for item in spec.split(',').map(str::trim) {
+            if let Some((head, order)) = harmonic_item(item) {
+                let (name, order) = harmonic_name(head, order, machine)
+                    .map_err(|m| fail(format!("\"{item}\": {m}")))?;
+                if !harmonics.contains(&(name, order)) {
+                    harmonics.push((name, order));
+                }
+                continue;
+            }
             if let Some(rest) = item.strip_prefix("rotary_components")
                 && (rest.is_empty() || rest.starts_with(':'))
             {
@@ -295,6 +306,13 @@ impl ParameterSet {
                 "{name} is asked for twice with different degrees"
             )));
         }
+        // A single order joins its component's series when that is asked for too, and makes
+        // a series of its own otherwise (orders 0 to 0 and the single ones).
+        for (name, _) in &harmonics {
+            if !wanted.iter().any(|(n, _)| n == name) {
+                wanted.push((*name, Some(0)));
+            }
+        }
         // A lost motion joins the axis's positioning error when that is asked for too, and is
         // its only term otherwise (after the others, in the order asked).
         for name in &reversals {
@@ -308,7 +326,11 @@ impl ParameterSet {
                 let polynomial = |d: usize| ErrorFunction::Polynomial(vec![0.0; d + 1]);
                 let function = match (degree, reversals.contains(name)) {
                     (Some(n), reversal) if is_rotary_component(*name) => {
-                        let mut terms = fourier_series(*n);
+                        let mut orders: Vec<usize> = (1..=*n).collect();
+                        orders.extend(harmonics.iter().filter(|(h, _)| h == name).map(|(_, k)| *k));
+                        orders.sort_unstable();
+                        orders.dedup();
+                        let mut terms = fourier_series(&orders);
                         if reversal {
                             terms.push(ErrorFunction::Reversal(0.0));
                         }
@@ -543,15 +565,44 @@ pub fn order_of(period: Real) -> usize {
     (std::f64::consts::TAU / period).round() as usize
 }
 
-/// The Fourier series of orders 1 to `order`: one harmonic of period 360°/k each, zero.
-fn fourier_series(order: usize) -> Vec<ErrorFunction> {
-    (1..=order)
-        .map(|k| ErrorFunction::Harmonic {
+/// The Fourier series of `orders`: one harmonic of period 360°/k for each order k, zero.
+fn fourier_series(orders: &[usize]) -> Vec<ErrorFunction> {
+    orders
+        .iter()
+        .map(|&k| ErrorFunction::Harmonic {
             period: std::f64::consts::TAU / k as Real,
             amplitude: 0.0,
             phase: 0.0,
         })
         .collect()
+}
+
+/// `EXC.harmonic[2]` as (`EXC`, 2); `None` for an item of another form.
+fn harmonic_item(item: &str) -> Option<(&str, &str)> {
+    let (head, rest) = item.split_once(".harmonic[")?;
+    Some((head.trim(), rest.strip_suffix(']')?))
+}
+
+/// The rotary axis's component error `head` whose single Fourier order `order` (1 to 9) is
+/// asked for, on `machine`, and the order.
+fn harmonic_name(
+    head: &str,
+    order: &str,
+    machine: &Machine,
+) -> Result<(ParameterName, usize), String> {
+    let name: ParameterName = head.parse()?;
+    if !is_rotary_component(name) {
+        return Err(format!(
+            "a single Fourier order belongs to a rotary axis's component error (EXC, ECA, …), not to {name}"
+        ));
+    }
+    if let Some(axis) = name.axis().filter(|a| !machine.has_axis(*a)) {
+        return Err(format!("machine \"{}\" has no axis {axis}", machine.name()));
+    }
+    match order.trim().parse::<usize>() {
+        Ok(k) if (1..=9).contains(&k) => Ok((name, k)),
+        _ => Err("the order in [ ] must be a whole number from 1 to 9".into()),
+    }
 }
 
 /// The axes and order of `rotary_components[:AXIS][:ORDER]` (`rest` is what follows the

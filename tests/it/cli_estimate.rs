@@ -8,6 +8,7 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+mod discover;
 mod null_combinations;
 mod wrong_data;
 

@@ -10,7 +10,7 @@ use mtwin::app::{Scenario, simulate};
 use mtwin::estimate::Readings;
 use mtwin::estimate::fit::{self, Fit, Problem};
 use mtwin::estimate::spec::ParameterSet;
-use mtwin::kinds::rtest::readings::{Setup, readings};
+use mtwin::kinds::rtest::readings::{Drift, Setup, readings};
 use mtwin::machine::Machine;
 use mtwin::math::Real;
 use std::path::Path;
@@ -725,6 +725,7 @@ fn probed_with(
 }
 
 mod controllers;
+mod discover;
 mod drift;
 mod probes_and_foreign;
 mod reversal;

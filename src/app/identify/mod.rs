@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 pub mod checks;
 pub mod provenance;
+pub mod select;
 
 use provenance::Provenance;
 
@@ -78,9 +79,12 @@ pub struct Request {
     pub sigma: BTreeMap<String, Real>,
     /// The R-test sphere position is unknown (no preset at the first pose).
     pub free_setup: bool,
-    /// The R-test pivot drifts during each test, linearly in time (see
+    /// Whether and how the R-test pivot drifts in time (see
     /// [`crate::kinds::rtest::readings::Setup::drift`]).
-    pub drift: bool,
+    pub drift: rtest::readings::Drift,
+    /// Model selection first ([`crate::estimate::discover`]): the terms the held-out tests
+    /// support join `params` before the estimate.
+    pub discover: bool,
     /// Standard uncertainty of the R-test sphere position (m), overriding the default.
     pub sphere_setup: Option<Real>,
     /// The R-test sphere centre (workpiece frame, m) for tables that do not state it.
@@ -340,6 +344,27 @@ fn rtest_sphere(argument: &str) -> Result<crate::math::Vector, IdentifyError> {
 /// Runs `identify`.
 pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
     let machine = Machine::from_urdf_file(&request.machine)?;
+    // Model selection first: the estimate is then that of the extended parameters.
+    let discovery = match request.discover {
+        true => Some(select::select(request, &machine)?),
+        false => None,
+    };
+    let extended;
+    let request = match &discovery {
+        Some(found) => {
+            extended = Request {
+                params: found.params(),
+                drift: if found.drift() {
+                    rtest::readings::Drift::Rate
+                } else {
+                    request.drift
+                },
+                ..request.clone()
+            };
+            &extended
+        }
+        None => request,
+    };
     let set = ParameterSet::parse(&request.params, &machine)?;
     let Loaded {
         sets,
@@ -439,6 +464,10 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         text = caution + &text;
         json["warnings"] = serde_json::json!(findings.problems);
         json["warnings_cause"] = serde_json::json!(findings.cause);
+    }
+    if let Some(found) = &discovery {
+        text = found.text() + &text;
+        json["discovery"] = found.to_json();
     }
     let mut cautions = table_cautions;
     cautions.extend(checks::cautions(&fit));

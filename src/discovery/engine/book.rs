@@ -94,7 +94,7 @@ where
         let mut name = String::from("base");
         for &e in effects {
             name.push_str(" + ");
-            name.push_str(self.problem.id(e));
+            name.push_str(&self.problem.id(e));
         }
         name
     }

@@ -100,7 +100,7 @@ pub trait Problem {
     type Fit: Clone;
 
     /// The effect's stable identifier (for progress messages).
-    fn id(&self, effect: Self::Effect) -> &'static str;
+    fn id(&self, effect: Self::Effect) -> String;
     /// The number of samples.
     fn n_samples(&self) -> usize;
     /// The cross-validation split.

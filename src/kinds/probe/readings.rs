@@ -49,6 +49,10 @@ impl ReadingModel for SpheresModel {
         3
     }
 
+    fn group(&self, i: usize) -> usize {
+        self.features[i / 3].cycle
+    }
+
     fn reading_name(&self, i: usize) -> String {
         format!(
             "sphere centre {} in file order ({})",

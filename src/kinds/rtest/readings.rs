@@ -24,6 +24,10 @@
 //! within a test; a drift before the test started is an offset the test's own zero takes, so a
 //! drifting table gets a datum per test even when it says `zero = first_pose`. What anchors `D`
 //! is a pose the test reads twice: a circle's end (C 360° is C 0°), a test out and back.
+//! [`Drift::Rate`] is the same drift at one rate over the whole table (three nuisances,
+//! `drift_per_h.x` …, in µm per hour, entering as rate × the row's time since its test's
+//! start): a machine warming steadily through a session of tests, which the tests held out
+//! of a fit can check (model selection, [`crate::estimate::discover`]).
 //!
 //! Simplifications, stated: the conversion of the probe readings is taken as exact (flat tips,
 //! calibrated nest): the six-point calibration's gain and direction errors (1e-4–1e-3 of the
@@ -62,9 +66,21 @@ pub struct Setup {
     /// The sphere centre (workpiece frame, m) for a table whose preamble does not state it (a
     /// foreign export); when both do, they must agree.
     pub sphere: Option<Vector>,
-    /// The pivot drifts during each test, linearly in time (see the module doc): three
-    /// nuisances per test, each test its own datum; needs the table's `time_s`.
-    pub drift: bool,
+    /// Whether and how the pivot drifts during the tests (see the module doc); each test is
+    /// then its own datum, and the table needs its `time_s`.
+    pub drift: Drift,
+}
+
+/// How the pivot's drift during the tests enters the model (see the module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Drift {
+    /// No drift.
+    #[default]
+    None,
+    /// Each test drifts linearly in time by its own amount: three nuisances per test.
+    PerTest,
+    /// The pivot drifts at one rate through the whole table: three nuisances (µm per hour).
+    Rate,
 }
 
 impl Default for Setup {
@@ -74,7 +90,7 @@ impl Default for Setup {
             sphere_uncertainty: DEFAULT_SETUP_UNCERTAINTY,
             free_sphere: false,
             sphere: None,
-            drift: false,
+            drift: Drift::None,
         }
     }
 }
@@ -85,9 +101,12 @@ struct Row {
     state: MachineState,
     /// Nominal tool orientation in machine axes.
     world_from_tool: Rotation,
-    /// Index of its test.
+    /// Index of its datum (its test, or 0 when the table is one datum).
     test: usize,
-    /// Its time as a fraction of its test's last time (0 without drift).
+    /// Index of its test in the table (for held-out evidence, [`ReadingModel::group`]).
+    group: usize,
+    /// Its time as a fraction of its test's last time ([`Drift::PerTest`]), or in hours since
+    /// its test's start ([`Drift::Rate`]); 0 without drift.
     progress: Real,
 }
 
@@ -98,13 +117,17 @@ struct RtestModel {
     rows: Vec<Row>,
     tests: usize,
     free_sphere: bool,
-    /// Whether the nuisances hold a drift per test after the zeros.
-    drift: bool,
+    /// What the nuisances hold after the zeros: a drift per test, a rate, or nothing.
+    drift: Drift,
 }
 
 impl ReadingModel for RtestModel {
     fn per_row(&self) -> usize {
         3
+    }
+
+    fn group(&self, i: usize) -> usize {
+        self.rows[i / 3].group
     }
 
     fn reading_name(&self, i: usize) -> String {
@@ -125,7 +148,11 @@ impl ReadingModel for RtestModel {
         out: &mut [Real],
     ) {
         let (offsets, rest) = nuisance.split_at(3 * self.tests);
-        let (drifts, rest) = rest.split_at(if self.drift { 3 * self.tests } else { 0 });
+        let (drifts, rest) = rest.split_at(match self.drift {
+            Drift::None => 0,
+            Drift::PerTest => 3 * self.tests,
+            Drift::Rate => 3,
+        });
         let mut sphere = self.sphere;
         let shift = if self.free_sphere { rest } else { setup };
         if shift.len() == 3 {
@@ -136,8 +163,13 @@ impl ReadingModel for RtestModel {
             let s = rigid_inverse(&actual).transform_point3(sphere);
             let c = &offsets[3 * row.test..3 * row.test + 3];
             let mut d = -(row.world_from_tool * (s - Vector::new(c[0], c[1], c[2])));
-            if self.drift {
-                let drift = &drifts[3 * row.test..3 * row.test + 3];
+            let at = match self.drift {
+                Drift::None => None,
+                Drift::PerTest => Some(3 * row.test),
+                Drift::Rate => Some(0),
+            };
+            if let Some(at) = at {
+                let drift = &drifts[at..at + 3];
                 d += Vector::new(drift[0], drift[1], drift[2]) * row.progress;
             }
             out[3 * i..3 * i + 3].copy_from_slice(&d.to_array());
@@ -210,7 +242,7 @@ pub fn readings(
         _ => sphere_of(table, file)?,
     };
     let mut workspace = Workspace::new(machine);
-    let shared = !setup.drift
+    let shared = setup.drift == Drift::None
         && table.conditions.get("zero").map(|(z, _)| z) == Some(super::Zero::FirstPose.name());
     let names: Vec<&str> = if shared {
         vec!["datum"]
@@ -272,17 +304,16 @@ pub fn readings(
             )));
         }
         let world_from_tool = workspace.world_from_ends().0.matrix3;
+        let group = table
+            .tests()
+            .iter()
+            .position(|(n, _)| *n == row.test)
+            .expect("every row's test is listed");
         rows.push(Row {
             state: MachineState::at(command),
             world_from_tool,
-            test: if shared {
-                0
-            } else {
-                names
-                    .iter()
-                    .position(|n| *n == row.test)
-                    .expect("every row's test is listed")
-            },
+            test: if shared { 0 } else { group },
+            group,
             progress: 0.0,
         });
         measured.extend_from_slice(&row.deviation.to_array());
@@ -304,25 +335,31 @@ pub fn readings(
     if let Some(message) = constant_offset(&offsets, sphere) {
         return Err(fail(message));
     }
-    if setup.drift {
-        drift_progress(table, &mut rows, &names).map_err(fail)?;
+    if setup.drift != Drift::None {
+        drift_progress(table, &mut rows, &names, setup.drift).map_err(fail)?;
     }
     let mut nuisance = Vec::new();
-    let kinds: &[&str] = if setup.drift {
+    let kinds: &[&str] = if setup.drift == Drift::PerTest {
         &["zero", "drift"]
     } else {
         &["zero"]
     };
+    let quantity = |name: String| Quantity {
+        name,
+        translation: true,
+        start: 0.0,
+        uncertainty: 0.0,
+    };
     for kind in kinds {
         for name in &names {
             for c in ["x", "y", "z"] {
-                nuisance.push(Quantity {
-                    name: format!("{name}.{kind}.{c}"),
-                    translation: true,
-                    start: 0.0,
-                    uncertainty: 0.0,
-                });
+                nuisance.push(quantity(format!("{name}.{kind}.{c}")));
             }
+        }
+    }
+    if setup.drift == Drift::Rate {
+        for c in ["x", "y", "z"] {
+            nuisance.push(quantity(format!("drift_per_h.{c}")));
         }
     }
     let sphere_quantities = ["x", "y", "z"].map(|c| Quantity {
@@ -360,9 +397,15 @@ pub fn readings(
     })
 }
 
-/// Each row's time as a fraction of its test's last time, for the drift (rows in the table's
-/// order, `names` the tests); why not, when a row has no time or a test no time after its start.
-fn drift_progress(table: &RtestTable, rows: &mut [Row], names: &[&str]) -> Result<(), String> {
+/// Each row's time as a fraction of its test's last time ([`Drift::PerTest`]) or in hours
+/// ([`Drift::Rate`]), for the drift (rows in the table's order, `names` the tests); why not,
+/// when a row has no time or a test no time after its start.
+fn drift_progress(
+    table: &RtestTable,
+    rows: &mut [Row],
+    names: &[&str],
+    drift: Drift,
+) -> Result<(), String> {
     let mut last = vec![0.0; names.len()];
     for (i, row) in table.rows.iter().enumerate() {
         let time = row.time.filter(|t| t.is_finite() && *t >= 0.0).ok_or_else(|| {
@@ -380,7 +423,11 @@ fn drift_progress(table: &RtestTable, rows: &mut [Row], names: &[&str]) -> Resul
         ));
     }
     for (row, line) in rows.iter_mut().zip(&table.rows) {
-        row.progress = line.time.unwrap_or(0.0) / last[row.test];
+        let time = line.time.unwrap_or(0.0);
+        row.progress = match drift {
+            Drift::Rate => time / 3600.0,
+            _ => time / last[row.test],
+        };
     }
     Ok(())
 }

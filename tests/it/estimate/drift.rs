@@ -40,7 +40,7 @@ fn drifting_rtest(seed: u64, drift: bool) -> (Scenario, Readings) {
     simulated(
         &text,
         Setup {
-            drift,
+            drift: if drift { Drift::PerTest } else { Drift::None },
             ..Setup::default()
         },
     )
@@ -132,7 +132,7 @@ fn a_drift_without_times_is_refused_with_the_reason() {
     let machine = &scenario.twin.machine;
     let mut table = simulate(&scenario).unwrap().rtest.unwrap();
     let drift = Setup {
-        drift: true,
+        drift: Drift::PerTest,
         ..Setup::default()
     };
     let mut at_zero = table.clone();

@@ -204,7 +204,7 @@ fn projection(f: &dyn Fn(Real) -> Real, trig: fn(Real) -> Real, k: Real) -> Real
 /// Re N and `EYC.harmonic[1].cos` Im N, and P is the C line's offset, (R(q) − I)·δ having
 /// the part δ·e^{−iq}; so EX0C's truth is the scenario's plus Re P, EY0C's plus Im P. The tilt
 /// pair (EAC, EBC) likewise, with no truth turning with C in these tests.
-fn truth_of_label(scenario: &Scenario, label: &str) -> Real {
+pub(super) fn truth_of_label(scenario: &Scenario, label: &str) -> Real {
     let value = |name: &str, q: Real| {
         let name = name.parse().unwrap();
         scenario.twin.errors.parameter(name).map_or(0.0, |p| {
@@ -386,7 +386,8 @@ fn score_by_parts(scenario: &Scenario, set: &ParameterSet, sets: &[Readings], fi
     );
 }
 
-/// The SPEC's rotary items, and what it refuses with the reason.
+/// The SPEC's rotary items (series, and single orders by name, `EXC.harmonic[2]`), and what it
+/// refuses with the reason.
 #[test]
 fn the_spec_names_rotary_series_and_refuses_what_is_not_one() {
     let machine = trunnion();
@@ -406,10 +407,44 @@ fn the_spec_names_rotary_series_and_refuses_what_is_not_one() {
     // One radial component alone keeps both order-1 coefficients.
     let alone = ParameterSet::parse("EXC:1", &machine).unwrap();
     assert_eq!(alone.labels, ["EXC.harmonic[1].sin", "EXC.harmonic[1].cos"]);
+    // Single orders by name: alone, joined to a series, and the order-1 pair tied.
+    let mut single = ParameterSet::parse("EXC.harmonic[2],ECC.harmonic[3]", &machine)
+        .unwrap()
+        .labels;
+    single.sort();
+    assert_eq!(
+        single,
+        [
+            "ECC.harmonic[3].cos",
+            "ECC.harmonic[3].sin",
+            "EXC.harmonic[2].cos",
+            "EXC.harmonic[2].sin"
+        ]
+    );
+    let joined = ParameterSet::parse("EXC:1,EXC.harmonic[3]", &machine).unwrap();
+    assert_eq!(
+        joined.labels,
+        [
+            "EXC.harmonic[1].sin",
+            "EXC.harmonic[1].cos",
+            "EXC.harmonic[3].sin",
+            "EXC.harmonic[3].cos"
+        ]
+    );
+    let pair = ParameterSet::parse("EXC.harmonic[1],EYC.harmonic[1]", &machine).unwrap();
+    assert_eq!(pair.labels, ["EXC.harmonic[1].cos", "EYC.harmonic[1].cos"]);
     let vmc3 =
         Machine::from_urdf_file(Path::new(env!("CARGO_MANIFEST_DIR")).join("models/vmc3.urdf"))
             .unwrap();
     for (spec, machine, expected) in [
+        (
+            "EXX.harmonic[2]",
+            &machine,
+            "belongs to a rotary axis's component error",
+        ),
+        ("EXC.harmonic[0]", &machine, "a whole number from 1 to 9"),
+        ("EXC.harmonic[two]", &machine, "a whole number from 1 to 9"),
+        ("EXB.harmonic[2]", &machine, "has no axis B"),
         ("rotary_components:D", &machine, "neither a rotary axis"),
         ("rotary_components:C:0", &machine, "from 1 to 9"),
         ("rotary_components:2:C", &machine, "the order comes last"),

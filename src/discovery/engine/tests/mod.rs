@@ -63,8 +63,8 @@ impl Problem for Linear {
     type Effect = usize;
     type Fit = Vec<Real>;
 
-    fn id(&self, effect: usize) -> &'static str {
-        self.names[effect]
+    fn id(&self, effect: usize) -> String {
+        self.names[effect].into()
     }
 
     fn n_samples(&self) -> usize {
@@ -396,7 +396,7 @@ impl Problem for Exclusive<'_> {
     type Effect = usize;
     type Fit = Vec<Real>;
 
-    fn id(&self, effect: usize) -> &'static str {
+    fn id(&self, effect: usize) -> String {
         self.inner.id(effect)
     }
 

@@ -318,8 +318,8 @@ impl Problem for BallbarProblem {
     type Effect = BallbarEffect;
     type Fit = ModelFit;
 
-    fn id(&self, effect: BallbarEffect) -> &'static str {
-        effect.id(self.data.test.plane)
+    fn id(&self, effect: BallbarEffect) -> String {
+        effect.id(self.data.test.plane).into()
     }
 
     fn n_samples(&self) -> usize {

@@ -97,8 +97,8 @@ impl Problem for PositioningProblem {
     type Effect = PositioningEffect;
     type Fit = PositioningFit;
 
-    fn id(&self, effect: PositioningEffect) -> &'static str {
-        effect.id()
+    fn id(&self, effect: PositioningEffect) -> String {
+        effect.id().into()
     }
 
     fn n_samples(&self) -> usize {

@@ -575,8 +575,8 @@ impl Problem for SpindleProblem {
     type Effect = SpindleEffect;
     type Fit = SpindleFit;
 
-    fn id(&self, effect: SpindleEffect) -> &'static str {
-        effect.id()
+    fn id(&self, effect: SpindleEffect) -> String {
+        effect.id().into()
     }
 
     fn n_samples(&self) -> usize {
