@@ -177,10 +177,11 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// Test design: from candidate R-tests (turns of the table at every 15° of the tilting
-    /// axis, sweeps of the tilting axis; with a rotary axis's component errors in --params, each
-    /// also with the sphere 80 mm higher and 60 mm further out), choose those that make the parameters identifiable
-    /// with the smallest uncertainty for the readings spent (D-optimal, greedy), and show the
-    /// predicted standard uncertainty of every parameter after each test.
+    /// axis, sweeps of the tilting axis; with a rotary axis's component errors in --params,
+    /// each also with the sphere 80 mm higher and 60 mm further out), choose those that make
+    /// the parameters identifiable with the smallest uncertainty for the readings spent
+    /// (D-optimal: greedy, then exchanges of one test for another), and show the predicted
+    /// standard uncertainty of every parameter after each test.
     Plan {
         /// The machine model (URDF).
         #[arg(long, value_name = "M.urdf")]

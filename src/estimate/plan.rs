@@ -13,15 +13,27 @@
 //! included), computed from the SVD rather than a Cholesky factor of `M`.
 //!
 //! # Selection
-//! Starting from the base design (or none), each step adds the candidate with the largest gain
-//! of `log det M` per reading among those not chosen yet (each candidate at most once: list a
-//! test twice to allow repeating it) whose readings fit in what remains of the budget; ties go to
-//! the candidate listed first. It stops when no candidate fits or none gains more than
-//! [`MIN_GAIN`]. So it goes on after every parameter is identifiable, while the budget lasts:
-//! [`Plan::identifiable_after`] gives the step at which identifiability was reached, and the steps
-//! up to there are the greedy set for identifiability alone. After each step the predicted
-//! standard uncertainty of every parameter comes from [`identifiability::analyse`] of the
-//! stacked design (no prior), `None` while a parameter is unidentifiable.
+//! **Greedy.** Starting from the base design (or none), each step adds the candidate with the
+//! largest gain of `log det M` per reading among those not chosen yet (each candidate at most
+//! once: list a test twice to allow repeating it) whose readings fit in what remains of the
+//! budget; ties go to the candidate listed first. It stops when no candidate fits or none gains
+//! more than [`MIN_GAIN`]. So it goes on after every parameter is identifiable, while the budget
+//! lasts.
+//!
+//! **Exchange** (Fedorov's algorithm, on whole tests). Greedy can be beaten at equal budget: a
+//! test that sees two parameters together can gain most per reading first, and two tests that
+//! see each on its own are then worth more than it and one of them (see
+//! [`choose`]'s example). So, from the greedy set, every exchange of one chosen test for one
+//! not chosen that fits the budget is scored, and the one that raises `log det M` most (by
+//! more than [`MIN_EXCHANGE_GAIN`]) is made, followed by the greedy additions the freed readings allow;
+//! this repeats until no exchange gains. Each move raises `log det M`, so it ends. The plan
+//! reports each exchange and what it gained over the greedy set ([`Plan::exchanges`]).
+//!
+//! The final set is listed in greedy order (each test the one gaining most per reading given
+//! those before it): [`Plan::identifiable_after`] gives the step at which identifiability was
+//! reached. After each step the predicted standard uncertainty of every parameter comes from
+//! [`identifiability::analyse`] of the stacked design (no prior), `None` while a parameter is
+//! unidentifiable.
 
 use super::identifiability::{self, Combination, Options, compress, significant, stack};
 use crate::math::Real;
@@ -31,6 +43,12 @@ use std::fmt::Write;
 
 /// A candidate must raise `log det M` by more than this (nats, in total) to be chosen.
 pub const MIN_GAIN: Real = 1e-9;
+
+/// An exchange must raise `log det M` by more than this (nats): 0.1 % of det M. Tests alike by
+/// symmetry (a sweep at C = 0° and at C = 180°) hold the same information, and their designs,
+/// made by forward differences (about 1e-7 of a column), differ in `log det M` by 1e-6 or
+/// less; an exchange between them would move nothing.
+pub const MIN_EXCHANGE_GAIN: Real = 1e-3;
 
 /// One chosen test.
 #[derive(Debug, Clone, PartialEq)]
@@ -73,6 +91,21 @@ pub struct Plan {
     /// The readings of the base and every candidate together would identify every parameter,
     /// and how many they are, when the budget is what stops the plan.
     pub every_test_readings: usize,
+    /// `log det(JᵀJ + p·I)` of the greedy set, before the exchanges.
+    pub greedy_log_det: Real,
+    /// The exchanges made after the greedy pass, in order (empty when none gains).
+    pub exchanges: Vec<Exchange>,
+}
+
+/// One exchange of the plan's search (see the module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exchange {
+    /// The test taken out.
+    pub removed: String,
+    /// The test put in.
+    pub added: String,
+    /// What it raised `log det(JᵀJ + p·I)` by (nats), with the additions that followed it.
+    pub gain: Real,
 }
 
 /// Why a plan leaves parameters unidentifiable, if it does.
@@ -117,12 +150,12 @@ pub fn choose(
 ) -> Plan {
     let n = labels.len();
     let p = prior_precision(options);
-    let mut current = compress(base.cloned().unwrap_or_else(|| DMatrix::zeros(0, n)));
+    let base_design = compress(base.cloned().unwrap_or_else(|| DMatrix::zeros(0, n)));
     assert_eq!(
-        current.ncols(),
+        base_design.ncols(),
         n,
         "plan: the base design has {} columns for {n} labels",
-        current.ncols()
+        base_design.ncols()
     );
     for (name, design) in candidates {
         assert_eq!(
@@ -132,44 +165,74 @@ pub fn choose(
             design.ncols()
         );
     }
-    let base_log_det = log_det(&current, p);
-    let base_analysis = identifiability::analyse(&current, labels, options);
+    let base_log_det = log_det(&base_design, p);
+    let base_analysis = identifiability::analyse(&base_design, labels, options);
     let mut identifiable_after = base_analysis.all_identifiable().then_some(0);
-    let mut current_log_det = base_log_det;
-    let mut remaining = budget_readings;
-    let mut chosen = vec![false; candidates.len()];
-    let mut steps = Vec::new();
+    let readings_of = |set: &[usize]| set.iter().map(|&i| candidates[i].1.nrows()).sum::<usize>();
+    let design_of = |set: &[usize]| {
+        set.iter().fold(base_design.clone(), |all, &i| {
+            compress(stack(&all, &candidates[i].1))
+        })
+    };
+    // Greedy, then exchanges of one test for another while one raises log det M.
+    let mut set = greedy(&base_design, candidates, &[], budget_readings, p);
+    let greedy_log_det = log_det(&design_of(&set), p);
+    let mut current_log_det = greedy_log_det;
+    let mut exchanges = Vec::new();
     loop {
-        let mut best: Option<(usize, Real, Real, DMatrix<Real>)> = None;
-        for (i, (_, design)) in candidates.iter().enumerate() {
-            let rows = design.nrows();
-            if chosen[i] || rows == 0 || rows > remaining {
-                continue;
-            }
-            let stacked = stack(&current, design);
-            let new_log_det = log_det(&stacked, p);
-            let gain = new_log_det - current_log_det;
-            if gain <= MIN_GAIN {
-                continue;
-            }
-            let per_reading = gain / rows as Real;
-            if best.as_ref().is_none_or(|b| per_reading > b.1) {
-                best = Some((i, per_reading, new_log_det, stacked));
+        let used = readings_of(&set);
+        let mut best: Option<(usize, usize, Real)> = None;
+        for position in 0..set.len() {
+            let mut without = set.clone();
+            let out = without.remove(position);
+            let rest = design_of(&without);
+            for (j, (_, design)) in candidates.iter().enumerate() {
+                let rows = design.nrows();
+                if set.contains(&j)
+                    || rows == 0
+                    || used - candidates[out].1.nrows() + rows > budget_readings
+                {
+                    continue;
+                }
+                let value = log_det(&stack(&rest, design), p);
+                if value > current_log_det + MIN_EXCHANGE_GAIN && best.is_none_or(|b| value > b.2) {
+                    best = Some((position, j, value));
+                }
             }
         }
-        let Some((i, _, new_log_det, stacked)) = best else {
+        let Some((position, j, _)) = best else {
             break;
         };
-        chosen[i] = true;
-        let (name, design) = &candidates[i];
-        remaining -= design.nrows();
-        current = compress(stacked);
-        current_log_det = new_log_det;
-        let analysis = identifiability::analyse(&current, labels, options);
+        let removed = std::mem::replace(&mut set[position], j);
+        let more = greedy(
+            &design_of(&set),
+            candidates,
+            &set,
+            budget_readings - readings_of(&set),
+            p,
+        );
+        set.extend(more);
+        let value = log_det(&design_of(&set), p);
+        exchanges.push(Exchange {
+            removed: candidates[removed].0.clone(),
+            added: candidates[j].0.clone(),
+            gain: value - current_log_det,
+        });
+        current_log_det = value;
+    }
+    // The final set in greedy order, step by step.
+    let others: Vec<usize> = (0..candidates.len()).filter(|i| !set.contains(i)).collect();
+    let order = greedy(&base_design, candidates, &others, usize::MAX, p);
+    let mut steps = Vec::new();
+    let mut chosen = Vec::new();
+    for i in order {
+        chosen.push(i);
+        let design = design_of(&chosen);
+        let analysis = identifiability::analyse(&design, labels, options);
         steps.push(Step {
-            test: name.clone(),
-            readings: design.nrows(),
-            log_det: new_log_det,
+            test: candidates[i].0.clone(),
+            readings: candidates[i].1.nrows(),
+            log_det: log_det(&design, p),
             uncertainties: analysis.standard_uncertainty.clone(),
         });
         if identifiable_after.is_none() && analysis.all_identifiable() {
@@ -199,6 +262,49 @@ pub fn choose(
         budget_readings,
         structural,
         every_test_readings,
+        greedy_log_det,
+        exchanges,
+    }
+}
+
+/// The greedy choice (see the module documentation) on top of `base` among the candidates not
+/// in `excluded`, within `budget` readings: the chosen candidates in order.
+fn greedy(
+    base: &DMatrix<Real>,
+    candidates: &[(String, DMatrix<Real>)],
+    excluded: &[usize],
+    budget: usize,
+    p: Real,
+) -> Vec<usize> {
+    let mut current = base.clone();
+    let mut current_log_det = log_det(&current, p);
+    let mut remaining = budget;
+    let mut chosen = Vec::new();
+    loop {
+        let mut best: Option<(usize, Real, Real, DMatrix<Real>)> = None;
+        for (i, (_, design)) in candidates.iter().enumerate() {
+            let rows = design.nrows();
+            if chosen.contains(&i) || excluded.contains(&i) || rows == 0 || rows > remaining {
+                continue;
+            }
+            let stacked = stack(&current, design);
+            let new_log_det = log_det(&stacked, p);
+            let gain = new_log_det - current_log_det;
+            if gain <= MIN_GAIN {
+                continue;
+            }
+            let per_reading = gain / rows as Real;
+            if best.as_ref().is_none_or(|b| per_reading > b.1) {
+                best = Some((i, per_reading, new_log_det, stacked));
+            }
+        }
+        let Some((i, _, new_log_det, stacked)) = best else {
+            return chosen;
+        };
+        chosen.push(i);
+        remaining -= candidates[i].1.nrows();
+        current = compress(stacked);
+        current_log_det = new_log_det;
     }
 }
 
@@ -254,12 +360,29 @@ impl Plan {
         let mut text = String::new();
         let _ = writeln!(
             text,
-            "test plan: greedy D-optimal, log det(JᵀJ + p·I) with p = {} per µm-eq²; {} tests, {} of {} readings",
+            "test plan: D-optimal (greedy, then exchanges), log det(JᵀJ + p·I) with p = {} per µm-eq²; {} tests, {} of {} readings",
             figure(Some(self.prior_precision)),
             self.steps.len(),
             self.readings(),
             self.budget_readings
         );
+        if self.exchanges.is_empty() {
+            let _ = writeln!(
+                text,
+                "no exchange of a chosen test for another raises log det: the greedy choice stands"
+            );
+        } else {
+            let list: Vec<String> = (self.exchanges.iter())
+                .map(|e| format!("{} for {} (+{:.3})", e.added, e.removed, e.gain))
+                .collect();
+            let _ = writeln!(
+                text,
+                "exchanges after the greedy pass (log det {:.3} → {:.3}): {}",
+                self.greedy_log_det,
+                self.steps.last().map_or(self.base_log_det, |s| s.log_det),
+                list.join(", ")
+            );
+        }
         let _ = writeln!(
             text,
             "{}",
@@ -330,7 +453,8 @@ impl Plan {
         text
     }
 
-    /// The plan with stable keys: `criterion` (`"greedy_d_optimal"`),
+    /// The plan with stable keys: `criterion` (`"d_optimal_greedy_exchange"`),
+    /// `greedy_log_det` and `exchanges` ({`removed`, `added`, `log_det_gain`} each),
     /// `prior_precision_per_um_eq2`, `budget_readings`, `readings`, `parameters` (names),
     /// `identifiable`, `identifiable_after_steps` (`null` when never), `base_log_det`,
     /// `base_standard_uncertainty_um_eq` (per parameter, `null` when unidentifiable),
@@ -353,7 +477,13 @@ impl Plan {
             })
             .collect();
         json!({
-            "criterion": "greedy_d_optimal",
+            "criterion": "d_optimal_greedy_exchange",
+            "greedy_log_det": self.greedy_log_det,
+            "exchanges": self.exchanges.iter().map(|e| json!({
+                "removed": e.removed,
+                "added": e.added,
+                "log_det_gain": e.gain,
+            })).collect::<Vec<_>>(),
             "prior_precision_per_um_eq2": self.prior_precision,
             "budget_readings": self.budget_readings,
             "readings": self.readings(),

@@ -405,6 +405,53 @@ fn plan_chooses_the_tests_that_see_something_new() {
     assert_eq!(plan.to_json()["limited_by"], serde_json::Value::Null);
 }
 
+/// Greedy can be beaten at equal budget, and the exchange finds the better set. Two
+/// parameters, three one-reading tests: T1 sees p1 + p2 (row [a, a], a = 1), T2 sees p1 and T3
+/// p2 (rows [b, 0] and [0, b], b = 1.2); a budget of two readings. By hand, with the prior
+/// precision p: T1 alone gives det M = (a² + p)² − a⁴ ≈ 2a²p, T2 alone (b² + p)·p ≈ 1.44p, so
+/// greedy takes T1 first (2 > 1.44), then T2 (tied with T3, listed first): det M =
+/// (a² + b² + p)(a² + p) − a⁴ ≈ a²b² = 1.44. T2 and T3 give (b² + p)² ≈ b⁴ = 2.07: exchanging
+/// T1 for T3 raises log det by ln(b²/a²) = 0.365, and nothing beats T2 with T3.
+#[test]
+fn plan_exchanges_a_greedy_test_for_a_better_pair() {
+    let names = labels(&["p1", "p2"]);
+    let (a, b) = (1.0, 1.2);
+    let candidates = vec![
+        ("T1".to_string(), DMatrix::from_row_slice(1, 2, &[a, a])),
+        ("T2".to_string(), DMatrix::from_row_slice(1, 2, &[b, 0.0])),
+        ("T3".to_string(), DMatrix::from_row_slice(1, 2, &[0.0, b])),
+    ];
+    let p: f64 = 1e-6;
+    let plan = plan::choose(None, &candidates, &names, 2, &Options::default());
+    let greedy = ((a * a + b * b + p) * (a * a + p) - a.powi(4)).ln();
+    let best = 2.0 * (b * b + p).ln();
+    assert!(close(plan.greedy_log_det, greedy, 1e-9));
+    assert_eq!(plan.exchanges.len(), 1);
+    assert_eq!(
+        (
+            plan.exchanges[0].removed.as_str(),
+            plan.exchanges[0].added.as_str()
+        ),
+        ("T1", "T3")
+    );
+    assert!(close(plan.exchanges[0].gain, best - greedy, 1e-9));
+    let mut chosen: Vec<&str> = plan.steps.iter().map(|s| s.test.as_str()).collect();
+    chosen.sort();
+    assert_eq!(chosen, ["T2", "T3"]);
+    assert!(close(plan.steps[1].log_det, best, 1e-9));
+    assert_eq!(plan.readings(), 2);
+    assert!(
+        plan.report().contains("T3 for T1 (+0.365)"),
+        "{}",
+        plan.report()
+    );
+    assert_eq!(plan.to_json()["exchanges"][0]["added"], "T3");
+    // With three readings every test fits: nothing to exchange.
+    let all = plan::choose(None, &candidates, &names, 3, &Options::default());
+    assert!(all.exchanges.is_empty());
+    assert_eq!(all.steps.len(), 3);
+}
+
 /// Tests that see only p1 + p2 (a ball-bar's two scales, say) leave p1 − p2 blind whatever
 /// the budget: the plan says so and names the combination, rather than asking for readings.
 #[test]
