@@ -41,7 +41,7 @@ pub trait ReadingModel: Send + Sync {
     }
 
     /// The group of reading `i` whose readings a held-out check leaves out together (an
-    /// R-test's K-test, a probed sphere; [`crate::estimate::discover`]): its own set-up
+    /// R-test's K-test, a probed sphere at one tilt; [`crate::estimate::discover`]): its own set-up
     /// unknowns and the correlations between its readings stay inside it. 0 by default (the
     /// whole set one group).
     fn group(&self, _i: usize) -> usize {

@@ -8,9 +8,9 @@
 //! ECC as Fourier orders 1 to 3, order 1 of the radial and tilt pairs as the part turning
 //! against the axis), the lost motion of every axis, the squareness errors, and the R-test
 //! pivot drifting in time. **Held-out evidence**: each group of readings — an R-test's
-//! K-test, a probed sphere — is left out in turn, the model fitted to the others predicts it
-//! (its own set-up, the test's zero or the sphere's centre, taken from itself as for any
-//! model), and a term enters only when the held-out predictions improve by more than noise
+//! K-test, a probed sphere at one tilt — is left out in turn, the model fitted to the others
+//! predicts it (its own set-up, the test's zero, taken from itself as for any model; a sphere's
+//! centre from its other tilts), and a term enters only when the held-out predictions improve by more than noise
 //! can explain, by the engine's rule ([`crate::discovery::engine::RULE`]: a 5 % lower
 //! held-out RMS, a weighted Stouffer z over the folds at the Bonferroni level of the round,
 //! and again without the fold that gains most), with its stepwise search (the lean one:
@@ -64,7 +64,7 @@ pub enum DiscoverError {
     Estimate(#[from] EstimateError),
     /// Nothing to hold out.
     #[error(
-        "model selection needs at least two groups of readings to hold out in turn (K-tests of an R-test, probed spheres); the tables give {0}"
+        "model selection needs at least two groups of readings to hold out in turn (K-tests of an R-test, a probed sphere's tilts); the tables give {0}"
     )]
     TooFewGroups(usize),
 }

@@ -229,7 +229,7 @@ impl Calibration {
         })
     }
 
-    /// The number of groups (K-tests, probed spheres) held out in turn.
+    /// The number of groups (K-tests, a probed sphere's tilts) held out in turn.
     pub fn groups(&self) -> usize {
         self.grams.len()
     }

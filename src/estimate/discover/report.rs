@@ -16,7 +16,7 @@ impl Discovery {
         let selection = &self.selection;
         let library = self.problem.terms().count();
         let mut out = format!(
-            "Model selection (identify --discover): from --params {}, {} terms of the library, {} testable on these tables; each of the {} groups of readings (K-tests, probed spheres) held out in turn, residuals weighted by their uncertainty (µm at the mean σ).\n",
+            "Model selection (identify --discover): from --params {}, {} terms of the library, {} testable on these tables; each of the {} groups of readings (K-tests; a probed sphere at one tilt) held out in turn, residuals weighted by their uncertainty (µm at the mean σ).\n",
             self.base,
             library,
             library - self.untestable.len(),

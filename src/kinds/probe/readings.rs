@@ -35,6 +35,8 @@ struct Feature {
     frame: LinearFrame,
     /// Index of its cycle.
     cycle: usize,
+    /// Index of its group for held-out checks: its cycle at its tilt ([`ReadingModel::group`]).
+    group: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -49,8 +51,11 @@ impl ReadingModel for SpheresModel {
         3
     }
 
+    /// A sphere at one tilt (the angles of A and B; C turning): what a K-test is to an
+    /// R-test. Held out, its centres are predicted from the same sphere at the other tilts
+    /// and from the other spheres.
     fn group(&self, i: usize) -> usize {
-        self.features[i / 3].cycle
+        self.features[i / 3].group
     }
 
     fn reading_name(&self, i: usize) -> String {
@@ -101,6 +106,7 @@ pub fn readings(
     let mut cycles: Vec<usize> = Vec::new();
     let mut index_of: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut starts = Vec::new();
+    let mut groups: Vec<(usize, [u64; 2])> = Vec::new();
     for (row, sphere) in table.spheres.iter().enumerate() {
         if sphere.key.kind != CycleKind::Sphere {
             continue;
@@ -137,7 +143,19 @@ pub fn readings(
                 cycles.len() - 1
             }
         };
-        features.push(Feature { frame, cycle });
+        let key = (
+            cycle,
+            [rotary[Axis::A].to_bits(), rotary[Axis::B].to_bits()],
+        );
+        let group = groups.iter().position(|g| *g == key).unwrap_or_else(|| {
+            groups.push(key);
+            groups.len() - 1
+        });
+        features.push(Feature {
+            frame,
+            cycle,
+            group,
+        });
         measured.extend_from_slice(&sphere.centre.to_array());
     }
     if features.is_empty() {
