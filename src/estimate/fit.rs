@@ -13,9 +13,10 @@
 //!
 //! # The steps
 //!
-//! 1. **Identifiability first**, at the start (`z = 0`, the linearisation): the design by
-//!    forward differences on the exact chain (step 0.01 µm: truncation 1e-7 and round-off
-//!    5e-9 of a column), [`super::identifiability::analyse`].
+//! 1. **Identifiability first**, at the start (`z = 0`, the linearisation): the design from
+//!    the readings' own first-order sensitivities on the chain's Jacobian where the kind gives
+//!    them (R-tests), else by forward differences on the exact chain (step 0.01 µm:
+//!    truncation 1e-7 and round-off 5e-9 of a column), [`super::identifiability::analyse`].
 //! 2. **The fit** on the identified subspace only: `z = B w` with `B` the right singular
 //!    vectors of the `r` identified directions, by [`super::lm::solve`] from `w = 0` (its first
 //!    step is the linearised estimate), the residuals on the exact chain and the Jacobian kept
@@ -303,6 +304,42 @@ impl<'a> Problem<'a> {
         DMatrix::from_fn(rows, basis.ncols(), |i, k| columns[k][i])
     }
 
+    /// The weighted design at the start from every set's own sensitivities, in solver units
+    /// (a free coefficient's column with its ties'); `None` when a set gives none or a
+    /// nuisance does not start at zero.
+    fn analytic_start_design(&self) -> Option<DMatrix<Real>> {
+        let k = self.parameters.len();
+        if self.starts[k..].iter().any(|s| *s != 0.0) {
+            return None;
+        }
+        let template = &self.parameters.model;
+        let mut design = DMatrix::zeros(self.rows, self.unknowns());
+        let mut workspace = Workspace::new(self.machine);
+        for (s, set) in self.sets.iter().enumerate() {
+            let (of_errors, of_nuisances) = set.model.sensitivities(
+                self.machine,
+                &mut workspace,
+                template,
+                set.nuisance.len(),
+            )?;
+            let at = self.row_at[s];
+            for (i, sigma) in set.sigma.iter().enumerate() {
+                for j in 0..k {
+                    let mut value = of_errors[(i, self.parameters.free[j])];
+                    for tie in &self.parameters.tied[j] {
+                        value += tie.factor * of_errors[(i, tie.coefficient)];
+                    }
+                    design[(at + i, j)] = value * self.scales[j] / sigma;
+                }
+                for q in 0..set.nuisance.len() {
+                    let j = self.nuisance_at[s] + q;
+                    design[(at + i, j)] = of_nuisances[(i, q)] * self.scales[j] / sigma;
+                }
+            }
+        }
+        Some(design)
+    }
+
     /// The weighted sensitivity of the readings to each known set-up quantity times its
     /// standard uncertainty, at `z` (rows × quantities, in the order of the sets and their
     /// `setup`): central differences of the exact chain with a step of the quantity's own
@@ -497,11 +534,15 @@ impl lm::Problem for Reduced<'_, '_> {
     }
 }
 
-/// The design at the start (the linearisation; forward differences), for identifiability
-/// and test design: needs no measured values.
+/// The design at the start (the linearisation), for identifiability and test design: needs
+/// no measured values. From the readings' own first-order sensitivities when every set gives
+/// them ([`super::ReadingModel::sensitivities`]: one pass of the chain per reading), else by
+/// forward differences.
 pub fn start_design(problem: &Problem<'_>) -> DMatrix<Real> {
     let n = problem.unknowns();
-    problem.design(&vec![0.0; n], &DMatrix::identity(n, n))
+    problem
+        .analytic_start_design()
+        .unwrap_or_else(|| problem.design(&vec![0.0; n], &DMatrix::identity(n, n)))
 }
 
 /// The design at the start with the set-up unknowns profiled out: the error-coefficient

@@ -44,6 +44,11 @@ use std::fmt::Write;
 /// A candidate must raise `log det M` by more than this (nats, in total) to be chosen.
 pub const MIN_GAIN: Real = 1e-9;
 
+/// Gains (nats) closer than this are a tie, which goes to the candidate listed first: tests
+/// alike by symmetry (a C turn at A = ±45°) give the same gain but for round-off (1e-13), and
+/// the plan must not depend on it.
+const TIE: Real = 1e-9;
+
 /// An exchange must raise `log det M` by more than this (nats): 0.1 % of det M. Tests alike by
 /// symmetry (a sweep at C = 0° and at C = 180°) hold the same information, and their designs,
 /// made by forward differences (about 1e-7 of a column), differ in `log det M` by 1e-6 or
@@ -195,7 +200,9 @@ pub fn choose(
                     continue;
                 }
                 let value = log_det(&stack(&rest, design), p);
-                if value > current_log_det + MIN_EXCHANGE_GAIN && best.is_none_or(|b| value > b.2) {
+                if value > current_log_det + MIN_EXCHANGE_GAIN
+                    && best.is_none_or(|b| value > b.2 + TIE)
+                {
                     best = Some((position, j, value));
                 }
             }
@@ -294,7 +301,7 @@ fn greedy(
                 continue;
             }
             let per_reading = gain / rows as Real;
-            if best.as_ref().is_none_or(|b| per_reading > b.1) {
+            if best.as_ref().is_none_or(|b| per_reading > b.1 + TIE) {
                 best = Some((i, per_reading, new_log_det, stacked));
             }
         }

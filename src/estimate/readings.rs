@@ -34,6 +34,23 @@ pub trait ReadingModel: Send + Sync {
         out: &mut [Real],
     );
 
+    /// The readings' first-order sensitivities at zero error and at the nuisances' starts (SI
+    /// per SI): to every coefficient of `errors` (`readings × coefficients`, the error
+    /// model's own coefficients, [`ErrorModel::jacobian`]) and to each of the `nuisances`
+    /// set-up unknowns (`readings × nuisances`). The estimators' design at the start is then
+    /// one pass of the chain per reading instead of one prediction of every reading per
+    /// unknown. `None` (the default): they take forward differences of
+    /// [`ReadingModel::predict`].
+    fn sensitivities(
+        &self,
+        _machine: &Machine,
+        _workspace: &mut Workspace,
+        _errors: &ErrorModel,
+        _nuisances: usize,
+    ) -> Option<(nalgebra::DMatrix<Real>, nalgebra::DMatrix<Real>)> {
+        None
+    }
+
     /// How many consecutive readings one row of the table gives (a sphere centre's or an
     /// R-test pose's x, y, z: 3), for naming and leaving out a whole row; 1 by default.
     fn per_row(&self) -> usize {

@@ -130,6 +130,62 @@ impl ReadingModel for RtestModel {
         self.rows[i / 3].group
     }
 
+    /// To first order, an error moving the actual tool tip by `δt` relative to the workpiece
+    /// (the chain's own Jacobian, workpiece frame) reads `R_w·δt`, `R_w` the nominal rotation
+    /// from the workpiece frame to machine axes (`s − c = R_tᵀ(p − t)` with the tip on the
+    /// sphere: the error's rotation turns a lever `p − t` of at most
+    /// [`MAX_TIP_OFF_SPHERE`] and is left out, 1e-3 of a column at worst and 0 on a table
+    /// commanded exactly onto the sphere); a test's zero `c` reads `R_i`, a drift its row's
+    /// `progress` along each axis, the sphere's offset `−R_w`.
+    fn sensitivities(
+        &self,
+        machine: &Machine,
+        workspace: &mut Workspace,
+        errors: &ErrorModel,
+        nuisances: usize,
+    ) -> Option<(nalgebra::DMatrix<Real>, nalgebra::DMatrix<Real>)> {
+        let n = 3 * self.rows.len();
+        let count = errors.coefficient_count();
+        let mut of_errors = nalgebra::DMatrix::zeros(n, count);
+        let mut of_nuisances = nalgebra::DMatrix::zeros(n, nuisances);
+        let mut columns = vec![[0.0; 5]; count];
+        let drift_at = 3 * self.tests;
+        let sphere_at = drift_at
+            + match self.drift {
+                Drift::None => 0,
+                Drift::PerTest => 3 * self.tests,
+                Drift::Rate => 3,
+            };
+        for (i, row) in self.rows.iter().enumerate() {
+            errors.jacobian(machine, workspace, &row.state, &mut columns);
+            let nominal = workspace.workpiece_from_tool(machine, &row.state.position, None);
+            let world_from_workpiece = row.world_from_tool * nominal.matrix3.transpose();
+            for (c, column) in columns.iter().enumerate() {
+                let read = world_from_workpiece * Vector::new(column[0], column[1], column[2]);
+                for (a, value) in read.to_array().into_iter().enumerate() {
+                    of_errors[(3 * i + a, c)] = value;
+                }
+            }
+            for a in 0..3 {
+                for b in 0..3 {
+                    of_nuisances[(3 * i + a, 3 * row.test + b)] = row.world_from_tool.col(b)[a];
+                    if self.free_sphere && sphere_at + 3 <= nuisances {
+                        of_nuisances[(3 * i + a, sphere_at + b)] = -world_from_workpiece.col(b)[a];
+                    }
+                }
+                let drift = match self.drift {
+                    Drift::None => None,
+                    Drift::PerTest => Some(drift_at + 3 * row.test + a),
+                    Drift::Rate => Some(drift_at + a),
+                };
+                if let Some(column) = drift {
+                    of_nuisances[(3 * i + a, column)] = row.progress;
+                }
+            }
+        }
+        Some((of_errors, of_nuisances))
+    }
+
     fn reading_name(&self, i: usize) -> String {
         format!(
             "pose {} in file order (d{})",

@@ -365,3 +365,42 @@ fn probing_three_spheres_finds_the_wobble_and_nothing_else() {
         );
     }
 }
+
+/// The R-test's design at the start from its own sensitivities (the chain's Jacobian, one pass
+/// per reading) is the forward differences' (one prediction of every reading per unknown, step
+/// 0.01 µm: truncation about 1e-7 of a column): every column within 1e-5 of its largest entry,
+/// for the location errors, C's series to order 3 with the order-1 ties, lost motions,
+/// squareness, each test's zero and the drift rate, and with the sphere free. Zero columns
+/// (what the readings cannot see) are zero both ways, to 1e-9 of the design's largest entry.
+#[test]
+fn the_r_test_design_from_its_sensitivities_is_the_forward_differences() {
+    let spec = "location,rotary_components:C:3,ECC.reversal,reversal,squareness";
+    for free_sphere in [false, true] {
+        let (scenario, _) = session(1, WOBBLE);
+        let machine = &scenario.twin.machine;
+        let table = simulate(&scenario).unwrap().rtest.unwrap();
+        let setup = Setup {
+            drift: Drift::Rate,
+            free_sphere,
+            ..Setup::default()
+        };
+        let set = readings(&table, "session", machine, setup).unwrap();
+        let parameters = ParameterSet::parse(spec, machine).unwrap();
+        let sets = [set];
+        let problem = Problem::new(machine, &parameters, &sets).unwrap();
+        let n = problem.unknowns();
+        let analytic = fit::start_design(&problem);
+        let differences = problem.design(&vec![0.0; n], &nalgebra::DMatrix::identity(n, n));
+        let largest = differences.amax();
+        for j in 0..n {
+            let column = differences.column(j);
+            let scale = column.amax().max(1e-4 * largest);
+            let worst = (analytic.column(j) - column).amax();
+            assert!(
+                worst <= 1e-5 * scale,
+                "free sphere {free_sphere}, {}: differs by {worst:e} of {scale:e}",
+                problem.labels()[j]
+            );
+        }
+    }
+}
