@@ -4,7 +4,7 @@
 //! errors alone, named, and nothing else is taken; alone, in pairs and all three; tables with
 //! none of them accept nothing; and the extended estimate recovers what was hidden.
 
-use super::rotary_components::truth_of_label;
+use super::rotary_components::{probed_three_spheres, truth_of_label};
 use super::*;
 use mtwin::estimate::discover::{Discovery, Term, discover};
 use mtwin::machine::Axis;
@@ -292,42 +292,8 @@ fn a_foreign_session_shows_its_three_faults_and_the_clean_one_none() {
     assert!(found.accepted().is_empty(), "{}", found.text());
 }
 
-/// Three 25 mm spheres (at 100 mm from C, 80 mm higher, 60 mm further out) probed at C every
-/// 30° at A = 0 and −30° (five points a sphere, 0.25 µm repeatability, the pre-travel 1 µm
-/// both ways), with `hidden`, on `seed`: the fitted centres as readings (0.3 µm each).
-fn probed(seed: u64, hidden: &str) -> (Scenario, Readings) {
-    let rotary: Vec<String> = [0.0, -30.0]
-        .iter()
-        .flat_map(|a| (0..12).map(move |k| format!("{{ a_deg = {a}, c_deg = {} }}", 30 * k)))
-        .collect();
-    let rotary = rotary.join(", ");
-    let spheres: String = [[100.0, 0.0, 250.0], [100.0, 0.0, 330.0], [160.0, 0.0, 250.0]]
-        .iter()
-        .map(|c| {
-            format!(
-                "[[probe.sphere]]\ndiameter_mm = 25.0\ncentre_mm = [{}, {}, {}]\npoints = 5\nincidence_deg = 30.0\nrotary = [{rotary}]\n",
-                c[0], c[1], c[2]
-            )
-        })
-        .collect();
-    let text = format!(
-        "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = {seed}\n{TRUNNION_ERRORS}\n{hidden}\n\
-         [probe]\nstylus_diameter_mm = 6.0\npretravel_um = 1.0\npretravel_axial_um = 1.0\n\
-         repeatability_um = 0.25\nfeed_mm_per_min = 240.0\nlatency_ms = 0.05\nclearance_mm = 2.0\novertravel_mm = 2.0\n{spheres}"
-    );
-    let scenario = load(&text);
-    let run = simulate(&scenario).unwrap().probe.unwrap();
-    let set = mtwin::kinds::probe::readings::readings(
-        &run.spheres,
-        "probed",
-        &scenario.twin.machine,
-        0.3e-6,
-    )
-    .unwrap();
-    (scenario, set)
-}
-
-/// Probing instead of an R-test: each sphere at each tilt a group (six), held out in turn
+/// Probing instead of an R-test (three spheres at A = 0 and −30°,
+/// [`probed_three_spheres`]): each sphere at each tilt a group (six), held out in turn
 /// and predicted from the others (its centre from its other tilt). C's 2-per-turn radial
 /// motion along X (1.5 µm) is found and nothing else, and its two coefficients come back
 /// within 4 u; without it nothing is accepted (two seeds each). Measured on seed 1: held-out
@@ -337,7 +303,7 @@ fn probed(seed: u64, hidden: &str) -> (Scenario, Readings) {
 #[test]
 fn probing_three_spheres_finds_the_wobble_and_nothing_else() {
     for seed in 1..=2 {
-        let (scenario, set) = probed(seed, WOBBLE);
+        let (scenario, set) = probed_three_spheres(seed, WOBBLE);
         let found = selected(&scenario, &set);
         assert_eq!(
             found.accepted(),
@@ -356,7 +322,7 @@ fn probing_three_spheres_finds_the_wobble_and_nothing_else() {
             |label| truth_of_label(&scenario, label),
             &format!("probing seed {seed}"),
         );
-        let (scenario, set) = probed(seed + 10, "");
+        let (scenario, set) = probed_three_spheres(seed + 10, "");
         let found = selected(&scenario, &set);
         assert!(
             found.accepted().is_empty(),

@@ -466,6 +466,15 @@ fn the_spec_names_rotary_series_and_refuses_what_is_not_one() {
 /// and each is within 4 u of the injected truth.
 #[test]
 fn c_component_errors_come_back_from_probing_three_spheres() {
+    let (scenario, readings) = probed_three_spheres(3, FIVE_SERIES);
+    every_coefficient_within_four_u(&scenario, &[readings], "probing");
+}
+
+/// Three 25 mm spheres ([`ONE`], [`HIGHER`], [`FURTHER`]) probed at C every 30° at A = 0 and
+/// −30° (five points a sphere, 0.25 µm repeatability, the pre-travel 1 µm both ways) on
+/// trunnion5 with its location errors and `errors`, on `seed`: the fitted centres as readings
+/// (0.3 µm each).
+pub(super) fn probed_three_spheres(seed: u64, errors: &str) -> (Scenario, Readings) {
     let rotary: Vec<String> = [0.0, -30.0]
         .iter()
         .flat_map(|a| (0..12).map(move |k| format!("{{ a_deg = {a}, c_deg = {} }}", 30 * k)))
@@ -481,7 +490,7 @@ fn c_component_errors_come_back_from_probing_three_spheres() {
         })
         .collect();
     let text = format!(
-        "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = 3\n{TRUNNION_ERRORS}\n{FIVE_SERIES}\n\
+        "schema = 1\nmachine = \"MODELS/trunnion5.urdf\"\nseed = {seed}\n{TRUNNION_ERRORS}\n{errors}\n\
          [probe]\nstylus_diameter_mm = 6.0\npretravel_um = 1.0\npretravel_axial_um = 1.0\n\
          repeatability_um = 0.25\nfeed_mm_per_min = 240.0\nlatency_ms = 0.05\nclearance_mm = 2.0\novertravel_mm = 2.0\n{spheres}"
     );
@@ -491,7 +500,7 @@ fn c_component_errors_come_back_from_probing_three_spheres() {
     let readings =
         mtwin::kinds::probe::readings::readings(&run.spheres, "simulated", machine, 0.3e-6)
             .unwrap();
-    every_coefficient_within_four_u(&scenario, &[readings], "probing");
+    (scenario, readings)
 }
 
 /// The fit of [`SPEC`] to `sets`: no null combination, and every coefficient within 4 u of
