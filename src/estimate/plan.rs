@@ -231,10 +231,9 @@ pub fn choose(
     let others: Vec<usize> = (0..candidates.len()).filter(|i| !set.contains(i)).collect();
     let order = greedy(&base_design, candidates, &others, usize::MAX, p);
     let mut steps = Vec::new();
-    let mut chosen = Vec::new();
+    let mut design = base_design.clone();
     for i in order {
-        chosen.push(i);
-        let design = design_of(&chosen);
+        design = compress(stack(&design, &candidates[i].1));
         let analysis = identifiability::analyse(&design, labels, options);
         steps.push(Step {
             test: candidates[i].0.clone(),

@@ -27,8 +27,8 @@ pub struct Fit {
 /// exact chain, [`fit::start_design`]) and `y = (measured − predicted)/σ` there, the model
 /// with columns `S` predicts `y ≈ J_S z`: the readings are linear in the errors to about
 /// 1e-5 at these sizes ([`crate::estimate::fit`]), far below any gain a term must show.
-/// Each group's own set-up unknowns (a K-test's zero, a probed sphere's centre) are
-/// projected out of its rows once ([`fit::profiled_design`]'s projection, group by group), so
+/// Each group's own set-up unknowns (a K-test's zero; a sphere's centre, probed at several
+/// tilts, is shared by its groups and fitted with the model) are projected out of its rows once ([`fit::project_off`], group by group), so
 /// a group held out is predicted from the other groups' fit with only its own set-up taken
 /// from itself, as any model must. The projected cross products are summed per group, so a
 /// fold's fit adds the groups it keeps.
@@ -169,32 +169,21 @@ impl Calibration {
             .map(|g| (0..n).filter(|&i| group_of[i] == g).collect())
             .collect();
         for g in 0..groups {
-            if own[g].is_empty() {
-                continue;
-            }
             let rows = &rows_of[g];
             let nuisance = DMatrix::from_fn(rows.len(), own[g].len(), |r, c| {
                 design[(rows[r], own[g][c])]
             });
-            let svd = nalgebra::SVD::new(nuisance, true, false);
-            let u = svd.u.expect("asked for U");
-            let largest = svd.singular_values.max();
-            let kept: Vec<usize> = (0..svd.singular_values.len())
-                .filter(|&i| svd.singular_values[i] > largest * 1e-10)
-                .collect();
-            profiled += kept.len();
-            for &k in &kept {
-                let q: Vec<Real> = rows.iter().enumerate().map(|(r, _)| u[(r, k)]).collect();
+            // The group's model columns and `y` side by side, projected off its own set-up.
+            let block = DMatrix::from_fn(rows.len(), m + 1, |r, c| {
+                if c < m { x[(rows[r], c)] } else { y[rows[r]] }
+            });
+            let (block, rank) = fit::project_off(nuisance, block);
+            profiled += rank;
+            for (r, &i) in rows.iter().enumerate() {
                 for c in 0..m {
-                    let dot: Real = rows.iter().zip(&q).map(|(&i, q)| x[(i, c)] * q).sum();
-                    for (&i, q) in rows.iter().zip(&q) {
-                        x[(i, c)] -= dot * q;
-                    }
+                    x[(i, c)] = block[(r, c)];
                 }
-                let dot: Real = rows.iter().zip(&q).map(|(&i, q)| y[i] * q).sum();
-                for (&i, q) in rows.iter().zip(&q) {
-                    y[i] -= dot * q;
-                }
+                y[i] = block[(r, m)];
             }
         }
         let grams: Vec<(DMatrix<Real>, DVector<Real>)> = rows_of
@@ -283,8 +272,7 @@ impl Calibration {
     /// Whether `term` adds a direction the model with `effects` cannot take: its columns
     /// raise the identified rank on every reading.
     pub(super) fn acts(&self, effects: &[Term], term: Term) -> bool {
-        let with: Vec<Term> = effects.iter().copied().chain([term]).collect();
-        self.fit_all(&with).rank > self.fit_all(effects).rank
+        self.fit_all(&with(effects, term)).rank > self.fit_all(effects).rank
     }
 
     /// The weighted residual sum of squares of `fit` on every reading.
@@ -302,14 +290,13 @@ impl Calibration {
         yy - 2.0 * xb + bxxb
     }
 
-    /// The evidence in the residual of `fit` (the model with `effects`) that points to
-    /// `term`: the fit of every reading with it lowers the weighted sum of squares by more
-    /// than four times what one noise-only direction would (F ≥ 4 per added direction).
-    pub(super) fn evidence(&self, effects: &[Term], fit: &Fit, term: Term) -> Option<String> {
-        let with: Vec<Term> = effects.iter().copied().chain([term]).collect();
-        let bigger = self.fit_all(&with);
+    /// The evidence in the residual of `fit` (the model's fit to every reading) that points
+    /// to a term whose fit with the model is `bigger`: it lowers the weighted sum of squares
+    /// by more than four times what one noise-only direction would (F ≥ 4 per added
+    /// direction). With the evidence, the drop of the sum of squares (for the order).
+    fn evidence(&self, fit: &Fit, bigger: &Fit) -> Option<(String, Real)> {
         let added = bigger.rank.checked_sub(fit.rank).filter(|&d| d > 0)?;
-        let (ss0, ss1) = (self.sum_of_squares(fit), self.sum_of_squares(&bigger));
+        let (ss0, ss1) = (self.sum_of_squares(fit), self.sum_of_squares(bigger));
         let dof = self
             .y
             .len()
@@ -317,11 +304,12 @@ impl Calibration {
             .filter(|&d| d > 0)?;
         let f = (ss0 - ss1) / added as Real / (ss1 / dof as Real);
         (f >= 4.0).then(|| {
-            format!(
+            let text = format!(
                 "fitted to every reading it takes {:.1} % of the residual sum of squares (F = {f:.1} for {added} direction{})",
                 100.0 * (ss0 - ss1) / ss0,
                 if added == 1 { "" } else { "s" }
-            )
+            );
+            (text, ss0 - ss1)
         })
     }
 
@@ -386,19 +374,17 @@ impl Problem for Calibration {
     }
 
     fn proposals(&self, effects: &[Term], fit: &Fit) -> Vec<(Term, String)> {
-        let open: Vec<Term> = self
-            .terms()
-            .filter(|t| !effects.contains(t) && self.acts(effects, *t))
-            .collect();
+        // `fit` is the model's fit to every reading: each open term is fitted with it once,
+        // for whether it acts at all and for the evidence that points to it.
         let mut pointed: Vec<(Term, String, Real)> = Vec::new();
         let mut others = Vec::new();
-        for term in open {
-            match self.evidence(effects, fit, term) {
-                Some(text) => {
-                    let with: Vec<Term> = effects.iter().copied().chain([term]).collect();
-                    let gain = self.sum_of_squares(fit) - self.sum_of_squares(&self.fit_all(&with));
-                    pointed.push((term, text, gain));
-                }
+        for term in self.terms().filter(|t| !effects.contains(t)) {
+            let bigger = self.fit_all(&with(effects, term));
+            if bigger.rank <= fit.rank {
+                continue;
+            }
+            match self.evidence(fit, &bigger) {
+                Some((text, gain)) => pointed.push((term, text, gain)),
                 None => others.push((term, engine::NO_DIAGNOSTIC.to_string())),
             }
         }
@@ -416,6 +402,11 @@ impl Problem for Calibration {
             grid: 1.0,
         })
     }
+}
+
+/// `effects` and `term`.
+fn with(effects: &[Term], term: Term) -> Vec<Term> {
+    effects.iter().copied().chain([term]).collect()
 }
 
 #[cfg(test)]

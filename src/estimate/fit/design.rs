@@ -132,8 +132,15 @@ pub fn profiled_design(problem: &Problem<'_>) -> DMatrix<Real> {
     let k = problem.parameters.len();
     let theta = design.columns(0, k).into_owned();
     let nuisance = design.columns(k, design.ncols() - k).into_owned();
+    project_off(nuisance, theta).0
+}
+
+/// `columns` projected onto the complement of the column space of `nuisance` (same rows),
+/// `(I − P_ν)·columns`, and the rank of `nuisance` (singular values above 1e-10 of the
+/// largest): what the readings say whatever the nuisances, and how many they take.
+pub fn project_off(nuisance: DMatrix<Real>, columns: DMatrix<Real>) -> (DMatrix<Real>, usize) {
     if nuisance.ncols() == 0 {
-        return theta;
+        return (columns, 0);
     }
     let svd = nalgebra::SVD::new(nuisance, true, false);
     let u = svd.u.expect("asked for U");
@@ -142,6 +149,6 @@ pub fn profiled_design(problem: &Problem<'_>) -> DMatrix<Real> {
         .filter(|i| svd.singular_values[*i] > largest * 1e-10)
         .collect();
     let q = DMatrix::from_fn(u.nrows(), kept.len(), |i, c| u[(i, kept[c])]);
-    let projection = q.transpose() * &theta;
-    theta - q * projection
+    let projection = q.transpose() * &columns;
+    (columns - q * projection, kept.len())
 }

@@ -53,7 +53,7 @@ use rayon::prelude::*;
 
 mod design;
 
-pub use design::{profiled_design, start_design};
+pub use design::{profiled_design, project_off, start_design};
 
 /// Finite-difference step in solver units: 0.01 µm. Forward differences then err by
 /// `h·f''/2`, about 1e-7 of a column at these error sizes (the chain bends by (1 µm / 0.1 m)

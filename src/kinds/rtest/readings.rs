@@ -121,6 +121,26 @@ struct RtestModel {
     drift: Drift,
 }
 
+impl RtestModel {
+    /// The drift's nuisances after the zeros: none, three per test, or three.
+    fn drifts(&self) -> usize {
+        match self.drift {
+            Drift::None => 0,
+            Drift::PerTest => 3 * self.tests,
+            Drift::Rate => 3,
+        }
+    }
+
+    /// Where `row`'s drift (x, y, z) starts among the drift's nuisances, if there is one.
+    fn drift_of(&self, row: &Row) -> Option<usize> {
+        match self.drift {
+            Drift::None => None,
+            Drift::PerTest => Some(3 * row.test),
+            Drift::Rate => Some(0),
+        }
+    }
+}
+
 impl ReadingModel for RtestModel {
     fn per_row(&self) -> usize {
         3
@@ -150,12 +170,7 @@ impl ReadingModel for RtestModel {
         let mut of_nuisances = nalgebra::DMatrix::zeros(n, nuisances);
         let mut columns = vec![[0.0; 5]; count];
         let drift_at = 3 * self.tests;
-        let sphere_at = drift_at
-            + match self.drift {
-                Drift::None => 0,
-                Drift::PerTest => 3 * self.tests,
-                Drift::Rate => 3,
-            };
+        let sphere_at = drift_at + self.drifts();
         for (i, row) in self.rows.iter().enumerate() {
             errors.jacobian(machine, workspace, &row.state, &mut columns);
             let nominal = workspace.workpiece_from_tool(machine, &row.state.position, None);
@@ -173,13 +188,8 @@ impl ReadingModel for RtestModel {
                         of_nuisances[(3 * i + a, sphere_at + b)] = -world_from_workpiece.col(b)[a];
                     }
                 }
-                let drift = match self.drift {
-                    Drift::None => None,
-                    Drift::PerTest => Some(drift_at + 3 * row.test + a),
-                    Drift::Rate => Some(drift_at + a),
-                };
-                if let Some(column) = drift {
-                    of_nuisances[(3 * i + a, column)] = row.progress;
+                if let Some(at) = self.drift_of(row) {
+                    of_nuisances[(3 * i + a, drift_at + at + a)] = row.progress;
                 }
             }
         }
@@ -204,11 +214,7 @@ impl ReadingModel for RtestModel {
         out: &mut [Real],
     ) {
         let (offsets, rest) = nuisance.split_at(3 * self.tests);
-        let (drifts, rest) = rest.split_at(match self.drift {
-            Drift::None => 0,
-            Drift::PerTest => 3 * self.tests,
-            Drift::Rate => 3,
-        });
+        let (drifts, rest) = rest.split_at(self.drifts());
         let mut sphere = self.sphere;
         let shift = if self.free_sphere { rest } else { setup };
         if shift.len() == 3 {
@@ -219,12 +225,7 @@ impl ReadingModel for RtestModel {
             let s = rigid_inverse(&actual).transform_point3(sphere);
             let c = &offsets[3 * row.test..3 * row.test + 3];
             let mut d = -(row.world_from_tool * (s - Vector::new(c[0], c[1], c[2])));
-            let at = match self.drift {
-                Drift::None => None,
-                Drift::PerTest => Some(3 * row.test),
-                Drift::Rate => Some(0),
-            };
-            if let Some(at) = at {
+            if let Some(at) = self.drift_of(row) {
                 let drift = &drifts[at..at + 3];
                 d += Vector::new(drift[0], drift[1], drift[2]) * row.progress;
             }
@@ -300,11 +301,8 @@ pub fn readings(
     let mut workspace = Workspace::new(machine);
     let shared = setup.drift == Drift::None
         && table.conditions.get("zero").map(|(z, _)| z) == Some(super::Zero::FirstPose.name());
-    let names: Vec<&str> = if shared {
-        vec!["datum"]
-    } else {
-        table.tests().iter().map(|(name, _)| *name).collect()
-    };
+    let tests: Vec<&str> = table.tests().iter().map(|(name, _)| *name).collect();
+    let names: Vec<&str> = if shared { vec!["datum"] } else { tests.clone() };
     let mut rows = Vec::with_capacity(table.rows.len());
     let mut measured = Vec::with_capacity(3 * table.rows.len());
     // The nominal tip's offset from the sphere at each row with commanded positions.
@@ -360,10 +358,9 @@ pub fn readings(
             )));
         }
         let world_from_tool = workspace.world_from_ends().0.matrix3;
-        let group = table
-            .tests()
+        let group = tests
             .iter()
-            .position(|(n, _)| *n == row.test)
+            .position(|n| *n == row.test)
             .expect("every row's test is listed");
         rows.push(Row {
             state: MachineState::at(command),
