@@ -138,9 +138,10 @@ impl JointRotation {
     };
 
     /// The rotation by `angle` about the unit vector `unit`. Its sine and cosine are
-    /// [`libm::sincos`]'s: a port of FreeBSD's (under 1 ulp), the same on every platform, and
-    /// 30 ns a pose cheaper on trunnion5 than glibc's `sincos` (which, profiled in the chain,
-    /// spends a third of its time setting the rounding mode).
+    /// [`super::trig::sin_cos`]'s: FreeBSD's algorithm (under 1 ulp, the same on every
+    /// platform) without branches on the angle's range; [`libm::sincos`], its port with them,
+    /// was 30 ns a pose cheaper on trunnion5 than glibc's `sincos` (which, profiled in the
+    /// chain, spends a third of its time setting the rounding mode), and this is cheaper again.
     #[inline(always)]
     pub(crate) fn new(unit: Vector, angle: Real) -> JointRotation {
         JointRotation::along(unit, coordinate_of(unit), angle)
@@ -149,7 +150,7 @@ impl JointRotation {
     /// [`JointRotation::new`] with `coordinate_of(unit)` known.
     #[inline(always)]
     fn along(unit: Vector, coordinate: Option<usize>, angle: Real) -> JointRotation {
-        let (sin, cos) = libm::sincos(angle);
+        let (sin, cos) = super::trig::sin_cos(angle);
         let shape = match coordinate {
             // DMat3::from_axis_angle's entries with the zero terms of a coordinate axis left
             // out: the diagonal (u_k² = 1)·(1 − cos) + cos, and u_k·sin (with a sign that
@@ -491,7 +492,7 @@ impl Workspace {
 /// Walks one branch from the bed: `origin · translation(q) · [slot motion] · rotation(q)` per
 /// joint (`· L · rotation(q) · L⁻¹` after the slot motion where an [`AxisLine`] is given),
 /// recording each slot frame. Returns `world_from_end`.
-#[inline]
+#[inline(always)]
 fn walk(
     branch: &Branch,
     position: &AxisValues,
@@ -583,10 +584,10 @@ pub(crate) fn plain_workpiece_from_tool(
 }
 
 /// `DMat3::from_axis_angle(unit, angle)`, term for term, with the sine and cosine the walk uses
-/// ([`libm::sincos`]; glam takes the platform's).
+/// ([`super::trig::sin_cos`]; glam takes the platform's).
 #[cfg(test)]
 pub(crate) fn axis_angle(unit: Vector, angle: Real) -> DMat3 {
-    let (sin, cos) = libm::sincos(angle);
+    let (sin, cos) = super::trig::sin_cos(angle);
     let (x, y, z) = unit.into();
     let (xsin, ysin, zsin) = (unit * sin).into();
     let (x2, y2, z2) = (unit * unit).into();

@@ -22,6 +22,7 @@ mod body;
 mod inverse;
 mod kinematics;
 mod plane;
+mod trig;
 mod urdf;
 
 pub use body::{Body, Shape, Visual};
