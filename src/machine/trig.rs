@@ -70,20 +70,19 @@ fn reduce(x: f64, high: u32) -> (i32, f64, f64) {
     let mut y0 = r - w;
     let ex = (high >> 20) as i32;
     let exponent = |y: f64| ((y.to_bits() >> 52) & 0x7ff) as i32;
+    // One more round with the next part of π/2 and its rest: (r, w, y0) from r.
+    let round = |r: f64, part: f64, rest: f64| {
+        let w = f_n * part;
+        let next = r - w;
+        let w = f_n * rest - ((r - next) - w);
+        (next, w, next - w)
+    };
     if ex - exponent(y0) > 16 {
         // The first part cancelled: a second round, good to 118 bits.
-        let t = r;
-        w = f_n * PIO2_2;
-        r = t - w;
-        w = f_n * PIO2_2T - ((t - r) - w);
-        y0 = r - w;
+        (r, w, y0) = round(r, PIO2_2, PIO2_2T);
         if ex - exponent(y0) > 49 {
             // A third, good to 151 bits.
-            let t = r;
-            w = f_n * PIO2_3;
-            r = t - w;
-            w = f_n * PIO2_3T - ((t - r) - w);
-            y0 = r - w;
+            (r, w, y0) = round(r, PIO2_3, PIO2_3T);
         }
     }
     (n, y0, (r - y0) - w)
