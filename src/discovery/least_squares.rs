@@ -4,6 +4,7 @@
 //! minimum-norm share instead of blowing up.
 
 use crate::math::Real;
+use mtwin_kernels::linalg;
 use nalgebra::linalg::householder::clear_column_unchecked;
 use nalgebra::{DMatrix, DVector, Reflection, Unit};
 
@@ -135,10 +136,9 @@ impl Design {
             Reflection::new(axis, 0.0).reflect_with_sign(&mut b.rows_range_mut(i..), d.signum());
         }
         let b = b.rows(0, columns).into_owned();
-        let svd = square.svd(true, true);
+        let svd = linalg::svd(square, true, true);
         let largest = svd.singular_values.max();
-        let solution = svd
-            .solve(&b, largest * RANK_TOLERANCE)
+        let solution = linalg::svd_solve(&svd, &b, largest * RANK_TOLERANCE)
             .expect("both factors were computed");
         (0..columns).map(|j| solution[j] * scales[j]).collect()
     }
@@ -161,16 +161,15 @@ impl Design {
         // which has A's singular values: the same rank cut at a fraction of the cost of
         // bidiagonalising A with its left factor.
         let (square, b) = if self.rows > columns {
-            let qr = a.qr();
-            qr.q_tr_mul(&mut b);
-            (qr.r(), b.rows(0, columns).into_owned())
+            let qr = linalg::qr(a);
+            linalg::qr_q_tr_mul(&qr, &mut b);
+            (linalg::qr_r(&qr), b.rows(0, columns).into_owned())
         } else {
             (a, b)
         };
-        let svd = square.svd(true, true);
+        let svd = linalg::svd(square, true, true);
         let largest = svd.singular_values.max();
-        let solution = svd
-            .solve(&b, largest * RANK_TOLERANCE)
+        let solution = linalg::svd_solve(&svd, &b, largest * RANK_TOLERANCE)
             .expect("both factors were computed");
         (0..columns).map(|j| solution[j] * scale(j)).collect()
     }

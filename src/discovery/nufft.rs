@@ -9,8 +9,8 @@
 //! positioning periodogram's test check it against the direct sums.
 
 use crate::math::Real;
+use mtwin_kernels::{Fft, FftPlanner};
 use rustfft::num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
 

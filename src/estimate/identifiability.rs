@@ -66,7 +66,8 @@
 //! All of them, and κ, are NaN when nothing is identified (`r = 0`).
 
 use crate::math::Real;
-use nalgebra::{DMatrix, QR, SVD, SymmetricEigen};
+use mtwin_kernels::linalg;
+use nalgebra::DMatrix;
 use serde_json::{Value, json};
 use std::fmt::Write;
 
@@ -239,7 +240,7 @@ impl Decomposition {
         } else {
             design.clone()
         };
-        let svd = SVD::new(padded, false, true);
+        let svd = linalg::svd(padded, false, true);
         let v = svd.v_t.expect("V requested").transpose();
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&a, &b| svd.singular_values[b].total_cmp(&svd.singular_values[a]));
@@ -328,7 +329,7 @@ pub fn analyse(design: &DMatrix<Real>, labels: &[String], options: &Options) -> 
     let seen_combinations = if k > 0 {
         let nt = DMatrix::from_fn(k, n - r, |a, b| null_space[(unidentifiable[a], b)]);
         let projector = DMatrix::identity(k, k) - &nt * nt.transpose();
-        let eigen = SymmetricEigen::new(projector);
+        let eigen = linalg::symmetric_eigen(projector);
         let kept: Vec<usize> = (0..k).filter(|&i| eigen.eigenvalues[i] > 0.5).collect();
         let basis = DMatrix::from_fn(n, kept.len(), |row, col| {
             unidentifiable
@@ -567,7 +568,7 @@ pub(crate) fn compress(design: DMatrix<Real>) -> DMatrix<Real> {
     if design.nrows() <= design.ncols() {
         design
     } else {
-        QR::new(design).r()
+        linalg::qr_r(&linalg::qr(design))
     }
 }
 

@@ -14,6 +14,7 @@
 //! re-qualified between spheres), not a model that misses a term.
 
 use crate::math::Real;
+use mtwin_kernels::linalg;
 use nalgebra::DMatrix;
 
 /// The block of readings whose leaving-out lowers χ² most.
@@ -89,8 +90,8 @@ fn deleted(
     let hat = &block * inverse * block.transpose();
     let complement = DMatrix::identity(rows.len(), rows.len()) - hat;
     let e = nalgebra::DVector::from_iterator(rows.len(), rows.iter().map(|&r| residuals[r]));
-    let solved = complement.clone().lu().solve(&e)?;
-    let lowest = complement.symmetric_eigenvalues().min();
+    let solved = linalg::lu_solve(&linalg::lu(complement.clone()), &e)?;
+    let lowest = linalg::symmetric_eigenvalues(&complement).min();
     (lowest > 1e-9).then(|| e.dot(&solved))
 }
 

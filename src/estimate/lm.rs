@@ -57,7 +57,8 @@
 //!   National Laboratory report ANL-80-74.
 
 use crate::math::Real;
-use nalgebra::{DMatrix, DVector, SVD};
+use mtwin_kernels::linalg;
+use nalgebra::{DMatrix, DVector};
 
 /// A nonlinear least-squares problem: minimise ½‖r(x)‖² over `x`.
 pub trait Problem {
@@ -339,7 +340,7 @@ pub fn solve(problem: &impl Problem, x0: &[Real], options: &Options) -> Result<S
 
         // Thin SVD of the column-scaled Jacobian J D⁻¹ = U Σ Vᵀ, c = Uᵀ r, and the rank cut.
         let scaled = DMatrix::from_fn(m, n, |i, j| jac[(i, j)] / diag[j]);
-        let svd = SVD::try_new_unordered(scaled, true, true, 5.0 * Real::EPSILON, 0)
+        let svd = linalg::try_svd_unordered(scaled, true, true, 5.0 * Real::EPSILON, 0)
             .ok_or(LmError::Svd { iterations })?;
         let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else {
             return Err(LmError::Svd { iterations });

@@ -37,7 +37,7 @@
 
 use super::identifiability::{self, Combination, Options, compress, significant, stack};
 use crate::math::Real;
-use nalgebra::{DMatrix, SVD};
+use nalgebra::DMatrix;
 use serde_json::{Value, json};
 use std::fmt::Write;
 
@@ -135,7 +135,7 @@ pub fn log_det(design: &DMatrix<Real>, prior_precision: Real) -> Real {
     if design.nrows() == 0 {
         return n as Real * prior_precision.ln();
     }
-    let s = SVD::new(design.clone(), false, false).singular_values;
+    let s = mtwin_kernels::linalg::svd(design.clone(), false, false).singular_values;
     let seen: Real = s.iter().map(|s| (s * s + prior_precision).ln()).sum();
     seen + (n - s.len()) as Real * prior_precision.ln()
 }

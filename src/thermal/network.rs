@@ -142,9 +142,8 @@ impl ThermalNetwork {
     pub fn steady_state(&self, power: &[Real], ambient: Real) -> Option<Vec<Real>> {
         let (a, b) = self.system();
         let u = input(power, ambient);
-        a.lu()
-            .solve(&(-(b * u)))
-            .map(|t| t.iter().copied().collect())
+        let lu = mtwin_kernels::linalg::lu(a);
+        mtwin_kernels::linalg::lu_solve(&lu, &(-(b * u))).map(|t| t.iter().copied().collect())
     }
 }
 

@@ -368,8 +368,7 @@ enum Column {
 /// here from the layout of the file.
 fn standard_errors(table: &PositioningTable, columns: &[Column], sigma_um: f64) -> Vec<f64> {
     let (a, k) = design(table, columns);
-    let inverse = (a.transpose() * &a)
-        .try_inverse()
+    let inverse = mtwin_kernels::linalg::try_inverse(a.transpose() * &a)
         .expect("the columns are independent of the profile");
     (0..columns.len())
         .map(|j| sigma_um * inverse[(k + j, k + j)].sqrt())

@@ -458,7 +458,7 @@ struct NistRun {
 fn standard_deviations(jacobian: &DMatrix<f64>, rss: f64) -> Vec<f64> {
     let (m, n) = jacobian.shape();
     let s2 = rss / (m - n) as f64;
-    let svd = jacobian.clone().svd_unordered(false, true);
+    let svd = mtwin_kernels::linalg::svd_unordered(jacobian.clone(), false, true);
     let v_t = svd.v_t.unwrap();
     (0..n)
         .map(|j| {

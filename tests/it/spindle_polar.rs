@@ -546,10 +546,8 @@ fn lsc_matches_an_independent_least_squares_solve() {
             1 => angles[i].cos(),
             _ => angles[i].sin(),
         });
-        let x = a
-            .clone()
-            .svd(true, true)
-            .solve(&DVector::from_column_slice(&p), 1e-14)
+        let svd = mtwin_kernels::linalg::svd(a.clone(), true, true);
+        let x = mtwin_kernels::linalg::svd_solve(&svd, &DVector::from_column_slice(&p), 1e-14)
             .expect("svd solve");
         let f = fit(&p, angles, Centre::Lsc);
         // Two least-squares solutions of the same problem: agree to the conditioning of the

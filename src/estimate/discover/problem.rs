@@ -10,7 +10,8 @@ use crate::estimate::identifiability;
 use crate::estimate::spec::ParameterSet;
 use crate::machine::{Machine, Workspace};
 use crate::math::Real;
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use mtwin_kernels::linalg;
+use nalgebra::{DMatrix, DVector};
 
 /// A fit: the columns it used and their values (solver units).
 #[derive(Clone, Debug)]
@@ -245,7 +246,7 @@ impl Calibration {
         let k = columns.len();
         let a = DMatrix::from_fn(k, k, |r, c| gram[(columns[r], columns[c])]);
         let b = DVector::from_fn(k, |r, _| moment[columns[r]]);
-        let eigen = SymmetricEigen::new(a);
+        let eigen = linalg::symmetric_eigen(a);
         let largest = eigen.eigenvalues.max().max(0.0);
         let cut = self.options.tolerance(largest.sqrt()).powi(2);
         let mut beta = DVector::zeros(k);
@@ -529,10 +530,10 @@ mod tests {
             problem.x[(rows[r], fit.columns[c])]
         });
         let y = DVector::from_fn(rows.len(), |r, _| problem.y[rows[r]]);
-        let svd = x.svd(true, true);
+        let svd = linalg::svd(x, true, true);
         let cut = problem.options.tolerance(svd.singular_values.max());
         let kept = svd.singular_values.iter().filter(|&&s| s > cut).count();
-        let direct = svd.solve(&y, cut).unwrap();
+        let direct = linalg::svd_solve(&svd, &y, cut).unwrap();
         let size = direct.amax();
         for (a, b) in fit.beta.iter().zip(direct.iter()) {
             assert!((a - b).abs() <= 1e-9 * size, "{a} against {b}");

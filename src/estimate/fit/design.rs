@@ -142,7 +142,7 @@ pub fn project_off(nuisance: DMatrix<Real>, columns: DMatrix<Real>) -> (DMatrix<
     if nuisance.ncols() == 0 {
         return (columns, 0);
     }
-    let svd = nalgebra::SVD::new(nuisance, true, false);
+    let svd = mtwin_kernels::linalg::svd(nuisance, true, false);
     let u = svd.u.expect("asked for U");
     let largest = svd.singular_values.max();
     let kept: Vec<usize> = (0..svd.singular_values.len())

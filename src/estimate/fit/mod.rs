@@ -48,6 +48,7 @@ use super::lm;
 use super::spec::ParameterSet;
 use crate::machine::{Machine, Workspace};
 use crate::math::{Real, seeded_rng, standard_normal};
+use mtwin_kernels::linalg;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -483,8 +484,7 @@ pub fn estimate(problem: &Problem<'_>, options: &Options) -> Result<Fit, Estimat
     // readings' nonlinearity, about 1e-5 relative at these error sizes.
     let jb = reduced.jacobian;
     let precision = jb.transpose() * &jb;
-    let inverse = precision
-        .try_inverse()
+    let inverse = linalg::try_inverse(precision)
         .ok_or_else(|| EstimateError::Solver("the identified design became singular".into()))?;
     let mut covariance = &basis * &inverse * basis.transpose();
     let mut residuals = vec![0.0; problem.rows];
@@ -568,9 +568,9 @@ pub fn identified_basis(design: &DMatrix<Real>, rank: usize) -> DMatrix<Real> {
     // With at least as many rows as columns the SVD of the design itself has all n right
     // singular vectors (the rank analysis's own); with fewer, the normal matrix's SVD does.
     let svd = if design.nrows() >= n {
-        nalgebra::SVD::new(design.clone(), false, true)
+        linalg::svd(design.clone(), false, true)
     } else {
-        nalgebra::SVD::new(design.transpose() * design, false, true)
+        linalg::svd(design.transpose() * design, false, true)
     };
     let v_t = svd.v_t.expect("asked for V");
     let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();

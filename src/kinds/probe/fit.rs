@@ -3,6 +3,7 @@
 //! Levenberg–Marquardt on nalgebra. One routine serves both dimensions.
 
 use crate::math::{Real, Vector};
+use mtwin_kernels::linalg;
 use nalgebra::{DMatrix, DVector};
 
 /// Why a fit could not be made.
@@ -137,14 +138,13 @@ fn algebraic<const D: usize>(
             .map(|(x, m)| ((x - m) / scale).powi(2))
             .sum::<Real>()
     });
-    let svd = a.svd(true, true);
+    let svd = mtwin_kernels::linalg::svd(a, true, true);
     let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
     if min.is_nan() || min <= 1e-9 * max {
         return Err(FitError::Degenerate(shape));
     }
-    let x = svd
-        .solve(&b, 0.0)
-        .map_err(|_| FitError::Degenerate(shape))?;
+    let x =
+        mtwin_kernels::linalg::svd_solve(&svd, &b, 0.0).map_err(|_| FitError::Degenerate(shape))?;
     let mut centre = mean;
     let mut c_squared = 0.0;
     for (j, c) in centre.iter_mut().enumerate() {
@@ -195,7 +195,7 @@ fn geometric<const D: usize>(points: &[[Real; D]], centre: [Real; D], radius: Re
             for a in 0..unknowns {
                 damped[(a, a)] += lambda * jtj[(a, a)].max(1e-30);
             }
-            let Some(step) = damped.lu().solve(&(-&jtr)) else {
+            let Some(step) = linalg::lu_solve(&linalg::lu(damped), &(-&jtr)) else {
                 lambda *= 10.0;
                 continue;
             };

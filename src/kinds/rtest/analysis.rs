@@ -161,7 +161,7 @@ fn least_squares<const N: usize>(
     basis: impl Fn(Real) -> [Real; N],
 ) -> ([[Real; N]; 3], Real) {
     let design = nalgebra::DMatrix::from_fn(theta.len(), N, |i, k| basis(theta[i])[k]);
-    let svd = design.clone().svd(true, true);
+    let svd = mtwin_kernels::linalg::svd(design.clone(), true, true);
     let mut coefficients = [[0.0; N]; 3];
     let mut squares = 0.0;
     for (j, c) in coefficients.iter_mut().enumerate() {
@@ -169,8 +169,7 @@ fn least_squares<const N: usize>(
             rows.len(),
             rows.iter().map(|r| r.deviation[j] / M_PER_UM),
         );
-        let p = svd
-            .solve(&y, 1e-12)
+        let p = mtwin_kernels::linalg::svd_solve(&svd, &y, 1e-12)
             .unwrap_or_else(|_| nalgebra::DVector::zeros(N));
         squares += (&design * &p - &y).norm_squared();
         c.iter_mut().zip(p.iter()).for_each(|(c, p)| *c = *p);

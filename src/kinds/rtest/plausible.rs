@@ -232,7 +232,7 @@ pub fn sign_contradiction(table: &RtestTable) -> Option<String> {
             rows.iter().map(|r| r.probes.iter().sum::<Real>() * 1e6),
         );
         let normal = design.tr_mul(&design);
-        let Some(inverse) = normal.clone().try_inverse() else {
+        let Some(inverse) = mtwin_kernels::linalg::try_inverse(normal.clone()) else {
             continue;
         };
         let fit = &inverse * design.tr_mul(&sum);

@@ -467,11 +467,11 @@ impl Description {
             .map(|(r, known)| r.deviation * 1e6 - known)
             .collect();
         let b = nalgebra::DVector::from_vec(truth);
-        let x = a
-            .clone()
-            .svd(true, true)
-            .solve(&b, 1e-12)
-            .expect("a least-squares solution");
+        // nalgebra's SVD (instantiated once in mtwin-kernels, optimised: this search fits
+        // thousands of times).
+        let svd = mtwin_kernels::linalg::svd(a.clone(), true, true);
+        let x =
+            mtwin_kernels::linalg::svd_solve(&svd, &b, 1e-12).expect("a least-squares solution");
         let misfit = ((&a * &x - b).norm_squared() / a.nrows() as f64).sqrt();
         (x.as_slice()[k..].to_vec(), misfit)
     }

@@ -106,7 +106,7 @@ fn mgh_powell_singular() {
     assert!(s.x.iter().all(|v| v.is_finite()));
     assert!(2.0 * s.cost <= 1e-30, "f = {:e}", 2.0 * s.cost);
     assert!(s.x.iter().all(|v| v.abs() <= 1e-7), "{:?}", s.x);
-    let sigma = s.jacobian.clone().svd(false, false).singular_values;
+    let sigma = mtwin_kernels::linalg::svd(s.jacobian.clone(), false, false).singular_values;
     let (hi, lo) = (sigma.max(), sigma.min());
     eprintln!("Powell singular: Jacobian singular values at the solution {sigma:?}");
     assert!(

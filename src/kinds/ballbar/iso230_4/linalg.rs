@@ -34,7 +34,7 @@ pub(super) fn scaled_eigen(g: &DMatrix<Real>) -> (Vec<Real>, Vec<Real>, DMatrix<
         })
         .collect();
     let scaled = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * d[i] * d[j]);
-    let eigen = scaled.symmetric_eigen();
+    let eigen = mtwin_kernels::linalg::symmetric_eigen(scaled);
     (
         d,
         eigen.eigenvalues.iter().copied().collect(),

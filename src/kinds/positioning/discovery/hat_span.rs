@@ -20,6 +20,7 @@
 use super::PositioningProblem;
 use crate::discovery::least_squares::RANK_TOLERANCE;
 use crate::math::{Real, dot};
+use mtwin_kernels::linalg;
 use nalgebra::DMatrix;
 use std::sync::Arc;
 
@@ -172,10 +173,13 @@ fn span(columns: &[Vec<Real>], rows: usize) -> Option<DMatrix<Real>> {
     }
     let m = DMatrix::from_fn(rows, columns.len(), |i, j| columns[j][i]);
     let (q, svd) = if rows > columns.len() {
-        let qr = m.qr();
-        (Some(qr.q()), qr.r().svd(true, false))
+        let qr = linalg::qr(m);
+        (
+            Some(linalg::qr_q(&qr)),
+            linalg::svd(linalg::qr_r(&qr), true, false),
+        )
     } else {
-        (None, m.svd(true, false))
+        (None, linalg::svd(m, true, false))
     };
     let u = svd.u.expect("computed");
     let largest = svd.singular_values.max();

@@ -57,8 +57,8 @@
 //!   form's first harmonic (the artefact's centring) cannot be told from the fundamental
 //!   motion; it is assigned to the motion and form harmonic 1 is zero.
 
+use mtwin_kernels::FftPlanner;
 use nalgebra::{DMatrix, DVector};
-use rustfft::FftPlanner;
 use thiserror::Error;
 
 use crate::math::Real;
@@ -381,7 +381,7 @@ pub fn separate<R: AsRef<[Real]>>(
     }
 
     // Fourier coefficients of every probe, harmonics 0..=k_max, probe-major.
-    let mut planner = FftPlanner::<Real>::new();
+    let mut planner = FftPlanner::new();
     let forward = planner.plan_fft_forward(m_len);
     let mut buffer = vec![Complex::new(0.0, 0.0); m_len];
     let mut scratch = vec![Complex::new(0.0, 0.0); forward.get_inplace_scratch_len()];
@@ -557,7 +557,7 @@ pub fn blind_with_content<R: AsRef<[Real]>>(profiles: &[R], blind: &[usize]) -> 
     }
     let tests = (profiles.len() * blind.len()) as Real;
     let factor = (2.0 * (tests / 0.05).ln()).sqrt() / (2.0 * std::f64::consts::LN_2).sqrt();
-    let mut planner = FftPlanner::<Real>::new();
+    let mut planner = FftPlanner::new();
     let spectra: Vec<(Vec<Real>, Real)> = profiles
         .iter()
         .map(|profile| {
@@ -643,7 +643,7 @@ impl HarmonicDesign {
         for (c, s) in scale.iter().enumerate() {
             a.column_mut(c).iter_mut().for_each(|v| *v /= *s);
         }
-        let svd = a.clone().svd(true, true);
+        let svd = mtwin_kernels::linalg::complex_svd(a.clone(), true, true);
         let sv = &svd.singular_values;
         let max = sv.iter().copied().fold(0.0, Real::max);
         let min = sv.iter().copied().fold(Real::INFINITY, Real::min);
@@ -679,7 +679,7 @@ impl HarmonicDesign {
 
     /// Least-squares solution of the scaled system, or `None` if it cannot be formed.
     fn solve(&self, rhs: &DVector<Complex>) -> Option<DVector<Complex>> {
-        self.svd.as_ref()?.solve(rhs, 0.0).ok()
+        mtwin_kernels::linalg::complex_svd_solve(self.svd.as_ref()?, rhs, 0.0).ok()
     }
 }
 

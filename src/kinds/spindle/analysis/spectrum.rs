@@ -38,7 +38,7 @@
 
 use super::motion::Revolutions;
 use crate::math::Real;
-use realfft::RealFftPlanner;
+use mtwin_kernels::RealFftPlanner;
 use realfft::num_complex::Complex;
 use serde::Serialize;
 use std::cell::RefCell;
@@ -68,7 +68,7 @@ pub struct Spectrum {
 /// What one thread keeps between records: the plans (twiddles) rustfft and realfft made, one
 /// per length, and the buffers of the last length transformed.
 struct Workspace {
-    planner: RealFftPlanner<Real>,
+    planner: RealFftPlanner,
     input: Vec<Real>,
     output: Vec<Complex<Real>>,
     scratch: Vec<Complex<Real>>,

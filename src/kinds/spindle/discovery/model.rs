@@ -9,9 +9,9 @@
 
 use super::super::record::SpindleRecord;
 use crate::math::Real;
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use mtwin_kernels::FftPlanner;
+use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 use std::collections::HashMap;
 use std::f64::consts::TAU;
@@ -379,7 +379,7 @@ pub fn fit_linear(data: &Data, columns: &[Column], train: &[bool]) -> LinearFit 
         })
         .collect();
     let scaled = DMatrix::from_fn(p, p, |a, b| gram[(a, b)] * scale[a] * scale[b]);
-    let eigen = SymmetricEigen::new(scaled);
+    let eigen = mtwin_kernels::linalg::symmetric_eigen(scaled);
     let largest = eigen.eigenvalues.iter().copied().fold(0.0, Real::max);
     let (coefficients, residuals): (Vec<Vec<Real>>, Vec<Vec<Real>>) = data
         .readings
@@ -458,7 +458,7 @@ pub fn search_harmonic(
     if lowest > highest {
         return None;
     }
-    let fft = FftPlanner::<Real>::new().plan_fft_forward(m);
+    let fft = FftPlanner::new().plan_fft_forward(m);
     let mut total = vec![0.0; highest + 1];
     let mut series = 0usize;
     for r in residuals {
@@ -542,7 +542,7 @@ pub fn search_line(
     let most = data.segments.iter().map(|s| s.revolutions).max()?;
     let length = (8 * most * m).next_power_of_two();
     let spacing = 1.0 / data.fewest_revolutions() as Real;
-    let fft = FftPlanner::<Real>::new().plan_fft_forward(length);
+    let fft = FftPlanner::new().plan_fft_forward(length);
     let per_bin = m as Real / length as Real;
     let half = length / 2;
     let mut total = vec![0.0; half];
