@@ -18,7 +18,7 @@
 //! The sums left are the full products' in their order, so poses are the plain composition's
 //! to the bit, but for the sign of exact zeros (the tests below hold the walk to that).
 
-use super::{AxisValues, Branch, Machine, Side};
+use super::{AxisValues, Branch, ChainJoint, Machine, Side, trig};
 use crate::math::{Pose, Real, Vector, rigid_inverse};
 use glam::DMat3;
 
@@ -151,6 +151,17 @@ impl JointRotation {
     #[inline(always)]
     fn along(unit: Vector, coordinate: Option<usize>, angle: Real) -> JointRotation {
         let (sin, cos) = super::trig::sin_cos(angle);
+        JointRotation::from_sin_cos(unit, coordinate, sin, cos)
+    }
+
+    /// [`JointRotation::along`] with the sine and cosine of the angle known.
+    #[inline(always)]
+    fn from_sin_cos(
+        unit: Vector,
+        coordinate: Option<usize>,
+        sin: Real,
+        cos: Real,
+    ) -> JointRotation {
         let shape = match coordinate {
             // DMat3::from_axis_angle's entries with the zero terms of a coordinate axis left
             // out: the diagonal (u_k² = 1)·(1 − cos) + cos, and u_k·sin (with a sign that
@@ -438,17 +449,38 @@ impl Workspace {
 
     /// Fills [`Workspace::rotations`] at `position`: one sine and cosine per rotary axis, about
     /// the joint axis as the URDF gives it.
+    ///
+    /// Angles that [`trig::sin_cos`] reduces are taken two at a time
+    /// ([`trig::sin_cos_pair`]: the same bits, two chains of dependent operations in one).
     pub(crate) fn set_rotations(&mut self, machine: &Machine, position: &AxisValues) {
+        let mut waiting: Option<(&ChainJoint, Real)> = None;
         for joint in machine
             .tool_branch
             .joints
             .iter()
             .chain(&machine.work_branch.joints)
         {
-            if !joint.axis.is_linear() {
-                self.rotations[joint.slot] =
-                    JointRotation::along(joint.unit, joint.coordinate, position[joint.axis]);
+            if joint.axis.is_linear() {
+                continue;
             }
+            let angle = position[joint.axis];
+            if !trig::is_medium(angle) {
+                self.rotations[joint.slot] =
+                    JointRotation::along(joint.unit, joint.coordinate, angle);
+                continue;
+            }
+            let Some((first, first_angle)) = waiting.take() else {
+                waiting = Some((joint, angle));
+                continue;
+            };
+            let [(s0, c0), (s1, c1)] = trig::sin_cos_pair([first_angle, angle]);
+            self.rotations[first.slot] =
+                JointRotation::from_sin_cos(first.unit, first.coordinate, s0, c0);
+            self.rotations[joint.slot] =
+                JointRotation::from_sin_cos(joint.unit, joint.coordinate, s1, c1);
+        }
+        if let Some((joint, angle)) = waiting {
+            self.rotations[joint.slot] = JointRotation::along(joint.unit, joint.coordinate, angle);
         }
     }
 

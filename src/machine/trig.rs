@@ -39,7 +39,7 @@ const MEDIUM_HIGH_WORD: u32 = 0x4139_21fb;
 /// `(sin x, cos x)` (see the module documentation).
 #[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
-    let high = ((x.to_bits() >> 32) as u32) & 0x7fff_ffff;
+    let high = high_word(x);
     if high < TINY_HIGH_WORD {
         // libm's answer below 2⁻²⁷·√2 (a spindle or table at zero): sin x = x, cos x = 1.
         return (x, 1.0);
@@ -48,8 +48,55 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
         return libm::sincos(x);
     }
     let (n, y0, y1) = reduce(x, high);
-    let (s, c) = (kernel_sin(y0, y1), kernel_cos(y0, y1));
-    // Quadrant n mod 4: (s, c), (c, −s), (−s, −c), (−c, s), by selects and sign bits.
+    quadrant(n, kernel_sin(y0, y1), kernel_cos(y0, y1))
+}
+
+/// Whether [`sin_cos`] takes `x` through its reduction (neither below 2⁻²⁷·√2 nor from
+/// 2²⁰·π/2 on, nor infinite or NaN): the angles [`sin_cos_pair`] takes.
+#[inline(always)]
+pub(crate) fn is_medium(x: f64) -> bool {
+    (TINY_HIGH_WORD..MEDIUM_HIGH_WORD).contains(&high_word(x))
+}
+
+/// [`sin_cos`] of two angles that [`is_medium`] accepts: lane by lane the same operations in
+/// the same order, so the same bits, written on pairs so that two rotary axes share two-lane
+/// vector instructions. When either lane's first reduction cancels, both go through
+/// [`sin_cos`].
+#[inline(always)]
+pub(crate) fn sin_cos_pair(x: [f64; 2]) -> [(f64, f64); 2] {
+    let f_n = x.map(|x| x * INV_PIO2 + TO_INT - TO_INT);
+    let r = [x[0] - f_n[0] * PIO2_1, x[1] - f_n[1] * PIO2_1];
+    let w = f_n.map(|f_n| f_n * PIO2_1T);
+    let y0 = [r[0] - w[0], r[1] - w[1]];
+    let cancels = |i: usize| ((high_word(x[i]) >> 20) as i32) - exponent(y0[i]) > 16;
+    if cancels(0) || cancels(1) {
+        return x.map(sin_cos);
+    }
+    let y1 = [(r[0] - y0[0]) - w[0], (r[1] - y0[1]) - w[1]];
+    let s = [kernel_sin(y0[0], y1[0]), kernel_sin(y0[1], y1[1])];
+    let c = [kernel_cos(y0[0], y1[0]), kernel_cos(y0[1], y1[1])];
+    [
+        quadrant(f_n[0] as i32, s[0], c[0]),
+        quadrant(f_n[1] as i32, s[1], c[1]),
+    ]
+}
+
+/// The high word of `|x|`.
+#[inline(always)]
+fn high_word(x: f64) -> u32 {
+    ((x.to_bits() >> 32) as u32) & 0x7fff_ffff
+}
+
+/// The biased exponent of `y`.
+#[inline(always)]
+fn exponent(y: f64) -> i32 {
+    ((y.to_bits() >> 52) & 0x7ff) as i32
+}
+
+/// `(sin, cos)` of `n·π/2 + y` from `s = sin y` and `c = cos y`: quadrant `n mod 4` gives
+/// (s, c), (c, −s), (−s, −c), (−c, s), by selects and sign bits.
+#[inline(always)]
+fn quadrant(n: i32, s: f64, c: f64) -> (f64, f64) {
     let odd = n & 1 != 0;
     let (sin, cos) = (if odd { c } else { s }, if odd { s } else { c });
     let sin_sign = ((n as u64 >> 1) & 1) << 63;
@@ -69,7 +116,6 @@ fn reduce(x: f64, high: u32) -> (i32, f64, f64) {
     let mut w = f_n * PIO2_1T;
     let mut y0 = r - w;
     let ex = (high >> 20) as i32;
-    let exponent = |y: f64| ((y.to_bits() >> 52) & 0x7ff) as i32;
     // One more round with the next part of π/2 and its rest: (r, w, y0) from r.
     let round = |r: f64, part: f64, rest: f64| {
         let w = f_n * part;
@@ -187,6 +233,20 @@ mod tests {
             assert!(ulps(s, x.sin()) <= 1 && ulps(c, x.cos()) <= 1, "{x}");
         }
         assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        // Two at a time, the same bits as one at a time (the medium angles, in pairs).
+        let medium: Vec<f64> = angles.iter().copied().filter(|&x| is_medium(x)).collect();
+        assert!(medium.len() > angles.len() * 9 / 10);
+        for pair in medium.chunks_exact(2) {
+            let both = sin_cos_pair([pair[0], pair[1]]);
+            for (x, (s, c)) in pair.iter().zip(both) {
+                let (one_s, one_c) = sin_cos(*x);
+                assert_eq!(
+                    (s.to_bits(), c.to_bits()),
+                    (one_s.to_bits(), one_c.to_bits()),
+                    "{x}"
+                );
+            }
+        }
         for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             let (s, c) = sin_cos(x);
             assert!(s.is_nan() && c.is_nan(), "{x}");
