@@ -150,7 +150,7 @@ impl JointRotation {
     /// [`JointRotation::new`] with `coordinate_of(unit)` known.
     #[inline(always)]
     fn along(unit: Vector, coordinate: Option<usize>, angle: Real) -> JointRotation {
-        let (sin, cos) = super::trig::sin_cos(angle);
+        let (sin, cos) = trig::sin_cos(angle);
         JointRotation::from_sin_cos(unit, coordinate, sin, cos)
     }
 
@@ -619,7 +619,7 @@ pub(crate) fn plain_workpiece_from_tool(
 /// ([`super::trig::sin_cos`]; glam takes the platform's).
 #[cfg(test)]
 pub(crate) fn axis_angle(unit: Vector, angle: Real) -> DMat3 {
-    let (sin, cos) = super::trig::sin_cos(angle);
+    let (sin, cos) = trig::sin_cos(angle);
     let (x, y, z) = unit.into();
     let (xsin, ysin, zsin) = (unit * sin).into();
     let (x2, y2, z2) = (unit * unit).into();

@@ -64,21 +64,46 @@ pub(crate) fn is_medium(x: f64) -> bool {
 /// [`sin_cos`].
 #[inline(always)]
 pub(crate) fn sin_cos_pair(x: [f64; 2]) -> [(f64, f64); 2] {
-    let f_n = x.map(|x| x * INV_PIO2 + TO_INT - TO_INT);
-    let r = [x[0] - f_n[0] * PIO2_1, x[1] - f_n[1] * PIO2_1];
-    let w = f_n.map(|f_n| f_n * PIO2_1T);
-    let y0 = [r[0] - w[0], r[1] - w[1]];
-    let cancels = |i: usize| ((high_word(x[i]) >> 20) as i32) - exponent(y0[i]) > 16;
-    if cancels(0) || cancels(1) {
+    let [a, b] = x.map(first_round);
+    if cancelled(high_word(x[0]), a.y0) || cancelled(high_word(x[1]), b.y0) {
         return x.map(sin_cos);
     }
-    let y1 = [(r[0] - y0[0]) - w[0], (r[1] - y0[1]) - w[1]];
-    let s = [kernel_sin(y0[0], y1[0]), kernel_sin(y0[1], y1[1])];
-    let c = [kernel_cos(y0[0], y1[0]), kernel_cos(y0[1], y1[1])];
+    let y1 = [(a.r - a.y0) - a.w, (b.r - b.y0) - b.w];
+    let s = [kernel_sin(a.y0, y1[0]), kernel_sin(b.y0, y1[1])];
+    let c = [kernel_cos(a.y0, y1[0]), kernel_cos(b.y0, y1[1])];
     [
-        quadrant(f_n[0] as i32, s[0], c[0]),
-        quadrant(f_n[1] as i32, s[1], c[1]),
+        quadrant(a.f_n as i32, s[0], c[0]),
+        quadrant(b.f_n as i32, s[1], c[1]),
     ]
+}
+
+/// The first round of the medium reduction: `n = rint(x·2/π)` (as `f_n`), `r = x − n·PIO2_1`,
+/// `w = n·PIO2_1T` and `y0 = r − w`.
+#[derive(Clone, Copy)]
+struct FirstRound {
+    f_n: f64,
+    r: f64,
+    w: f64,
+    y0: f64,
+}
+
+#[inline(always)]
+fn first_round(x: f64) -> FirstRound {
+    let f_n = x * INV_PIO2 + TO_INT - TO_INT;
+    let (r, w) = (x - f_n * PIO2_1, f_n * PIO2_1T);
+    FirstRound {
+        f_n,
+        r,
+        w,
+        y0: r - w,
+    }
+}
+
+/// Whether the first round cancelled (`y0` more than 16 binary orders below `x`, whose high
+/// word is `high`): the reduction needs a second part of π/2.
+#[inline(always)]
+fn cancelled(high: u32, y0: f64) -> bool {
+    ((high >> 20) as i32) - exponent(y0) > 16
 }
 
 /// The high word of `|x|`.
@@ -110,11 +135,13 @@ fn quadrant(n: i32, s: f64, c: f64) -> (f64, f64) {
 /// `x = n·π/2 + y0 + y1` for `|x| < 2²⁰·π/2` (`high`: the high word of `|x|`).
 #[inline(always)]
 fn reduce(x: f64, high: u32) -> (i32, f64, f64) {
-    let f_n = x * INV_PIO2 + TO_INT - TO_INT;
+    let FirstRound {
+        f_n,
+        mut r,
+        mut w,
+        mut y0,
+    } = first_round(x);
     let n = f_n as i32;
-    let mut r = x - f_n * PIO2_1;
-    let mut w = f_n * PIO2_1T;
-    let mut y0 = r - w;
     let ex = (high >> 20) as i32;
     // One more round with the next part of π/2 and its rest: (r, w, y0) from r.
     let round = |r: f64, part: f64, rest: f64| {
@@ -123,7 +150,7 @@ fn reduce(x: f64, high: u32) -> (i32, f64, f64) {
         let w = f_n * rest - ((r - next) - w);
         (next, w, next - w)
     };
-    if ex - exponent(y0) > 16 {
+    if cancelled(high, y0) {
         // The first part cancelled: a second round, good to 118 bits.
         (r, w, y0) = round(r, PIO2_2, PIO2_2T);
         if ex - exponent(y0) > 49 {

@@ -138,13 +138,12 @@ fn algebraic<const D: usize>(
             .map(|(x, m)| ((x - m) / scale).powi(2))
             .sum::<Real>()
     });
-    let svd = mtwin_kernels::linalg::svd(a, true, true);
+    let svd = linalg::svd(a, true, true);
     let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
     if min.is_nan() || min <= 1e-9 * max {
         return Err(FitError::Degenerate(shape));
     }
-    let x =
-        mtwin_kernels::linalg::svd_solve(&svd, &b, 0.0).map_err(|_| FitError::Degenerate(shape))?;
+    let x = linalg::svd_solve(&svd, &b, 0.0).map_err(|_| FitError::Degenerate(shape))?;
     let mut centre = mean;
     let mut c_squared = 0.0;
     for (j, c) in centre.iter_mut().enumerate() {
