@@ -13,7 +13,11 @@
 //! - for an axis line that never varies, its pose `L` and `L⁻¹` (rotary axes) or the tilt
 //!   `Exp(ε)·u − u` of the line of travel (linear axes);
 //! - harmonics of a rotary axis with a whole number of periods per turn as a
-//!   [`TurnSeries`], evaluated from the sine and cosine of the axis angle.
+//!   [`TurnSeries`], evaluated from the sine and cosine of the axis angle;
+//! - which slots vary ([`Plan::active`]): a [`Workspace`] remembers whose fixed slot motions
+//!   it holds ([`Plan::id`]), so a run of poses of one model sums and builds only the
+//!   varying ones (an evaluation with extra twists, or with another model or explicit motions
+//!   in between, makes them all again).
 //!
 //! Each joint's `Rot(u, q)` is computed once per pose, shared by the axis-line motions, the
 //! harmonics and the walk ([`Workspace`]), and products leave out the terms of exact identities
@@ -23,7 +27,8 @@
 //! A rotary axis of the workpiece branch whose line is located (`L`) is not given a slot
 //! motion: its slot motion `M = (L·R·L⁻¹·R⁻¹)⁻¹ · rel`, applied inverted before `R`, is
 //! `rel⁻¹ · L · R · L⁻¹`, which the walk computes instead ([`AxisLine`]), with a fixed `rel⁻¹`
-//! folded into `L` once. That regrouping moves the pose by a few units in the last place
+//! folded into `L` once, and with a varying one as `rel⁻¹` then `L·R·L⁻¹` built at once by
+//! Rodrigues' formula about the located axis. That regrouping moves the pose by a few units in the last place
 //! (the tests allow 8 ε, 1.8e-15 of a metre-sized entry); every other operation is the plain
 //! composition's, in its order, so models without such a line give the plain chain's poses,
 //! slot motions and slot frames to the bit (but for the sign of exact zeros), and the per-turn
@@ -61,20 +66,26 @@ impl ErrorModel {
 
     /// [`ErrorModel::slot_twists`], with the joint rotations at `state.position` when the
     /// caller has them (their sines and cosines serve the harmonics of rotary axes). Without
-    /// `lines`, `line` is left as it was when no line varies (an evaluation takes the fixed
-    /// lines from the plan).
+    /// `all`, only the varying relative twists are summed (an evaluation takes the fixed ones'
+    /// motions from the plan), and `line` is left as it was when no line varies.
     fn sum_twists(
         &self,
         state: &MachineState,
         rotations: Option<&[JointRotation]>,
         relative: &mut [[Real; 6]],
         line: &mut [[Real; 6]],
-        lines: bool,
+        all: bool,
     ) {
         assert_eq!(relative.len(), self.slot_count, "one twist per slot");
         assert_eq!(line.len(), self.slot_count, "one line location per slot");
-        relative.copy_from_slice(&self.plan.base_relative);
-        if lines || self.plan.varying_lines {
+        if all {
+            relative.copy_from_slice(&self.plan.base_relative);
+        } else {
+            for &slot in &self.plan.varying {
+                relative[slot] = self.plan.base_relative[slot];
+            }
+        }
+        if all || self.plan.varying_lines {
             line.copy_from_slice(&self.plan.base_line);
         }
         for term in &self.plan.terms {
@@ -209,7 +220,7 @@ impl ErrorModel {
             workspace.set_rotations(machine, &state.position);
         }
         let rotations = Some(&workspace.rotations[..]);
-        self.sum_twists(state, rotations, &mut relative, &mut line, false);
+        self.sum_twists(state, rotations, &mut relative, &mut line, extra.is_some());
         if let Some(extra) = extra {
             assert_eq!(extra.len(), relative.len(), "one extra twist per slot");
             for (twist, add) in relative.iter_mut().zip(extra) {
@@ -218,7 +229,15 @@ impl ErrorModel {
                 }
             }
         }
-        for (slot, plan) in self.plan.slots.iter().enumerate() {
+        // The fixed motions stay in a workspace that holds this plan's; the others are made.
+        let keeps = extra.is_none() && self.plan.id != 0 && workspace.motions_plan == self.plan.id;
+        let slots = if keeps {
+            &self.plan.active[..]
+        } else {
+            &self.plan.all[..]
+        };
+        for &slot in slots {
+            let plan = &self.plan.slots[slot];
             let extra_here = extra.is_some_and(|extra| extra[slot] != [0.0; 6]);
             (motions[slot], kinds[slot]) = match plan.relative {
                 Some(fixed) if !extra_here => fixed,
@@ -247,6 +266,8 @@ impl ErrorModel {
             let q = state.position[info.axis];
             apply_line(geometry, info, q, &workspace.rotations[slot], motion, kind);
         }
+        // With extra twists, a fixed slot may hold another motion.
+        workspace.motions_plan = if extra.is_none() { self.plan.id } else { 0 };
         let pose = workspace.walk_both(
             machine,
             &state.position,

@@ -100,6 +100,8 @@ pub struct ErrorModel {
     slot_count: usize,
     /// The axes (and their sides) of the machine it was bound to, slot by slot.
     machine_axes: Vec<(Axis, Side)>,
+    /// Their joint axes in their joint frames (`AxisInfo::joint_axis`), slot by slot.
+    joint_axes: Vec<crate::math::Vector>,
     /// Time- and speed-dependent content, by parameter name.
     dynamics: Vec<ParameterDynamics>,
     /// Where each entry of `dynamics` acts.
@@ -159,6 +161,7 @@ impl ErrorModel {
             bindings,
             slot_count: machine.slot_count(),
             machine_axes: axes_of(machine),
+            joint_axes: machine.axes().iter().map(|info| info.joint_axis).collect(),
             dynamics: Vec::new(),
             dynamic_bindings: Vec::new(),
             context: Default::default(),
@@ -180,6 +183,7 @@ impl ErrorModel {
             bindings: Vec::new(),
             slot_count: machine.slot_count(),
             machine_axes: axes_of(machine),
+            joint_axes: machine.axes().iter().map(|info| info.joint_axis).collect(),
             dynamics: Vec::new(),
             dynamic_bindings: Vec::new(),
             context: Default::default(),

@@ -13,7 +13,11 @@
 //! - a slot motion that is the identity, a translation or a rotation ([`MotionKind`]) costs
 //!   nothing, a matrix-vector product or a matrix product;
 //! - until the first rotation, the frame's rotation is exactly the identity, and products with
-//!   it are copies and sums.
+//!   it are copies and sums;
+//! - a branch whose end link sits on its last joint's frame (an identity `end`) is not placed
+//!   by it;
+//! - the rotary joints are listed once ([`Machine`]'s `rotary_joints`), and the sines and
+//!   cosines of two of them are computed together ([`trig::sin_cos_pair`]).
 //!
 //! The sums left are the full products' in their order, so poses are the plain composition's
 //! to the bit, but for the sign of exact zeros (the tests below hold the walk to that).
@@ -33,6 +37,9 @@ pub struct Workspace {
     pub(crate) slot_motions: Vec<Pose>,
     /// What each slot motion is (identity, translation, general), filled with it.
     pub(crate) motion_kinds: Vec<MotionKind>,
+    /// The error model plan (its id, 0 for none) whose fixed slot motions `slot_motions` and
+    /// `motion_kinds` hold: an evaluation with that plan recomputes only the others.
+    pub(crate) motions_plan: u64,
     /// Each rotary axis's rotation at the position of the evaluation, by slot (the identity
     /// for linear axes and the tool slot), computed once per pose for the chain and for the
     /// error model's axis-line motions.
@@ -87,15 +94,64 @@ impl MotionKind {
 /// slot's relative motion `rel` (applied inverted, as on that branch), instead of applying the
 /// slot motion `(L·R·L⁻¹·R⁻¹)⁻¹ · rel` inverted and turning by `Rot(u, q)`: the same product
 /// regrouped, with fewer operations (see [`crate::errors`]).
+///
+/// When the relative motion is not folded in (it varies), the walk turns by
+/// `L · Rot(u, q) · L⁻¹` built at once ([`AxisLine::turned_by`]) rather than by three
+/// products.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct AxisLine {
-    /// `L`.
-    pub pose: Pose,
     /// `rel⁻¹ · L` for the slot's fixed relative motion, used when its kind is
     /// [`MotionKind::InLine`].
     pub folded: Pose,
     /// `L⁻¹`.
     pub inverse: Pose,
+    /// `K = [Q·u]×` and `K²`, for `L = Trans(δ)·Q` and the joint axis `u`, and `K·δ`, `K²·δ`.
+    k: DMat3,
+    k2: DMat3,
+    k_delta: Vector,
+    k2_delta: Vector,
+}
+
+impl AxisLine {
+    /// The line `pose` (`L`) of a joint turning about `unit`, with `folded` = `rel⁻¹ · L`.
+    pub(crate) fn new(pose: Pose, folded: Pose, unit: Vector) -> AxisLine {
+        let u = pose.matrix3 * unit;
+        let k = DMat3::from_cols(
+            Vector::new(0.0, u.z, -u.y),
+            Vector::new(-u.z, 0.0, u.x),
+            Vector::new(u.y, -u.x, 0.0),
+        );
+        let k2 = k * k;
+        AxisLine {
+            folded,
+            inverse: rigid_inverse(&pose),
+            k,
+            k2,
+            k_delta: k * pose.translation,
+            k2_delta: k2 * pose.translation,
+        }
+    }
+
+    /// `L · Rot(u, q) · L⁻¹` from `rotation` (`Rot(u, q)`): the rotation by `q` about the
+    /// located axis `Q·u` through `δ`, `M = I + sin q·K + (1 − cos q)·K²` (Rodrigues' formula
+    /// about `Q·u`, which is `Q·Rot(u, q)·Qᵀ`), and the translation `δ − M·δ`
+    /// `= −sin q·K·δ − (1 − cos q)·K²·δ`. The same pose as the three products to a few units
+    /// in the last place (a regrouping; the chain's tests bound it).
+    #[inline(always)]
+    fn turned_by(&self, rotation: &JointRotation) -> Pose {
+        let (sin, cos) = rotation.sin_cos;
+        let omc = 1.0 - cos;
+        let (k, k2) = (&self.k, &self.k2);
+        let column = |j: usize| {
+            let mut c = k.col(j) * sin + k2.col(j) * omc;
+            c[j] += 1.0;
+            c
+        };
+        Pose::from_mat3_translation(
+            DMat3::from_cols(column(0), column(1), column(2)),
+            -(self.k_delta * sin) - self.k2_delta * omc,
+        )
+    }
 }
 
 /// Per slot, the motion, its kind and (workpiece-side rotary axes) the axis line, as the error
@@ -367,6 +423,7 @@ impl Workspace {
         Workspace {
             slot_motions: vec![Pose::IDENTITY; slots],
             motion_kinds: vec![MotionKind::Identity; slots],
+            motions_plan: 0,
             rotations: vec![JointRotation::IDENTITY; slots],
             world_from_slot: vec![Pose::IDENTITY; slots],
             slot_twists: vec![[0.0; 6]; slots],
@@ -399,6 +456,7 @@ impl Workspace {
                     "one slot motion per slot"
                 );
                 let mut kinds = std::mem::take(&mut self.motion_kinds);
+                self.motions_plan = 0;
                 for (kind, motion) in kinds.iter_mut().zip(motions) {
                     *kind = MotionKind::of(motion);
                 }
@@ -454,15 +512,7 @@ impl Workspace {
     /// ([`trig::sin_cos_pair`]: the same bits, two chains of dependent operations in one).
     pub(crate) fn set_rotations(&mut self, machine: &Machine, position: &AxisValues) {
         let mut waiting: Option<(&ChainJoint, Real)> = None;
-        for joint in machine
-            .tool_branch
-            .joints
-            .iter()
-            .chain(&machine.work_branch.joints)
-        {
-            if joint.axis.is_linear() {
-                continue;
-            }
+        for joint in &machine.rotary_joints {
             let angle = position[joint.axis];
             if !trig::is_medium(angle) {
                 self.rotations[joint.slot] =
@@ -543,15 +593,17 @@ fn walk(
             frame.travel(joint.unit, joint.coordinate, position[joint.axis]);
         }
         world_from_slot[joint.slot] = frame.pose;
-        let mut line = None;
+        let (mut line, mut turned_about_line) = (None, false);
         if let Some((motions, kinds, lines)) = motions {
             let (motion, kind) = (&motions[joint.slot], kinds[joint.slot]);
             line = lines.and_then(|lines| lines[joint.slot].as_ref());
             match (line, kind) {
                 (Some(line), MotionKind::InLine) => frame.transform(&line.folded),
-                (Some(line), kind) => {
+                (Some(about), kind) => {
+                    // `rel⁻¹ · (L · R · L⁻¹)`, the second factor built at once.
                     frame.apply(motion, kind, side);
-                    frame.transform(&line.pose);
+                    frame.transform(&about.turned_by(&rotations[joint.slot]));
+                    (line, turned_about_line) = (None, true);
                 }
                 (None, kind) => frame.apply(motion, kind, side),
             }
@@ -561,11 +613,15 @@ fn walk(
                 frame.turn(&rotations[joint.slot]);
                 frame.transform(&line.inverse);
             }
+            None if turned_about_line => {}
             None if !joint.axis.is_linear() => frame.turn(&rotations[joint.slot]),
             None => {}
         }
     }
-    frame.place(&branch.end, branch.end_is_translation);
+    // Placing by an exact identity would add exact zeros.
+    if !branch.end_is_identity {
+        frame.place(&branch.end, branch.end_is_translation);
+    }
     frame.pose
 }
 

@@ -362,6 +362,8 @@ pub(crate) struct Branch {
     pub end: Pose,
     /// Whether `end`'s rotation is exactly the identity.
     pub end_is_translation: bool,
+    /// Whether `end` is exactly the identity (the end link on the last moving joint's frame).
+    pub end_is_identity: bool,
 }
 
 /// A validated, immutable machine: share it across threads; keep per-evaluation scratch in a
@@ -376,6 +378,9 @@ pub struct Machine {
     axes: Vec<AxisInfo>,
     tool_branch: Branch,
     work_branch: Branch,
+    /// The rotary joints (the spindle's included) of the tool branch, then the workpiece
+    /// branch: the rotations [`Workspace`] computes at each pose.
+    rotary_joints: Vec<ChainJoint>,
     bodies: Vec<body::Body>,
 }
 

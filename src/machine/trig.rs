@@ -36,6 +36,9 @@ const TINY_HIGH_WORD: u32 = 0x3e46_a09e;
 /// The high word of 2²⁰·π/2: below it the medium reduction holds.
 const MEDIUM_HIGH_WORD: u32 = 0x4139_21fb;
 
+use std::ops::{Add, Mul, Sub};
+use wide::f64x2;
+
 /// `(sin x, cos x)` (see the module documentation).
 #[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
@@ -59,38 +62,46 @@ pub(crate) fn is_medium(x: f64) -> bool {
 }
 
 /// [`sin_cos`] of two angles that [`is_medium`] accepts: lane by lane the same operations in
-/// the same order, so the same bits, written on pairs so that two rotary axes share two-lane
-/// vector instructions. When either lane's first reduction cancels, both go through
-/// [`sin_cos`].
+/// the same order, so the same bits, on two-lane vectors ([`f64x2`]: one SSE2 instruction
+/// for both rotary axes where the scalar code took two). When either lane's first reduction
+/// cancels, both go through [`sin_cos`].
 #[inline(always)]
 pub(crate) fn sin_cos_pair(x: [f64; 2]) -> [(f64, f64); 2] {
-    let [a, b] = x.map(first_round);
-    if cancelled(high_word(x[0]), a.y0) || cancelled(high_word(x[1]), b.y0) {
+    let FirstRound { f_n, r, w, y0 } = first_round(f64x2::new(x));
+    let y0_lanes = y0.to_array();
+    if cancelled(high_word(x[0]), y0_lanes[0]) || cancelled(high_word(x[1]), y0_lanes[1]) {
         return x.map(sin_cos);
     }
-    let y1 = [(a.r - a.y0) - a.w, (b.r - b.y0) - b.w];
-    let s = [kernel_sin(a.y0, y1[0]), kernel_sin(b.y0, y1[1])];
-    let c = [kernel_cos(a.y0, y1[0]), kernel_cos(b.y0, y1[1])];
+    let y1 = (r - y0) - w;
+    let (s, c) = (kernel_sin(y0, y1).to_array(), kernel_cos(y0, y1).to_array());
+    let n = f_n.to_array();
     [
-        quadrant(a.f_n as i32, s[0], c[0]),
-        quadrant(b.f_n as i32, s[1], c[1]),
+        quadrant(n[0] as i32, s[0], c[0]),
+        quadrant(n[1] as i32, s[1], c[1]),
     ]
 }
+
+/// The arithmetic the kernels use, on one angle (`f64`) or two ([`f64x2`]): the same
+/// operations lane by lane.
+trait Lanes: Copy + From<f64> + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {}
+
+impl<T> Lanes for T where T: Copy + From<f64> + Add<Output = T> + Sub<Output = T> + Mul<Output = T> {}
 
 /// The first round of the medium reduction: `n = rint(x·2/π)` (as `f_n`), `r = x − n·PIO2_1`,
 /// `w = n·PIO2_1T` and `y0 = r − w`.
 #[derive(Clone, Copy)]
-struct FirstRound {
-    f_n: f64,
-    r: f64,
-    w: f64,
-    y0: f64,
+struct FirstRound<T> {
+    f_n: T,
+    r: T,
+    w: T,
+    y0: T,
 }
 
 #[inline(always)]
-fn first_round(x: f64) -> FirstRound {
-    let f_n = x * INV_PIO2 + TO_INT - TO_INT;
-    let (r, w) = (x - f_n * PIO2_1, f_n * PIO2_1T);
+fn first_round<T: Lanes>(x: T) -> FirstRound<T> {
+    let c = T::from;
+    let f_n = x * c(INV_PIO2) + c(TO_INT) - c(TO_INT);
+    let (r, w) = (x - f_n * c(PIO2_1), f_n * c(PIO2_1T));
     FirstRound {
         f_n,
         r,
@@ -163,35 +174,37 @@ fn reduce(x: f64, high: u32) -> (i32, f64, f64) {
 
 /// sin(y0 + y1) on [−π/4, π/4] (`__kernel_sin` with its tail `y1`).
 #[inline(always)]
-fn kernel_sin(x: f64, y: f64) -> f64 {
+fn kernel_sin<T: Lanes>(x: T, y: T) -> T {
     const S1: f64 = f64::from_bits(0xbfc5555555555549); // -0.16666666666666632
     const S2: f64 = f64::from_bits(0x3f8111111110f8a6); // 0.00833333333332249
     const S3: f64 = f64::from_bits(0xbf2a01a019c161d5); // -0.0001984126982985795
     const S4: f64 = f64::from_bits(0x3ec71de357b1fe7d); // 2.7557313707070068e-06
     const S5: f64 = f64::from_bits(0xbe5ae5e68a2b9ceb); // -2.5050760253406863e-08
     const S6: f64 = f64::from_bits(0x3de5d93a5acfd57c); // 1.58969099521155e-10
+    let c = T::from;
     let z = x * x;
     let w = z * z;
-    let r = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6);
+    let r = c(S2) + z * (c(S3) + z * c(S4)) + z * w * (c(S5) + z * c(S6));
     let v = z * x;
-    x - ((z * (0.5 * y - v * r) - y) - v * S1)
+    x - ((z * (c(0.5) * y - v * r) - y) - v * c(S1))
 }
 
 /// cos(y0 + y1) on [−π/4, π/4] (`__kernel_cos`).
 #[inline(always)]
-fn kernel_cos(x: f64, y: f64) -> f64 {
+fn kernel_cos<T: Lanes>(x: T, y: T) -> T {
     const C1: f64 = f64::from_bits(0x3fa555555555554c); // 0.0416666666666666
     const C2: f64 = f64::from_bits(0xbf56c16c16c15177); // -0.001388888888887411
     const C3: f64 = f64::from_bits(0x3efa01a019cb1590); // 2.480158728947673e-05
     const C4: f64 = f64::from_bits(0xbe927e4f809c52ad); // -2.7557314351390663e-07
     const C5: f64 = f64::from_bits(0x3e21ee9ebdb4b1c4); // 2.087572321298175e-09
     const C6: f64 = f64::from_bits(0xbda8fae9be8838d4); // -1.1359647557788195e-11
+    let c = T::from;
     let z = x * x;
     let w = z * z;
-    let r = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));
-    let hz = 0.5 * z;
-    let w = 1.0 - hz;
-    w + (((1.0 - w) - hz) + (z * r - x * y))
+    let r = z * (c(C1) + z * (c(C2) + z * c(C3))) + w * w * (c(C4) + z * (c(C5) + z * c(C6)));
+    let hz = c(0.5) * z;
+    let w = c(1.0) - hz;
+    w + (((c(1.0) - w) - hz) + (z * r - x * y))
 }
 
 #[cfg(test)]

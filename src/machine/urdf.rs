@@ -357,6 +357,7 @@ impl Machine {
                 joints,
                 end: pending,
                 end_is_translation: pending.matrix3 == glam::DMat3::IDENTITY,
+                end_is_identity: pending == Pose::IDENTITY,
             }
         };
         let mut bodies = Vec::with_capacity(robot.links.len());
@@ -394,10 +395,19 @@ impl Machine {
                 unit,
             });
         }
+        let (tool_branch, work_branch) = (branch(&tool_path), branch(&work_path));
+        let rotary_joints = tool_branch
+            .joints
+            .iter()
+            .chain(&work_branch.joints)
+            .filter(|joint| !joint.axis.is_linear())
+            .cloned()
+            .collect();
         Ok(Machine {
             name: robot.name.clone(),
-            tool_branch: branch(&tool_path),
-            work_branch: branch(&work_path),
+            tool_branch,
+            work_branch,
+            rotary_joints,
             axes,
             bodies,
         })

@@ -6,6 +6,7 @@ use crate::errors::binding::Action;
 use crate::errors::function::TurnSeries;
 use crate::machine::{Axis, AxisInfo, AxisLine, JointRotation, MotionKind, Side, then_motion};
 use crate::math::{Pose, Real, Vector, rigid_inverse, small_motion};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// What an evaluation of an [`ErrorModel`] does not recompute (see the module documentation).
 #[derive(Clone, Debug, Default)]
@@ -24,7 +25,22 @@ pub(crate) struct Plan {
     /// Per slot, the fixed line of a rotary axis on the workpiece branch, which the walk turns
     /// about itself (`None` for the others, whose line motion is in the slot motion).
     pub(super) lines: Vec<Option<AxisLine>>,
+    /// The slots whose relative twist varies (whose [`SlotPlan::relative`] is `None`).
+    pub(super) varying: Vec<usize>,
+    /// The slots whose motion an evaluation without extra twists recomputes at each pose: the
+    /// varying ones and those with a line motion that depends on the position. The others'
+    /// motions are fixed: a workspace that holds them from this plan ([`Plan::id`]) keeps them.
+    pub(super) active: Vec<usize>,
+    /// Every slot, in order (what an evaluation goes through when the workspace holds other
+    /// motions).
+    pub(super) all: Vec<usize>,
+    /// This plan's number, unique in the process (from 1; 0 for the default plan), by which a
+    /// [`crate::machine::Workspace`] knows that its fixed slot motions are this plan's.
+    pub(super) id: u64,
 }
+
+/// The next [`Plan::id`].
+static NEXT_PLAN_ID: AtomicU64 = AtomicU64::new(1);
 
 /// A parameter summed at each pose.
 #[derive(Clone, Debug)]
@@ -142,21 +158,32 @@ impl Plan {
             .enumerate()
             .map(
                 |(slot, plan)| match (plan.line, model.machine_axes.get(slot)) {
-                    (Line::Rotary { pose, inverse }, Some((_, Side::Workpiece))) => {
-                        Some(AxisLine {
-                            pose,
-                            folded: match plan.relative {
-                                Some((relative, _)) => rigid_inverse(&relative) * pose,
-                                None => pose,
-                            },
-                            inverse,
-                        })
+                    (Line::Rotary { pose, .. }, Some((_, Side::Workpiece))) => {
+                        let folded = match plan.relative {
+                            Some((relative, _)) => rigid_inverse(&relative) * pose,
+                            None => pose,
+                        };
+                        Some(AxisLine::new(pose, folded, model.joint_axes[slot]))
                     }
                     _ => None,
                 },
             )
+            .collect::<Vec<Option<AxisLine>>>();
+        let varying = (0..slots)
+            .filter(|&slot| plans[slot].relative.is_none())
+            .collect();
+        let active = (0..slots)
+            .filter(|&slot| {
+                let turned_about = lines[slot].is_some();
+                let line_moves = !turned_about && !matches!(plans[slot].line, Line::Nominal);
+                plans[slot].relative.is_none() || line_moves
+            })
             .collect();
         Plan {
+            varying,
+            active,
+            all: (0..slots).collect(),
+            id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
             base_relative: base.iter().map(|b| b[0]).collect(),
             base_line: base.iter().map(|b| b[1]).collect(),
             terms,

@@ -338,3 +338,58 @@ fn compare_with_plain_chain(whole_turns: bool, tolerance: Option<Real>) {
         }
     }
 }
+
+/// A workspace keeps the fixed slot motions of the plan it last evaluated and recomputes only
+/// the others: two models taking turns on one workspace, with evaluations that write other
+/// motions in between (extra twists, explicit slot motions), give every pose to the bit as a
+/// fresh workspace does.
+#[test]
+fn a_shared_workspace_gives_what_a_fresh_one_gives() {
+    let mut rng = seeded_rng(3, "shared workspace");
+    // Models whose walk turns about a located line with a varying relative motion
+    // (`AxisLine::turned_by`), counted so that the path is known to be exercised.
+    let mut turned_by = 0;
+    for path in ["vmc3", "trunnion5", "headtable5"] {
+        let file = format!("{}/models/{path}.urdf", env!("CARGO_MANIFEST_DIR"));
+        let machine = Machine::from_urdf_file(&file).unwrap();
+        let slots = machine.slot_count();
+        let mut shared = Workspace::new(&machine);
+        for _ in 0..10 {
+            let models = [0, 1].map(|_| rich_model(&machine, &mut rng, false));
+            for model in &models {
+                turned_by += (0..slots)
+                    .filter(|&s| {
+                        model.plan.lines[s].is_some() && model.plan.slots[s].relative.is_none()
+                    })
+                    .count();
+            }
+            for _ in 0..40 {
+                let model = &models[rng.random_range(0..2)];
+                let state = random_state(&machine, &mut rng);
+                match rng.random_range(0..4) {
+                    0 => {
+                        let extra: Vec<[Real; 6]> = (0..slots)
+                            .map(|_| [0.0, 0.0, 0.0, small(&mut rng), 0.0, 0.0])
+                            .collect();
+                        model.workpiece_from_tool_with(&machine, &mut shared, &state, Some(&extra));
+                    }
+                    1 => {
+                        let motions: Vec<Pose> = (0..slots)
+                            .map(|_| small_motion(Vector::X * small(&mut rng), Vector::ZERO))
+                            .collect();
+                        shared.workpiece_from_tool(&machine, &state.position, Some(&motions));
+                    }
+                    _ => {}
+                }
+                let pose = model.workpiece_from_tool(&machine, &mut shared, &state);
+                let fresh =
+                    model.workpiece_from_tool(&machine, &mut Workspace::new(&machine), &state);
+                assert!(same(&[pose], &[fresh], None), "{path}: {pose} vs {fresh}");
+            }
+        }
+    }
+    assert!(
+        turned_by > 0,
+        "no model turned about a line with a varying motion"
+    );
+}
