@@ -44,6 +44,10 @@ pub fn most_influential(
     chi2: Real,
     sets: &[(usize, usize, &[Real])],
 ) -> Vec<Influential> {
+    // H_BB = J_B P J_Bᵀ = (J P)_B J_Bᵀ: the gain J P once (one product), then a block's hat
+    // is dot products of its rows, read as columns of the transposes.
+    let gain_t = (jacobian * inverse).transpose();
+    let jacobian_t = jacobian.transpose();
     let mut best: Vec<Influential> = Vec::new();
     for size in [1, 3] {
         let mut top: Option<Influential> = None;
@@ -55,7 +59,7 @@ pub fn most_influential(
             let mut first = 0;
             while first + size <= n {
                 let rows: Vec<usize> = (at + first..at + first + size).collect();
-                if let Some(delta) = deleted(jacobian, inverse, residuals, &rows) {
+                if let Some(delta) = deleted(&jacobian_t, &gain_t, residuals, &rows) {
                     let without = chi2 - delta;
                     if top.as_ref().is_none_or(|t| without < t.chi2_without) {
                         let residual = (0..size)
@@ -79,17 +83,25 @@ pub fn most_influential(
 }
 
 /// Δχ² of leaving out `rows`; None when they alone determine a direction of the fit
-/// (I − H_BB singular: without them the fit would not be the same problem).
+/// (I − H_BB singular: without them the fit would not be the same problem). `jacobian_t` is
+/// Jᵀ and `gain_t` (J P)ᵀ.
 fn deleted(
-    jacobian: &DMatrix<Real>,
-    inverse: &DMatrix<Real>,
+    jacobian_t: &DMatrix<Real>,
+    gain_t: &DMatrix<Real>,
     residuals: &[Real],
     rows: &[usize],
 ) -> Option<Real> {
-    let block = jacobian.select_rows(rows);
-    let hat = &block * inverse * block.transpose();
-    let complement = DMatrix::identity(rows.len(), rows.len()) - hat;
-    let e = nalgebra::DVector::from_iterator(rows.len(), rows.iter().map(|&r| residuals[r]));
+    let size = rows.len();
+    let complement = DMatrix::from_fn(size, size, |a, b| {
+        let hat = gain_t.column(rows[a]).dot(&jacobian_t.column(rows[b]));
+        if a == b { 1.0 - hat } else { -hat }
+    });
+    let e = nalgebra::DVector::from_iterator(size, rows.iter().map(|&r| residuals[r]));
+    if size == 1 {
+        // e² / (1 − h), the one eigenvalue being 1 − h.
+        let lowest = complement[(0, 0)];
+        return (lowest > 1e-9).then(|| e[0] * (e[0] / lowest));
+    }
     let solved = linalg::lu_solve(&linalg::lu(complement.clone()), &e)?;
     let lowest = linalg::symmetric_eigenvalues(&complement).min();
     (lowest > 1e-9).then(|| e.dot(&solved))

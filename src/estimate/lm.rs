@@ -13,7 +13,9 @@
 //! ```
 //!
 //! without forming them. With the thin SVD of the column-scaled Jacobian `J D⁻¹ = U Σ Vᵀ`
-//! (computed once per Jacobian) and `c = Uᵀ r`, the scaled step is
+//! (computed once per Jacobian, and kept while the scaled Jacobian is the same to the bit; for
+//! a tall `J`, by a Householder QR first and the SVD of its small `R`, `U` never formed: see
+//! `Decomposition`) and `c = Uᵀ r`, the scaled step is
 //! `D δ = −V diag(σᵢ / (σᵢ² + λ)) c`, the exact least-squares solution of the augmented system
 //! `[J; √λ D] δ ≈ [−r; 0]` for every `λ`, so trying another `λ` costs O(n²), not a new
 //! factorisation. Singular values below `ε · max(m, n) · σ_max` are treated as zero (the rank
@@ -320,6 +322,8 @@ pub fn solve(problem: &impl Problem, x0: &[Real], options: &Options) -> Result<S
 
     let mut delta: Real = 0.0;
     let mut lambda: Real = 0.0;
+    // The last scaled Jacobian's decomposition.
+    let mut kept: Option<Decomposition> = None;
 
     let termination = 'outer: loop {
         if cost == 0.0 {
@@ -339,20 +343,27 @@ pub fn solve(problem: &impl Problem, x0: &[Real], options: &Options) -> Result<S
         }
 
         // Thin SVD of the column-scaled Jacobian J D⁻¹ = U Σ Vᵀ, c = Uᵀ r, and the rank cut.
+        // A problem whose Jacobian does not change (a fixed design) gives the same scaled
+        // matrix again, to the bit: its decomposition is kept rather than made anew.
         let scaled = DMatrix::from_fn(m, n, |i, j| jac[(i, j)] / diag[j]);
-        let svd = linalg::try_svd_unordered(scaled, true, true, 5.0 * Real::EPSILON, 0)
-            .ok_or(LmError::Svd { iterations })?;
-        let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else {
-            return Err(LmError::Svd { iterations });
+        let same = |previous: &DMatrix<Real>| {
+            let bits = |a: &Real, b: &Real| a.to_bits() == b.to_bits();
+            previous
+                .as_slice()
+                .iter()
+                .zip(scaled.as_slice())
+                .all(|(a, b)| bits(a, b))
         };
-        if svd.singular_values.iter().any(|s| !s.is_finite()) {
-            return Err(LmError::Svd { iterations });
+        if kept.as_ref().is_none_or(|kept| !same(&kept.scaled)) {
+            kept = Some(Decomposition::new(scaled).ok_or(LmError::Svd { iterations })?);
         }
+        let decomposition = kept.as_ref().expect("made above");
+        let (svd, v_t) = (&decomposition.svd, &decomposition.v_t);
         let cut = svd.singular_values.max() * Real::EPSILON * m.max(n) as Real;
         for (s, &sv) in sigma.iter_mut().zip(svd.singular_values.iter()) {
             *s = if sv > cut { sv } else { 0.0 };
         }
-        u.tr_mul_to(&r, &mut c);
+        decomposition.u_tr_mul(&r, &mut c);
         let x_norm = x.component_mul(&diag).norm();
         if iterations == 0 {
             delta = if x_norm > 0.0 {
@@ -571,6 +582,58 @@ fn update_scaling(jac: &DMatrix<Real>, col_norms: &mut DVector<Real>, diag: &mut
         }
         if diag[j] == 0.0 {
             diag[j] = 1.0;
+        }
+    }
+}
+
+/// The thin SVD `J D⁻¹ = U Σ Vᵀ` of a scaled Jacobian (m × n). Tall (m > n, the usual case:
+/// thousands of readings, tens of unknowns), by Householder QR first, `J D⁻¹ = Q R`, and the
+/// SVD of the small `R = U_R Σ Vᵀ`, so that `U = Q U_R` is never formed: `Uᵀ r = U_Rᵀ (Qᵀ r)`
+/// with `Qᵀ r` from the reflections. The same singular values and `V` as the SVD of the tall
+/// matrix (to rounding), at a fraction of its cost (bidiagonalising m × n and accumulating its
+/// m × n `U`).
+struct Decomposition {
+    /// The matrix decomposed.
+    scaled: DMatrix<Real>,
+    /// Its QR when tall.
+    qr: Option<mtwin_kernels::linalg::Qr>,
+    /// The SVD of `R` (tall) or of the matrix itself, with `U`.
+    svd: mtwin_kernels::linalg::Svd,
+    v_t: DMatrix<Real>,
+}
+
+impl Decomposition {
+    /// `None` when the SVD fails or gives a non-finite singular value.
+    fn new(scaled: DMatrix<Real>) -> Option<Decomposition> {
+        let tall = scaled.nrows() > scaled.ncols();
+        let qr = tall.then(|| linalg::qr(scaled.clone()));
+        let small = match &qr {
+            Some(qr) => linalg::qr_r(qr),
+            None => scaled.clone(),
+        };
+        let mut svd = linalg::try_svd_unordered(small, true, true, 5.0 * Real::EPSILON, 0)?;
+        if svd.u.is_none() || svd.singular_values.iter().any(|s| !s.is_finite()) {
+            return None;
+        }
+        let v_t = svd.v_t.take()?;
+        Some(Decomposition {
+            scaled,
+            qr,
+            svd,
+            v_t,
+        })
+    }
+
+    /// `c = Uᵀ r`.
+    fn u_tr_mul(&self, r: &DVector<Real>, c: &mut DVector<Real>) {
+        let u = self.svd.u.as_ref().expect("checked when made");
+        match &self.qr {
+            Some(qr) => {
+                let mut qtr = r.clone();
+                linalg::qr_q_tr_mul(qr, &mut qtr);
+                u.tr_mul_to(&qtr.rows(0, u.nrows()), c);
+            }
+            None => u.tr_mul_to(r, c),
         }
     }
 }
