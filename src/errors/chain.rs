@@ -28,11 +28,11 @@
 //! motion: its slot motion `M = (L·R·L⁻¹·R⁻¹)⁻¹ · rel`, applied inverted before `R`, is
 //! `rel⁻¹ · L · R · L⁻¹`, which the walk computes instead ([`AxisLine`]), with a fixed `rel⁻¹`
 //! folded into `L` once, and with a varying one as `rel⁻¹` then `L·R·L⁻¹` built at once by
-//! Rodrigues' formula about the located axis. That regrouping moves the pose by a few units in the last place
-//! (the tests allow 8 ε, 1.8e-15 of a metre-sized entry); every other operation is the plain
-//! composition's, in its order, so models without such a line give the plain chain's poses,
-//! slot motions and slot frames to the bit (but for the sign of exact zeros), and the per-turn
-//! harmonics differ by ulps of their amplitudes. [`ErrorModel::slot_motions`] gives the whole
+//! Rodrigues' formula about the located axis. That regrouping moves the pose by a few units
+//! in the last place (the tests allow 8 ε, 1.8e-15 of a metre-sized entry); every other
+//! operation is the plain composition's, in its order, so models without such a line give the
+//! plain chain's poses, slot motions and slot frames to the bit (but for the sign of exact
+//! zeros), and the per-turn harmonics differ by ulps of their amplitudes. [`ErrorModel::slot_motions`] gives the whole
 //! slot motions when they are needed. Nothing allocates.
 
 mod plan;

@@ -113,8 +113,9 @@ pub(crate) struct AxisLine {
 }
 
 impl AxisLine {
-    /// The line `pose` (`L`) of a joint turning about `unit`, with `folded` = `rel⁻¹ · L`.
-    pub(crate) fn new(pose: Pose, folded: Pose, unit: Vector) -> AxisLine {
+    /// The line `pose` (`L`, with its `inverse`) of a joint turning about `unit`, with
+    /// `folded` = `rel⁻¹ · L`.
+    pub(crate) fn new(pose: Pose, inverse: Pose, folded: Pose, unit: Vector) -> AxisLine {
         let u = pose.matrix3 * unit;
         let k = DMat3::from_cols(
             Vector::new(0.0, u.z, -u.y),
@@ -124,7 +125,7 @@ impl AxisLine {
         let k2 = k * k;
         AxisLine {
             folded,
-            inverse: rigid_inverse(&pose),
+            inverse,
             k,
             k2,
             k_delta: k * pose.translation,
@@ -593,28 +594,32 @@ fn walk(
             frame.travel(joint.unit, joint.coordinate, position[joint.axis]);
         }
         world_from_slot[joint.slot] = frame.pose;
-        let (mut line, mut turned_about_line) = (None, false);
-        if let Some((motions, kinds, lines)) = motions {
-            let (motion, kind) = (&motions[joint.slot], kinds[joint.slot]);
-            line = lines.and_then(|lines| lines[joint.slot].as_ref());
-            match (line, kind) {
-                (Some(line), MotionKind::InLine) => frame.transform(&line.folded),
-                (Some(about), kind) => {
+        let rotation = &rotations[joint.slot];
+        let rotary = !joint.axis.is_linear();
+        match motions {
+            Some((motions, kinds, lines)) => {
+                let (motion, kind) = (&motions[joint.slot], kinds[joint.slot]);
+                match (lines.and_then(|lines| lines[joint.slot].as_ref()), kind) {
+                    // `(rel⁻¹ · L) · R · L⁻¹`, `rel⁻¹` folded into `L` once.
+                    (Some(line), MotionKind::InLine) => {
+                        frame.transform(&line.folded);
+                        frame.turn(rotation);
+                        frame.transform(&line.inverse);
+                    }
                     // `rel⁻¹ · (L · R · L⁻¹)`, the second factor built at once.
-                    frame.apply(motion, kind, side);
-                    frame.transform(&about.turned_by(&rotations[joint.slot]));
-                    (line, turned_about_line) = (None, true);
+                    (Some(line), kind) => {
+                        frame.apply(motion, kind, side);
+                        frame.transform(&line.turned_by(rotation));
+                    }
+                    (None, kind) => {
+                        frame.apply(motion, kind, side);
+                        if rotary {
+                            frame.turn(rotation);
+                        }
+                    }
                 }
-                (None, kind) => frame.apply(motion, kind, side),
             }
-        }
-        match line {
-            Some(line) => {
-                frame.turn(&rotations[joint.slot]);
-                frame.transform(&line.inverse);
-            }
-            None if turned_about_line => {}
-            None if !joint.axis.is_linear() => frame.turn(&rotations[joint.slot]),
+            None if rotary => frame.turn(rotation),
             None => {}
         }
     }

@@ -18,6 +18,9 @@
 //! 1 ulp); against [`libm::sincos`] it differs by at most one unit in the last place, on some
 //! angles below 9π/4 (the test below counts how many and bounds the difference).
 
+use std::ops::{Add, Mul, Sub};
+use wide::f64x2;
+
 /// `1.5 / ε`: added and subtracted, rounds to an integer (round to nearest).
 const TO_INT: f64 = 1.5 / f64::EPSILON;
 /// 2/π (FreeBSD's constants, by their bits).
@@ -35,9 +38,6 @@ const PIO2_3T: f64 = f64::from_bits(0x397b839a252049c1); // 8.4784276603689e-32
 const TINY_HIGH_WORD: u32 = 0x3e46_a09e;
 /// The high word of 2²⁰·π/2: below it the medium reduction holds.
 const MEDIUM_HIGH_WORD: u32 = 0x4139_21fb;
-
-use std::ops::{Add, Mul, Sub};
-use wide::f64x2;
 
 /// `(sin x, cos x)` (see the module documentation).
 #[inline(always)]

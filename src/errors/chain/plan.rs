@@ -158,12 +158,12 @@ impl Plan {
             .enumerate()
             .map(
                 |(slot, plan)| match (plan.line, model.machine_axes.get(slot)) {
-                    (Line::Rotary { pose, .. }, Some((_, Side::Workpiece))) => {
+                    (Line::Rotary { pose, inverse }, Some((_, Side::Workpiece))) => {
                         let folded = match plan.relative {
                             Some((relative, _)) => rigid_inverse(&relative) * pose,
                             None => pose,
                         };
-                        Some(AxisLine::new(pose, folded, model.joint_axes[slot]))
+                        Some(AxisLine::new(pose, inverse, folded, model.joint_axes[slot]))
                     }
                     _ => None,
                 },
