@@ -268,14 +268,26 @@ impl ErrorModel {
         self.context.record()
     }
 
-    /// Panics when `machine` is not the machine this model was bound to (other axes or sides).
+    /// Panics when `machine` is not the machine this model was bound to (other axes, sides or
+    /// joint directions).
+    ///
+    /// The joint directions are compared where the plan depends on them: it turns a located
+    /// rotary line about the bound machine's joint axis ([`chain::Plan`]), and two machines
+    /// with the same axes on the same sides may differ there (an identified machine's axes are
+    /// tilted from the nominal one's by µrad), so one must not pass for the other.
     fn assert_bound_to(&self, machine: &Machine) {
-        let same = self.machine_axes.len() == machine.axes().len()
+        let axes = machine.axes();
+        let same = self.machine_axes.len() == axes.len()
             && self
                 .machine_axes
                 .iter()
-                .zip(machine.axes())
-                .all(|(&(axis, side), info)| info.axis == axis && info.side == side);
+                .zip(axes)
+                .all(|(&(axis, side), info)| info.axis == axis && info.side == side)
+            && self
+                .plan
+                .line_slots
+                .iter()
+                .all(|&slot| axes[slot].joint_axis == self.joint_axes[slot]);
         assert!(
             same,
             "error model bound to another machine ({:?}) used with \"{}\"",

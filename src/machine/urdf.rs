@@ -263,7 +263,7 @@ impl Machine {
                 return Err(fail(Some(joint), MachineErrorKind::JointFrame { axis }));
             }
             let found = joint.axis.xyz.0;
-            let found_vector = Vector::from_array(found).normalize_or_zero();
+            let found_vector = joint_unit(joint);
             let expected = axis.unit() * if side == Side::Tool { 1.0 } else { -1.0 };
             // Along its letter, or tilted from it by at most AXIS_TILT (an identified machine's
             // axes, as `mtwin identify` writes them: µrad, not a modelling mistake).
@@ -344,12 +344,7 @@ impl Machine {
                         .iter()
                         .position(|info| info.axis == axis)
                         .expect("listed");
-                    joints.push(ChainJoint::new(
-                        pending,
-                        axis,
-                        Vector::from_array(joint.axis.xyz.0),
-                        slot,
-                    ));
+                    joints.push(ChainJoint::new(pending, axis, joint_unit(joint), slot));
                     pending = Pose::IDENTITY;
                 }
             }
@@ -381,7 +376,7 @@ impl Machine {
                 let joint = &robot.joints[index];
                 if joint.joint_type != JointType::Fixed {
                     moved_by = single_letter(&joint.name);
-                    unit = Vector::from_array(joint.axis.xyz.0);
+                    unit = joint_unit(joint);
                     break;
                 }
                 joint_from_link = joint_origin(joint) * joint_from_link;
@@ -412,6 +407,14 @@ impl Machine {
             bodies,
         })
     }
+}
+
+/// The direction a URDF joint moves along or turns about, in its frame: its `<axis xyz>` made a
+/// unit vector (the URDF specification asks for a normalised one but readers do not enforce
+/// it; a tilted axis written by hand, `0 1e-4 -1`, is 5·10⁻⁹ long of unit, and `2 0 0` would
+/// double every travel). Zero for a zero vector, which the direction check refuses.
+fn joint_unit(joint: &urdf_rs::Joint) -> Vector {
+    Vector::from_array(joint.axis.xyz.0).normalize_or_zero()
 }
 
 /// `parent_from_joint` of a URDF joint at zero motion.

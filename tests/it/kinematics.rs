@@ -155,6 +155,91 @@ fn urdf_rpy_and_origin_follow_the_fixed_axis_convention() {
     );
 }
 
+/// `text` with every joint's `<axis xyz="…">` replaced by `change` of its components.
+fn with_axes(text: &str, change: impl Fn([f64; 3]) -> String) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(start) = rest.find("<axis xyz=\"") {
+        let (before, after) = rest.split_at(start + "<axis xyz=\"".len());
+        let end = after.find('"').expect("a closing quote");
+        let v: Vec<f64> = after[..end]
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        out += before;
+        out += &change([v[0], v[1], v[2]]);
+        rest = &after[end..];
+    }
+    out + rest
+}
+
+/// A joint's `<axis xyz>` is a direction: the URDF specification asks for a unit vector, but
+/// a hand-written one need not be one (`2 0 0`, or a measured tilt written as read, `0 1e-4
+/// -1`, 5·10⁻⁹ longer than a unit). Every bundled machine with every axis doubled gives the
+/// poses of its unit axes to the bit (a doubled vector normalises back exactly); trunnion5
+/// with C tilted by `0 1e-4 -1` gives the poses of the same tilt written as a unit vector
+/// within [`EXACT_M`] (taken as written, the turn would be about a vector 5·10⁻⁹ too long:
+/// a rotation matrix off by that much, nanometres at the table's radius).
+#[test]
+fn joint_axes_are_directions_whatever_their_length() {
+    let mut rng = rng("axis length");
+    for name in ["vmc3", "trunnion5", "headtable5"] {
+        let file = format!("{}/models/{name}.urdf", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&file).unwrap();
+        let doubled = with_axes(&text, |v| {
+            format!("{} {} {}", 2.0 * v[0], 2.0 * v[1], 2.0 * v[2])
+        });
+        assert_ne!(doubled, text);
+        let (unit, long) = (
+            Machine::from_urdf_str(&text, &file).unwrap(),
+            Machine::from_urdf_str(&doubled, "doubled.urdf").unwrap(),
+        );
+        for _ in 0..50 {
+            let q = random_position(&unit, &mut rng);
+            assert_eq!(
+                unit.workpiece_from_tool(&q),
+                long.workpiece_from_tool(&q),
+                "{name}"
+            );
+        }
+    }
+    let text = std::fs::read_to_string(format!(
+        "{}/models/trunnion5.urdf",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    // C is trunnion5's only `0 0 -1` axis.
+    let tilt = |v: [f64; 3], written: &str| {
+        if v == [0.0, 0.0, -1.0] {
+            written.to_string()
+        } else {
+            format!("{} {} {}", v[0], v[1], v[2])
+        }
+    };
+    let norm = (1.0f64 + 1e-8).sqrt();
+    let as_read = with_axes(&text, |v| tilt(v, "0 1e-4 -1"));
+    let as_unit = with_axes(&text, |v| {
+        tilt(v, &format!("0 {:e} {:e}", 1e-4 / norm, -1.0 / norm))
+    });
+    let (read, unit) = (
+        Machine::from_urdf_str(&as_read, "as_read.urdf").unwrap(),
+        Machine::from_urdf_str(&as_unit, "as_unit.urdf").unwrap(),
+    );
+    for _ in 0..100 {
+        let q = random_position(&read, &mut rng);
+        let (a, b) = (read.workpiece_from_tool(&q), unit.workpiece_from_tool(&q));
+        assert_close(a.translation, b.translation, EXACT_M, &describe(&q));
+        for (x, y) in a
+            .matrix3
+            .to_cols_array()
+            .iter()
+            .zip(b.matrix3.to_cols_array())
+        {
+            assert!((x - y).abs() < 1e-15, "{x} vs {y} at {}", describe(&q));
+        }
+    }
+}
+
 /// The tilting axis of a 5-axis machine.
 fn tilt_axis(machine: &Machine) -> Option<Axis> {
     [Axis::A, Axis::B]

@@ -25,6 +25,9 @@ pub(crate) struct Plan {
     /// Per slot, the fixed line of a rotary axis on the workpiece branch, which the walk turns
     /// about itself (`None` for the others, whose line motion is in the slot motion).
     pub(super) lines: Vec<Option<AxisLine>>,
+    /// The slots of [`Plan::lines`] that hold a line: where the plan depends on the bound
+    /// machine's joint axis.
+    pub(in crate::errors) line_slots: Vec<usize>,
     /// The slots whose relative twist varies (whose [`SlotPlan::relative`] is `None`).
     pub(super) varying: Vec<usize>,
     /// The slots whose motion an evaluation without extra twists recomputes at each pose: the
@@ -179,9 +182,11 @@ impl Plan {
                 plans[slot].relative.is_none() || line_moves
             })
             .collect();
+        let line_slots = (0..slots).filter(|&slot| lines[slot].is_some()).collect();
         Plan {
             varying,
             active,
+            line_slots,
             all: (0..slots).collect(),
             id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
             base_relative: base.iter().map(|b| b[0]).collect(),

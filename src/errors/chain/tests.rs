@@ -393,3 +393,77 @@ fn a_shared_workspace_gives_what_a_fresh_one_gives() {
         "no model turned about a line with a varying motion"
     );
 }
+
+/// A model is bound to its machine's joint directions as well as to its axes and sides: the
+/// plan turns a located rotary line about the bound machine's joint axis
+/// (`AxisLine::turned_by`), and two machines with the same axes on the same sides may differ
+/// there, as an identified machine (`mtwin identify`'s URDF) differs from the nominal one by
+/// its axes' tilts. trunnion5 with C tilted by 100 µrad: a model bound to it gives the plain
+/// chain's poses, a model bound to the nominal file is refused by it (about C's line turned
+/// the nominal way, its poses would be off by the tilt times the radius and angle, µm), and a
+/// second load of the nominal file is the same machine, with the same poses to the bit.
+#[test]
+fn a_machine_with_a_tilted_joint_is_not_the_bound_one() {
+    let file = format!("{}/models/trunnion5.urdf", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&file).unwrap();
+    // trunnion5's first `0 0 -1` axis is C's (A turns about −x, Z and S about +z).
+    let tilted_text = text.replacen(r#"<axis xyz="0 0 -1"/>"#, r#"<axis xyz="0 1e-4 -1"/>"#, 1);
+    assert_ne!(tilted_text, text);
+    let machine = Machine::from_urdf_str(&text, "trunnion5.urdf").unwrap();
+    let again = Machine::from_urdf_str(&text, "trunnion5.urdf").unwrap();
+    let tilted = Machine::from_urdf_str(&tilted_text, "tilted.urdf").unwrap();
+    let name = |n: &str| n.parse::<ParameterName>().unwrap();
+    // A located C line (EX0C, EA0C) with a varying relative motion (ECC): the turned line.
+    let parameters = vec![
+        ErrorParameter {
+            name: name("EX0C"),
+            function: ErrorFunction::Constant(12e-6),
+        },
+        ErrorParameter {
+            name: name("EA0C"),
+            function: ErrorFunction::Constant(300e-6),
+        },
+        ErrorParameter {
+            name: name("ECC"),
+            function: ErrorFunction::Harmonic {
+                period: TAU / 2.0,
+                amplitude: 50e-6,
+                phase: 0.3,
+            },
+        },
+    ];
+    let model = ErrorModel::new(&machine, parameters.clone()).unwrap();
+    let on_tilted = ErrorModel::new(&tilted, parameters).unwrap();
+    let c = machine
+        .axes()
+        .iter()
+        .position(|i| i.axis == Axis::C)
+        .unwrap();
+    for m in [&model, &on_tilted] {
+        assert!(m.plan.lines[c].is_some() && m.plan.slots[c].relative.is_none());
+    }
+    let mut rng = seeded_rng(5, "tilted joint");
+    let mut ws = [&machine, &again, &tilted].map(Workspace::new);
+    for _ in 0..20 {
+        let state = random_state(&machine, &mut rng);
+        let pose = model.workpiece_from_tool(&machine, &mut ws[0], &state);
+        assert_eq!(pose, model.workpiece_from_tool(&again, &mut ws[1], &state));
+        let planned = on_tilted.workpiece_from_tool(&tilted, &mut ws[2], &state);
+        let motions = plain_motions(&on_tilted, &tilted, &state, None);
+        let plain = plain_workpiece_from_tool(&tilted, &state.position, Some(&motions)).0;
+        assert!(
+            same(&[planned], &[plain], Some(REGROUPED)),
+            "{planned} vs {plain}"
+        );
+    }
+    let state = random_state(&machine, &mut rng);
+    let refused = std::panic::catch_unwind(|| {
+        let mut ws = Workspace::new(&tilted);
+        model.workpiece_from_tool(&tilted, &mut ws, &state)
+    })
+    .expect_err("a model bound to the nominal machine passed for the tilted one's");
+    let message = refused
+        .downcast_ref::<String>()
+        .expect("a formatted panic message");
+    assert!(message.contains("bound to another machine"), "{message}");
+}
