@@ -399,8 +399,9 @@ fn a_shared_workspace_gives_what_a_fresh_one_gives() {
 /// (`AxisLine::turned_by`), and two machines with the same axes on the same sides may differ
 /// there, as an identified machine (`mtwin identify`'s URDF) differs from the nominal one by
 /// its axes' tilts. trunnion5 with C tilted by 100 µrad: a model bound to it gives the plain
-/// chain's poses, a model bound to the nominal file is refused by it (about C's line turned
-/// the nominal way, its poses would be off by the tilt times the radius and angle, µm), and a
+/// chain's poses, a model bound to the nominal file is refused by it (turning C's line about
+/// the nominal axis, its poses would be off by up to the tilt times the table's radius, tens
+/// of µm at this tilt, µm at an identified machine's), and a
 /// second load of the nominal file is the same machine, with the same poses to the bit.
 #[test]
 fn a_machine_with_a_tilted_joint_is_not_the_bound_one() {
