@@ -181,7 +181,9 @@ enum Command {
     /// each also with the sphere 80 mm higher and 60 mm further out), choose those that make
     /// the parameters identifiable with the smallest uncertainty for the readings spent
     /// (D-optimal: greedy, then exchanges of one test for another), and show the predicted
-    /// standard uncertainty of every parameter after each test.
+    /// standard uncertainty of every parameter after each test. With --budget-min, from
+    /// candidates of every kind (also probing cycles at the R-tests' positions, laser lines
+    /// along each linear axis, ball-bar circles in each plane) within minutes of testing.
     Plan {
         /// The machine model (URDF).
         #[arg(long, value_name = "M.urdf")]
@@ -201,10 +203,28 @@ enum Command {
         /// Standard uncertainty of each reading component (µm).
         #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
         sigma_um: f64,
-        /// Readings to spend (three per pose), 3 to 30 000 (10 000 poses).
+        /// Readings of R-tests to spend (three per pose), 3 to 30 000 (10 000 poses).
         #[arg(long, default_value_t = 240, allow_negative_numbers = true,
               value_parser = clap::value_parser!(i64).range(3..=MAX_BUDGET).map(|n| n as usize))]
         budget: usize,
+        /// Minutes to spend instead, on tests of the --kinds (planning figures: a set-up is
+        /// paid once for the tests made on it), 1 to 10 000.
+        #[arg(
+            long,
+            value_name = "MIN",
+            conflicts_with = "budget",
+            allow_negative_numbers = true
+        )]
+        budget_min: Option<f64>,
+        /// With --budget-min: the kinds of test to choose from (rtest, spheres, positioning,
+        /// ballbar).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            requires = "budget_min",
+            default_value = "rtest,spheres,positioning,ballbar"
+        )]
+        kinds: Vec<String>,
         /// Print JSON instead of the report.
         #[arg(long)]
         json: bool,
@@ -247,6 +267,8 @@ const MAX_MONTE_CARLO: i64 = 1_000_000;
 /// The most readings `plan --budget` spends: 10 000 poses of three readings, beyond any
 /// R-test a machine would stand still for.
 const MAX_BUDGET: i64 = 30_000;
+/// The most minutes `plan --budget-min` spends: a week of tests, beyond any calibration.
+const MAX_MINUTES: f64 = 10_000.0;
 
 /// The command line: `run` and `check`, then `analyze` and `discover` with a subcommand for
 /// each kind that serves them.
@@ -522,6 +544,8 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             sphere_mm,
             sigma_um,
             budget,
+            budget_min,
+            kinds,
             json,
         } => {
             if !(sigma_um.is_finite() && sigma_um > 0.0) {
@@ -531,8 +555,17 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
                 bail!("--sphere-mm: expected three numbers X,Y,Z (mm)");
             }
             let sphere = mtwin::math::Vector::new(sphere_mm[0], sphere_mm[1], sphere_mm[2]) * 1e-3;
+            let budget = match budget_min {
+                None => mtwin::app::identify::Budget::Readings(budget),
+                Some(minutes) if minutes.is_finite() && (1.0..=MAX_MINUTES).contains(&minutes) => {
+                    mtwin::app::identify::Budget::Minutes { minutes, kinds }
+                }
+                Some(minutes) => {
+                    bail!("--budget-min {minutes}: expected a number of minutes from 1 to 10 000")
+                }
+            };
             let plan =
-                mtwin::app::identify::plan(&machine, &params, sphere, sigma_um * 1e-6, budget)?;
+                mtwin::app::identify::plan(&machine, &params, sphere, sigma_um * 1e-6, &budget)?;
             if json {
                 say_raw(&format!("{:#}\n", plan.to_json()));
             } else {

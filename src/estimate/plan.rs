@@ -29,6 +29,13 @@
 //! this repeats until no exchange gains. Each move raises `log det M`, so it ends. The plan
 //! reports each exchange and what it gained over the greedy set ([`Plan::exchanges`]).
 //!
+//! **Costs.** The budget is in readings ([`choose`]) or in another unit with set-ups
+//! ([`choose_within`], [`Costs`]: minutes of testing, an instrument's set-up paid once for
+//! every test made on it). The greedy steps then take the largest gain per cost on top of what
+//! is chosen (a test on a set-up already made costs its run only), and each exchange is scored
+//! with the greedy additions it allows: moving a test onto a set-up already made frees the
+//! other set-up's time for more tests.
+//!
 //! The final set is listed in greedy order (each test the one gaining most per reading given
 //! those before it): [`Plan::identifiable_after`] gives the step at which identifiability was
 //! reached. After each step the predicted standard uncertainty of every parameter comes from
@@ -62,6 +69,9 @@ pub struct Step {
     pub test: String,
     /// Its number of readings (rows of its design).
     pub readings: usize,
+    /// What it cost on top of the steps before it, in the plan's unit ([`Costs`]): its run,
+    /// and its set-up when no step before it made that.
+    pub cost: Real,
     /// `log det(JᵀJ + p·I)` of the design after this step (J in 1/µm-eq, p per µm-eq²).
     pub log_det: Real,
     /// The predicted standard uncertainty (µm-eq) of each parameter after this step; `None`
@@ -87,15 +97,17 @@ pub struct Plan {
     pub identifiable_after: Option<usize>,
     /// The predicted standard uncertainty (µm-eq) of each parameter from the base design alone.
     pub base_uncertainties: Vec<Option<Real>>,
-    /// The budget of readings.
-    pub budget_readings: usize,
+    /// The budget, in [`Plan::unit`].
+    pub budget: Real,
+    /// The unit of the costs and the budget ([`Costs::unit`]).
+    pub unit: &'static str,
     /// The combinations no candidate test sees, not even every one of them together with the
     /// base: blind spots of the tests themselves, which no budget removes (empty when every
     /// test together identifies every parameter).
     pub structural: Vec<Combination>,
-    /// The readings of the base and every candidate together would identify every parameter,
-    /// and how many they are, when the budget is what stops the plan.
-    pub every_test_readings: usize,
+    /// What every candidate together costs ([`Plan::unit`]): they would identify every
+    /// parameter when the budget is what stops the plan.
+    pub every_test_cost: Real,
     /// `log det(JᵀJ + p·I)` of the greedy set, before the exchanges.
     pub greedy_log_det: Real,
     /// The exchanges made after the greedy pass, in order (empty when none gains).
@@ -140,6 +152,51 @@ pub fn log_det(design: &DMatrix<Real>, prior_precision: Real) -> Real {
     seen + (n - s.len()) as Real * prior_precision.ln()
 }
 
+/// What tests cost, for a plan's budget: each candidate's own cost (its readings, or the
+/// minutes of its run) and the set-up it needs, paid once for every chosen test on it and not
+/// at all when already made (an instrument already in place).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Costs {
+    /// Per candidate: its own cost.
+    pub run: Vec<Real>,
+    /// Per candidate: the set-up it needs and that set-up's cost; `None` for none.
+    pub setup: Vec<Option<(String, Real)>>,
+    /// The set-ups already made.
+    pub present: Vec<String>,
+    /// The unit, for reports (`readings`, `min`).
+    pub unit: &'static str,
+}
+
+impl Costs {
+    /// Each candidate costs its readings (the rows of its design), with no set-up.
+    pub fn readings(candidates: &[(String, DMatrix<Real>)]) -> Costs {
+        Costs {
+            run: candidates.iter().map(|(_, d)| d.nrows() as Real).collect(),
+            setup: vec![None; candidates.len()],
+            present: Vec::new(),
+            unit: "readings",
+        }
+    }
+
+    /// What the candidates `set` cost together: their runs, and each set-up they need once
+    /// unless already made.
+    pub fn of(&self, set: &[usize]) -> Real {
+        let mut paid: Vec<&str> = Vec::new();
+        let mut total = 0.0;
+        for &i in set {
+            total += self.run[i];
+            if let Some((name, cost)) = &self.setup[i]
+                && !self.present.contains(name)
+                && !paid.contains(&name.as_str())
+            {
+                paid.push(name);
+                total += cost;
+            }
+        }
+        total
+    }
+}
+
 /// Chooses tests greedily from `candidates` (name, weighted scaled design with the columns
 /// `labels`) on top of `base`, spending at most `budget_readings` readings (criterion in the
 /// module documentation).
@@ -153,6 +210,38 @@ pub fn choose(
     budget_readings: usize,
     options: &Options,
 ) -> Plan {
+    let costs = Costs::readings(candidates);
+    choose_within(
+        base,
+        candidates,
+        &costs,
+        labels,
+        budget_readings as Real,
+        options,
+    )
+}
+
+/// [`choose`] with the tests' `costs` (one per candidate) and a `budget` in their unit: the
+/// greedy steps take the largest gain per cost on top of what is chosen (a test on a set-up
+/// already made costs its run only).
+///
+/// # Panics
+/// When a design's columns differ from `labels`, `costs` has another number of candidates, or
+/// a design holds a non-finite value.
+pub fn choose_within(
+    base: Option<&DMatrix<Real>>,
+    candidates: &[(String, DMatrix<Real>)],
+    costs: &Costs,
+    labels: &[String],
+    budget: Real,
+    options: &Options,
+) -> Plan {
+    assert!(
+        costs.run.len() == candidates.len() && costs.setup.len() == candidates.len(),
+        "plan: {} costs for {} candidates",
+        costs.run.len(),
+        candidates.len()
+    );
     let n = labels.len();
     let p = prior_precision(options);
     let base_design = compress(base.cloned().unwrap_or_else(|| DMatrix::zeros(0, n)));
@@ -173,33 +262,48 @@ pub fn choose(
     let base_log_det = log_det(&base_design, p);
     let base_analysis = identifiability::analyse(&base_design, labels, options);
     let mut identifiable_after = base_analysis.all_identifiable().then_some(0);
-    let readings_of = |set: &[usize]| set.iter().map(|&i| candidates[i].1.nrows()).sum::<usize>();
     let design_of = |set: &[usize]| {
         set.iter().fold(base_design.clone(), |all, &i| {
             compress(stack(&all, &candidates[i].1))
         })
     };
     // Greedy, then exchanges of one test for another while one raises log det M.
-    let mut set = greedy(&base_design, candidates, &[], budget_readings, p);
+    let mut set = greedy(&base_design, candidates, costs, &[], &[], budget, p);
     let greedy_log_det = log_det(&design_of(&set), p);
     let mut current_log_det = greedy_log_det;
     let mut exchanges = Vec::new();
+    let shared = costs.setup.iter().any(Option::is_some);
     loop {
-        let used = readings_of(&set);
         let mut best: Option<(usize, usize, Real)> = None;
         for position in 0..set.len() {
             let mut without = set.clone();
-            let out = without.remove(position);
+            without.remove(position);
             let rest = design_of(&without);
             for (j, (_, design)) in candidates.iter().enumerate() {
                 let rows = design.nrows();
-                if set.contains(&j)
-                    || rows == 0
-                    || used - candidates[out].1.nrows() + rows > budget_readings
-                {
+                let cost = costs.of(&[without.as_slice(), &[j]].concat());
+                if set.contains(&j) || rows == 0 || cost > budget {
                     continue;
                 }
-                let value = log_det(&stack(&rest, design), p);
+                // With shared set-ups an exchange can free a set-up's time: it is scored with
+                // the greedy additions that time allows.
+                let value = if shared {
+                    let mut trial = without.clone();
+                    trial.push(j);
+                    let more = greedy(
+                        &design_of(&trial),
+                        candidates,
+                        costs,
+                        &trial,
+                        &trial,
+                        budget,
+                        p,
+                    );
+                    trial.extend(more);
+                    log_det(&design_of(&trial), p)
+                } else {
+                    log_det(&stack(&rest, design), p)
+                };
                 if value > current_log_det + MIN_EXCHANGE_GAIN
                     && best.is_none_or(|b| value > b.2 + TIE)
                 {
@@ -211,13 +315,7 @@ pub fn choose(
             break;
         };
         let removed = std::mem::replace(&mut set[position], j);
-        let more = greedy(
-            &design_of(&set),
-            candidates,
-            &set,
-            budget_readings - readings_of(&set),
-            p,
-        );
+        let more = greedy(&design_of(&set), candidates, costs, &set, &set, budget, p);
         set.extend(more);
         let value = log_det(&design_of(&set), p);
         exchanges.push(Exchange {
@@ -229,15 +327,24 @@ pub fn choose(
     }
     // The final set in greedy order, step by step.
     let others: Vec<usize> = (0..candidates.len()).filter(|i| !set.contains(i)).collect();
-    let order = greedy(&base_design, candidates, &others, usize::MAX, p);
+    let order = greedy(
+        &base_design,
+        candidates,
+        costs,
+        &[],
+        &others,
+        Real::INFINITY,
+        p,
+    );
     let mut steps = Vec::new();
     let mut design = base_design.clone();
-    for i in order {
+    for (k, &i) in order.iter().enumerate() {
         design = compress(stack(&design, &candidates[i].1));
         let analysis = identifiability::analyse(&design, labels, options);
         steps.push(Step {
             test: candidates[i].0.clone(),
             readings: candidates[i].1.nrows(),
+            cost: costs.of(&order[..=k]) - costs.of(&order[..k]),
             log_det: log_det(&design, p),
             uncertainties: analysis.standard_uncertainty.clone(),
         });
@@ -251,7 +358,7 @@ pub fn choose(
         |all, (_, d)| compress(stack(&all, d)),
     );
     let structural = identifiability::analyse(&every_test, labels, options).null_combinations;
-    let every_test_readings = candidates.iter().map(|(_, d)| d.nrows()).sum();
+    let every_test_cost = costs.of(&(0..candidates.len()).collect::<Vec<_>>());
     let identifiable = steps
         .last()
         .map_or(base_analysis.all_identifiable(), |s: &Step| {
@@ -265,32 +372,40 @@ pub fn choose(
         base_log_det,
         identifiable_after,
         base_uncertainties: base_analysis.standard_uncertainty,
-        budget_readings,
+        budget,
+        unit: costs.unit,
         structural,
-        every_test_readings,
+        every_test_cost,
         greedy_log_det,
         exchanges,
     }
 }
 
-/// The greedy choice (see the module documentation) on top of `base` among the candidates not
-/// in `excluded`, within `budget` readings: the chosen candidates in order.
+/// The greedy choice (see the module documentation) on top of `base`, which holds the
+/// candidates `already` chosen, among the candidates not in `excluded`, with everything chosen
+/// costing at most `budget`: the newly chosen candidates in order.
 fn greedy(
     base: &DMatrix<Real>,
     candidates: &[(String, DMatrix<Real>)],
+    costs: &Costs,
+    already: &[usize],
     excluded: &[usize],
-    budget: usize,
+    budget: Real,
     p: Real,
 ) -> Vec<usize> {
     let mut current = base.clone();
     let mut current_log_det = log_det(&current, p);
-    let mut remaining = budget;
     let mut chosen = Vec::new();
     loop {
+        let spent = costs.of(&[already, &chosen].concat());
         let mut best: Option<(usize, Real, Real, DMatrix<Real>)> = None;
         for (i, (_, design)) in candidates.iter().enumerate() {
             let rows = design.nrows();
-            if chosen.contains(&i) || excluded.contains(&i) || rows == 0 || rows > remaining {
+            if chosen.contains(&i) || excluded.contains(&i) || rows == 0 {
+                continue;
+            }
+            let total = costs.of(&[already, &chosen, &[i]].concat());
+            if total > budget {
                 continue;
             }
             let stacked = stack(&current, design);
@@ -299,16 +414,16 @@ fn greedy(
             if gain <= MIN_GAIN {
                 continue;
             }
-            let per_reading = gain / rows as Real;
-            if best.as_ref().is_none_or(|b| per_reading > b.1 + TIE) {
-                best = Some((i, per_reading, new_log_det, stacked));
+            // Per unit of cost; a test costing nothing more (no run) gains without limit.
+            let per_cost = gain / (total - spent);
+            if best.as_ref().is_none_or(|b| per_cost > b.1 + TIE) {
+                best = Some((i, per_cost, new_log_det, stacked));
             }
         }
         let Some((i, _, new_log_det, stacked)) = best else {
             return chosen;
         };
         chosen.push(i);
-        remaining -= candidates[i].1.nrows();
         current = compress(stacked);
         current_log_det = new_log_det;
     }
@@ -349,6 +464,11 @@ impl Plan {
         self.steps.iter().map(|s| s.readings).sum()
     }
 
+    /// What the chosen tests cost together ([`Plan::unit`]).
+    pub fn spent(&self) -> Real {
+        self.steps.iter().map(|s| s.cost).sum()
+    }
+
     /// What stops the plan short of identifying every parameter, if anything.
     pub fn limit(&self) -> Option<Limit> {
         match (self.identifiable, self.structural.is_empty()) {
@@ -366,11 +486,12 @@ impl Plan {
         let mut text = String::new();
         let _ = writeln!(
             text,
-            "test plan: D-optimal (greedy, then exchanges), log det(JᵀJ + p·I) with p = {} per µm-eq²; {} tests, {} of {} readings",
+            "test plan: D-optimal (greedy, then exchanges), log det(JᵀJ + p·I) with p = {} per µm-eq²; {} tests, {} of {} {}",
             figure(Some(self.prior_precision)),
             self.steps.len(),
-            self.readings(),
-            self.budget_readings
+            crate::math::trimmed(self.spent(), 2),
+            crate::math::trimmed(self.budget, 2),
+            self.unit
         );
         if self.exchanges.is_empty() {
             let _ = writeln!(
@@ -405,37 +526,44 @@ impl Plan {
                             .join("; ")
                     ),
                     _ => format!(
-                        "not every parameter is identifiable within the budget of {} readings; every test together ({} readings) would identify them all",
-                        self.budget_readings, self.every_test_readings
+                        "not every parameter is identifiable within the budget of {} {unit}; every test together ({} {unit}) would identify them all",
+                        crate::math::trimmed(self.budget, 2),
+                        crate::math::trimmed(self.every_test_cost, 2),
+                        unit = self.unit
                     ),
                 },
             }
         );
-        let mut rows = vec![vec![
-            "step".to_string(),
-            "test".into(),
-            "readings".into(),
-            "log det".into(),
-            "identifiable".into(),
-        ]];
-        rows.push(vec![
-            "0".into(),
-            "(base)".into(),
-            "".into(),
+        // A cost other than readings gets a column of its own.
+        let own_unit = self.unit != "readings";
+        let mut header = vec!["step".to_string(), "test".into(), "readings".into()];
+        if own_unit {
+            header.push(self.unit.into());
+        }
+        header.extend(["log det".into(), "identifiable".into()]);
+        let mut rows = vec![header];
+        let mut base = vec!["0".into(), "(base)".into(), "".into()];
+        if own_unit {
+            base.push("".into());
+        }
+        base.extend([
             format!("{:.3}", self.base_log_det),
             format!(
                 "{} of {n}",
                 self.base_uncertainties.iter().flatten().count()
             ),
         ]);
+        rows.push(base);
         for (k, s) in self.steps.iter().enumerate() {
-            rows.push(vec![
-                (k + 1).to_string(),
-                s.test.clone(),
-                s.readings.to_string(),
+            let mut row = vec![(k + 1).to_string(), s.test.clone(), s.readings.to_string()];
+            if own_unit {
+                row.push(crate::math::trimmed(s.cost, 2));
+            }
+            row.extend([
                 format!("{:.3}", s.log_det),
                 format!("{} of {n}", s.uncertainties.iter().flatten().count()),
             ]);
+            rows.push(row);
         }
         text.push_str(&table(&rows));
         let _ = writeln!(
@@ -461,12 +589,13 @@ impl Plan {
 
     /// The plan with stable keys: `criterion` (`"d_optimal_greedy_exchange"`),
     /// `greedy_log_det` and `exchanges` ({`removed`, `added`, `log_det_gain`} each),
-    /// `prior_precision_per_um_eq2`, `budget_readings`, `readings`, `parameters` (names),
+    /// `prior_precision_per_um_eq2`, `cost_unit` (`readings` or `min`), `budget` and `spent` in
+    /// it, `readings`, `parameters` (names),
     /// `identifiable`, `identifiable_after_steps` (`null` when never), `base_log_det`,
     /// `base_standard_uncertainty_um_eq` (per parameter, `null` when unidentifiable),
     /// `limited_by` (`"structure"`, `"budget"` or `null`: [`Plan::limit`]),
     /// `structural_null_combinations` (what no test sees, as the identifiability report gives
-    /// combinations), `every_test_readings`, and `steps`: per chosen test {`test`, `readings`,
+    /// combinations), `every_test_cost`, and `steps`: per chosen test {`test`, `readings`, `cost`,
     /// `log_det`, `identifiable`, `standard_uncertainty_um_eq`}.
     pub fn to_json(&self) -> Value {
         let steps: Vec<Value> = self
@@ -476,6 +605,7 @@ impl Plan {
                 json!({
                     "test": s.test,
                     "readings": s.readings,
+                    "cost": s.cost,
                     "log_det": s.log_det,
                     "identifiable": s.uncertainties.iter().all(Option::is_some),
                     "standard_uncertainty_um_eq": s.uncertainties,
@@ -491,7 +621,9 @@ impl Plan {
                 "log_det_gain": e.gain,
             })).collect::<Vec<_>>(),
             "prior_precision_per_um_eq2": self.prior_precision,
-            "budget_readings": self.budget_readings,
+            "cost_unit": self.unit,
+            "budget": self.budget,
+            "spent": self.spent(),
             "readings": self.readings(),
             "parameters": self.labels,
             "identifiable": self.identifiable,
@@ -508,7 +640,7 @@ impl Plan {
                 .iter()
                 .map(|c| c.to_json(&self.labels))
                 .collect::<Vec<_>>(),
-            "every_test_readings": self.every_test_readings,
+            "every_test_cost": self.every_test_cost,
             "steps": steps,
         })
     }

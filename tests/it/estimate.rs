@@ -728,5 +728,6 @@ mod controllers;
 mod discover;
 mod drift;
 mod probes_and_foreign;
+mod remedies;
 mod reversal;
 mod rotary_components;

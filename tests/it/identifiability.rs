@@ -506,3 +506,68 @@ fn plan_on_a_base_that_already_identifies_only_improves() {
     assert_eq!(plan.identifiable_after, Some(0));
     assert!(close(plan.base_log_det, 2.0 * (1.0f64 + 1e-6).ln(), 1e-12));
 }
+
+#[test]
+fn plan_pays_a_set_up_once_and_moves_a_test_onto_one_already_made() {
+    // p1 is seen by A only; p2 by B and C alike. A and B need set-up s (20 min), C set-up t
+    // (10 min); each runs 5 min.
+    let names = labels(&["p1", "p2"]);
+    let candidates = vec![
+        ("A".to_string(), DMatrix::from_row_slice(1, 2, &[2.0, 0.0])),
+        ("B".to_string(), DMatrix::from_row_slice(1, 2, &[0.0, 3.0])),
+        ("C".to_string(), DMatrix::from_row_slice(1, 2, &[0.0, 3.0])),
+    ];
+    let costs = plan::Costs {
+        run: vec![5.0, 5.0, 5.0],
+        setup: vec![
+            Some(("s".into(), 20.0)),
+            Some(("s".into(), 20.0)),
+            Some(("t".into(), 10.0)),
+        ],
+        present: Vec::new(),
+        unit: "min",
+    };
+    // By hand: A and B share s (20 + 5 + 5), A and C do not (20 + 5 + 10 + 5).
+    assert_eq!(costs.of(&[0, 1]), 30.0);
+    assert_eq!(costs.of(&[0, 2]), 40.0);
+    assert_eq!(costs.of(&[2]), 15.0);
+    assert_eq!(costs.of(&[0, 1, 2]), 45.0);
+    let with_t = plan::Costs {
+        present: vec!["t".into()],
+        ..costs.clone()
+    };
+    assert_eq!(with_t.of(&[2]), 5.0);
+
+    // 30 minutes. Greedy takes C first (ln((9 + p)/p) over 15 min beats A's and B's over 25);
+    // then neither A nor B fits (40 min). Exchanging C for A (the first of the two exchanges
+    // worth the same) frees t's 10 min, and B then fits on s: B and A (listed in greedy
+    // order, B gaining more per minute), 30 min, both parameters identified.
+    let options = Options::default();
+    let p: f64 = 1e-6;
+    let plan = plan::choose_within(None, &candidates, &costs, &names, 30.0, &options);
+    let chosen: Vec<&str> = plan.steps.iter().map(|s| s.test.as_str()).collect();
+    assert_eq!(chosen, vec!["B", "A"], "{}", plan.report());
+    assert!(plan.identifiable);
+    assert_eq!(plan.exchanges.len(), 1);
+    assert_eq!(
+        (
+            plan.exchanges[0].removed.as_str(),
+            plan.exchanges[0].added.as_str()
+        ),
+        ("C", "A")
+    );
+    assert!(close(plan.greedy_log_det, (p * (9.0 + p)).ln(), 1e-12));
+    assert!(close(
+        plan.steps[1].log_det,
+        ((4.0 + p) * (9.0 + p)).ln(),
+        1e-12
+    ));
+    // Each step's cost on top of those before it: B's set-up and run, then A's run.
+    assert_eq!((plan.steps[0].cost, plan.steps[1].cost), (25.0, 5.0));
+    assert_eq!(plan.spent(), 30.0);
+    let report = plan.report();
+    assert!(report.contains("2 tests, 30 of 30 min"), "{report}");
+    let json = plan.to_json();
+    assert_eq!(json["cost_unit"], "min");
+    assert_eq!(json["spent"], 30.0);
+}

@@ -7,13 +7,14 @@ use crate::estimate::spec::{ParameterSet, SpecError};
 use crate::estimate::{Readings, ReadingsError, compensate, report};
 use crate::io::TableError;
 use crate::kinds::{ballbar, positioning, probe, rtest};
-use crate::machine::{Machine, MachineError};
+use crate::machine::{Axis, Machine, MachineError};
 use crate::math::Real;
 use crate::scenario::{ScenarioError, spec_of};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+pub mod candidates;
 pub mod checks;
 pub mod provenance;
 pub mod select;
@@ -163,6 +164,12 @@ pub struct Loaded {
     /// a laser without air compensation in warm air, direction labels swapped, a stuck
     /// probe), each a sentence naming the file: the fit is made, and the estimate carries them.
     pub cautions: Vec<String>,
+    /// The set-ups the tables were measured with ([`candidates::setup_key`]): an added test
+    /// on one of them costs no set-up time.
+    pub setups: Vec<String>,
+    /// The sphere of the first R-test table (else of the first probing table), workpiece
+    /// frame (m), where the tables say: where the remedies' R-tests and probing cycles stand.
+    pub sphere: Option<crate::math::Vector>,
 }
 
 /// Reads every table into readings for `machine` ([`Loaded`]).
@@ -171,6 +178,8 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
     let mut provenances = Vec::new();
     let mut problems = Vec::new();
     let mut cautions = Vec::new();
+    let mut setups = Vec::new();
+    let (mut rtest_sphere, mut probe_sphere) = (None, None);
     // The data rows of each table read so far, by their hash: a table given twice (or a
     // renamed copy) would count its readings twice and shrink every uncertainty by √2.
     let mut seen: BTreeMap<String, String> = BTreeMap::new();
@@ -215,6 +224,12 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                     setup.sphere_uncertainty = u;
                 }
                 setup.sphere = request.rtest_sphere;
+                let sphere = (request.rtest_sphere)
+                    .or_else(|| rtest::readings::sphere_of(&table, &file).ok());
+                if let Some(sphere) = sphere {
+                    setups.push(candidates::setup_key(candidates::Setup::Rtest(sphere)));
+                    rtest_sphere = rtest_sphere.or(Some(sphere));
+                }
                 problems
                     .extend(rtest::plausible::copied_test(&table).map(|c| format!("{file}: {c}")));
                 cautions.extend(
@@ -228,6 +243,22 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                 let table = probe::SpheresTable::read(&path)?;
                 let s = sigma.unwrap_or(probe::readings::DEFAULT_SIGMA);
                 problems.extend(table.copied_sphere().map(|c| format!("{file}: {c}")));
+                // Where the nominal chain puts the first sphere cycle's first centre, as the
+                // readings' start has it.
+                let first =
+                    (table.spheres.iter()).find(|row| row.key.kind == probe::CycleKind::Sphere);
+                if let Some(row) = first {
+                    let mut axes = crate::machine::AxisValues::ZERO;
+                    for (angle, axis) in row.key.rotary.iter().zip([Axis::A, Axis::B, Axis::C]) {
+                        axes[axis] = angle.unwrap_or(0.0);
+                    }
+                    axes[Axis::X] = row.centre.x;
+                    axes[Axis::Y] = row.centre.y;
+                    axes[Axis::Z] = row.centre.z;
+                    let sphere = machine.workpiece_from_tool(&axes).translation;
+                    setups.push(candidates::setup_key(candidates::Setup::Probe(sphere)));
+                    probe_sphere = probe_sphere.or(Some(sphere));
+                }
                 sets.push(probe::readings::readings(&table, &file, machine, s)?);
             }
             "positioning" => {
@@ -240,6 +271,9 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
                     positioning::plausible::copied_run(&table).map(|c| format!("{file}: {c}")),
                 );
                 problems.extend(short_coverage(&table, machine).map(|c| format!("{file}: {c}")));
+                if let Some(axis) = table.axis {
+                    setups.push(candidates::setup_key(candidates::Setup::Laser(axis)));
+                }
                 cautions.extend(
                     positioning::plausible::cautions(&table)
                         .into_iter()
@@ -251,6 +285,9 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
             }
             "ballbar" => {
                 let table = ballbar::BallbarTable::read(&path)?;
+                if let Some(plane) = table.conditions.plane {
+                    setups.push(candidates::setup_key(candidates::Setup::Ballbar(plane)));
+                }
                 let mut setup = ballbar::readings::Setup::default();
                 if let Some(s) = sigma {
                     setup.sigma = s;
@@ -307,6 +344,8 @@ pub fn load_readings(request: &Request, machine: &Machine) -> Result<Loaded, Ide
         provenances,
         problems,
         cautions,
+        setups,
+        sphere: rtest_sphere.or(probe_sphere),
     })
 }
 
@@ -329,16 +368,6 @@ fn short_coverage(table: &positioning::PositioningTable, machine: &Machine) -> O
             crate::math::trimmed((upper - lower) * 1e3, 3)
         )
     })
-}
-
-/// The sphere position an R-test table states.
-fn rtest_sphere(argument: &str) -> Result<crate::math::Vector, IdentifyError> {
-    let (_, path) = kind_of(argument)?;
-    let table = rtest::RtestTable::read(&path)?;
-    Ok(rtest::readings::sphere_of(
-        &table,
-        &path.display().to_string(),
-    )?)
 }
 
 /// Runs `identify`.
@@ -371,6 +400,8 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         provenances,
         problems: data_problems,
         cautions: table_cautions,
+        setups,
+        sphere,
     } = load_readings(request, &machine)?;
     // What the tables' own data contradict is refused before any fit (the fit would only
     // dress it in estimates), unless the user accepts it.
@@ -416,31 +447,17 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
             ".\n"
         };
     }
-    if !fit.identifiability.null_combinations.is_empty()
-        && let Some(table) = sets.iter().position(|s| s.kind == "rtest")
-    {
-        let sphere = match request.rtest_sphere {
-            Some(sphere) => sphere,
-            None => rtest_sphere(&request.tables[table])?,
-        };
-        let found = remedies(
-            &machine,
-            &set,
-            &problem,
+    if !fit.identifiability.null_combinations.is_empty() {
+        let site = candidates::Site {
             sphere,
-            sets[table].sigma[0],
-            request.free_setup,
-        );
-        text += &remedies_text(&found);
-        json["remedies"] = found
-            .iter()
-            .map(|(combination, tests)| {
-                serde_json::json!({
-                    "combination": combination,
-                    "tests": tests.iter().map(|(t, u)| serde_json::json!({"test": t, "standard_uncertainty_um": u})).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
+            rtest_sigma: (sets.iter().find(|s| s.kind == "rtest"))
+                .map_or(rtest::readings::Setup::default().sigma, |s| s.sigma[0]),
+            free_sphere: request.free_setup,
+        };
+        let tests = candidates::candidates(&machine, &set, &site, &TABLE_KINDS);
+        let found = candidates::remedies(&set, &problem, &tests, &setups);
+        text += &candidates::remedies_text(&found);
+        json["remedies"] = found.iter().map(candidates::Remedy::to_json).collect();
     }
     let identified = report::identified_model(&set, &problem, &fit, &machine);
     let mut findings = checks::check(&fit, &sets, &sources, &identified, &machine);
@@ -605,142 +622,77 @@ fn negate(function: &ErrorFunction) -> ErrorFunction {
     out
 }
 
-/// Candidate R-tests on `machine` with the sphere at `sphere` (m), each as its design on the
-/// errors of `set` with its own set-up profiled out ([`fit::profiled_design`]): each
-/// candidate is zeroed at its own first pose (what any added test can count on). When `set`
-/// has component errors of a rotary axis, which one sphere cannot separate, the same tests
-/// with the sphere 80 mm higher and 60 mm further from the table's centre are candidates too
-/// (where the machine can reach them): a second height reveals the tilt motions, a second
-/// radius the angular one (`tests/it/estimate/rotary_components.rs`).
-pub fn candidate_designs(
-    machine: &Machine,
-    set: &ParameterSet,
-    sphere: crate::math::Vector,
-    sigma: Real,
-    free_sphere: bool,
-) -> Vec<(String, nalgebra::DMatrix<Real>)> {
-    let setup = rtest::readings::Setup {
-        sigma,
-        free_sphere,
-        ..Default::default()
-    };
-    let rotary_components =
-        (set.model.parameters().iter()).any(|p| crate::estimate::spec::is_rotary_component(p.name));
-    let mut spheres = vec![(sphere, String::new())];
-    if rotary_components {
-        let up = crate::math::Vector::new(0.0, 0.0, 0.080);
-        spheres.push((sphere + up, " with the sphere 80 mm higher".to_string()));
-        let across = crate::math::Vector::new(sphere.x, sphere.y, 0.0);
-        if across.length() > 1e-3 {
-            let out = sphere + across.normalize() * 0.060;
-            spheres.push((out, " with the sphere 60 mm further out".to_string()));
-        }
-    }
-    let tests = rtest::readings::candidates(machine);
-    spheres
-        .iter()
-        .flat_map(|(at, moved)| tests.iter().map(move |test| (at, moved, test)))
-        .filter_map(|(at, moved, test)| {
-            let readings = rtest::readings::planned(
-                machine,
-                std::slice::from_ref(test),
-                *at,
-                rtest::Zero::EachTest,
-                setup,
-            )
-            .ok()?;
-            let sets = [readings];
-            let problem = Problem::new(machine, set, &sets).ok()?;
-            Some((
-                format!("R-test {}{moved}", test.name),
-                fit::profiled_design(&problem),
-            ))
-        })
-        .collect()
+/// What a plan may spend.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Budget {
+    /// Readings of R-tests (three per pose).
+    Readings(usize),
+    /// Minutes of tests of the given table kinds ([`TABLE_KINDS`]), by the planning figures of
+    /// [`candidates`] (a set-up paid once for the tests made on it).
+    Minutes {
+        /// The minutes.
+        minutes: Real,
+        /// The kinds of test to choose from.
+        kinds: Vec<String>,
+    },
 }
 
-/// For each combination the tables cannot see (on the errors, the set-up profiled out), the
-/// candidate R-tests that would make it identifiable and the uncertainty it would then have
-/// (µm, solver units), best first.
-fn remedies(
-    machine: &Machine,
-    set: &ParameterSet,
-    problem: &Problem<'_>,
-    sphere: crate::math::Vector,
-    sigma: Real,
-    free_sphere: bool,
-) -> Vec<(String, Vec<(String, Real)>)> {
-    let options = crate::estimate::identifiability::Options::default();
-    let base = fit::profiled_design(problem);
-    let report = crate::estimate::identifiability::analyse(&base, &set.labels, &options);
-    if report.null_combinations.is_empty() {
-        return Vec::new();
-    }
-    let candidates = candidate_designs(machine, set, sphere, sigma, free_sphere);
-    let found = crate::estimate::identifiability::remedies(
-        &base,
-        &report.null_combinations,
-        &candidates,
-        &options,
-    );
-    report
-        .null_combinations
-        .iter()
-        .zip(found)
-        .map(|(c, tests)| (c.describe(&set.labels), tests))
-        .collect()
-}
-
-/// The remedies for people.
-fn remedies_text(remedies: &[(String, Vec<(String, Real)>)]) -> String {
-    if remedies.is_empty() {
-        return String::new();
-    }
-    let mut out =
-        String::from("what would make the unseen combinations identifiable (one more R-test):\n");
-    for (name, tests) in remedies {
-        match tests.first() {
-            Some((test, u)) => {
-                out += &format!("  {name}: add {test} (then u = {u:.3} µm-eq)");
-                if let Some((second, u2)) = tests.get(1) {
-                    out += &format!(", or {second} ({u2:.3})");
-                }
-                out += "\n";
-            }
-            None => {
-                out += &format!(
-                    "  {name}: no single added R-test sees it (it needs several, e.g. a second sphere height and a second radius for a rotary axis's component errors, or another instrument: a level, a laser, a tool-length measurement)\n"
-                )
-            }
-        }
-    }
-    out
-}
-
-/// A test plan: from the candidate R-tests on `machine` (sphere at `sphere`, m), the tests
-/// that identify `params` best (D-optimal, greedy) within `budget` readings.
+/// A test plan: from the candidate tests on `machine` ([`candidates::candidates`]; the R-tests
+/// and probing cycles with the sphere at `sphere`, m, each R-test reading with the standard
+/// uncertainty `sigma`, m), the tests that identify `params` best (D-optimal, greedy, then
+/// exchanges) within `budget`.
 pub fn plan(
     machine_file: &Path,
     params: &str,
     sphere: crate::math::Vector,
     sigma: Real,
-    budget: usize,
+    budget: &Budget,
 ) -> Result<crate::estimate::plan::Plan, IdentifyError> {
+    use crate::estimate::plan::{Costs, choose, choose_within};
     let machine = Machine::from_urdf_file(machine_file)?;
     let set = ParameterSet::parse(params, &machine)?;
-    let candidates = candidate_designs(&machine, &set, sphere, sigma, false);
-    if candidates.is_empty() {
+    let kinds: Vec<&str> = match budget {
+        Budget::Readings(_) => vec!["rtest"],
+        Budget::Minutes { kinds, .. } => {
+            if let Some(unknown) = kinds.iter().find(|k| !TABLE_KINDS.contains(&k.as_str())) {
+                return Err(IdentifyError::Input(format!(
+                    "test kind \"{unknown}\": expected one of {}",
+                    TABLE_KINDS.join(", ")
+                )));
+            }
+            kinds.iter().map(String::as_str).collect()
+        }
+    };
+    let site = candidates::Site {
+        sphere: Some(sphere),
+        rtest_sigma: sigma,
+        free_sphere: false,
+    };
+    let tests = candidates::candidates(&machine, &set, &site, &kinds);
+    if tests.is_empty() {
         return Err(IdentifyError::Input(format!(
-            "{}: no R-test can be planned on machine \"{}\" with the sphere there (the linear axes cannot follow it, or the machine has no rotary axis)",
+            "{}: no test of the kinds {} can be planned on machine \"{}\" (the linear axes cannot follow the sphere, the machine has no rotary axis, or the kinds see none of the parameters)",
             machine_file.display(),
+            kinds.join(", "),
             machine.name()
         )));
     }
-    Ok(crate::estimate::plan::choose(
-        None,
-        &candidates,
-        &set.labels,
-        budget,
-        &crate::estimate::identifiability::Options::default(),
-    ))
+    let designs: Vec<(String, nalgebra::DMatrix<Real>)> = (tests.iter())
+        .map(|c| (c.name.clone(), c.design.clone()))
+        .collect();
+    let options = crate::estimate::identifiability::Options::default();
+    Ok(match budget {
+        Budget::Readings(readings) => choose(None, &designs, &set.labels, *readings, &options),
+        Budget::Minutes { minutes, .. } => {
+            let costs = Costs {
+                run: tests.iter().map(|c| c.run_minutes).collect(),
+                setup: (tests.iter())
+                    .map(|c| Some((c.setup.clone(), c.setup_minutes)))
+                    .collect(),
+                present: Vec::new(),
+                unit: "min",
+            };
+            choose_within(None, &designs, &costs, &set.labels, *minutes, &options)
+        }
+    })
 }

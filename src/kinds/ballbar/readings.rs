@@ -279,3 +279,53 @@ pub fn readings(
         }),
     })
 }
+
+/// Planning figures of a ball-bar test (minutes; [`planned`]): setting the centre ball's cup
+/// on a setting ball and the bar in place, and one plane's test (a circle each way with its
+/// arcs in and out). Typical of a QC20-W test as its maker describes it (a ten-minute test), not
+/// measured here: they rank candidate tests against each other.
+pub const PLANNED_SETUP_MINUTES: Real = 10.0;
+/// See [`PLANNED_SETUP_MINUTES`].
+pub const PLANNED_RUN_MINUTES: Real = 10.0;
+
+/// A planned ball-bar test (no measurements), for identifiability and test design: a circle
+/// of `radius` (m) in `plane` about `centre` (the machine's axes, SI), each sense read at
+/// `readings_per_turn` equally spaced angles from 0°.
+pub fn planned(
+    machine: &Machine,
+    plane: crate::machine::Plane,
+    centre: AxisValues,
+    radius: Real,
+    readings_per_turn: usize,
+    sigma: Real,
+) -> Result<Readings, ReadingsError> {
+    use super::table::{BallbarReading, Sense, TestConditions};
+    let mut table = BallbarTable {
+        readings: Vec::new(),
+        conditions: TestConditions {
+            plane: Some(plane),
+            radius: Some(radius),
+            centre: Some(centre),
+            ..TestConditions::default()
+        },
+        machine: None,
+        columns_not_read: Vec::new(),
+    };
+    for sense in [Sense::Ccw, Sense::Cw] {
+        for k in 0..readings_per_turn {
+            table.readings.push(BallbarReading {
+                sense,
+                angle: std::f64::consts::TAU * k as Real / readings_per_turn as Real,
+                deviation: 0.0,
+                time: None,
+            });
+        }
+    }
+    let setup = Setup {
+        sigma,
+        ..Setup::default()
+    };
+    let mut readings = readings(&table, "planned ball-bar test", machine, &setup)?;
+    readings.measured.clear();
+    Ok(readings)
+}

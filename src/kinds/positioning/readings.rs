@@ -392,3 +392,69 @@ fn zero_name(zero: Zeroing) -> String {
     }
     .into()
 }
+
+/// Planning figures of a laser line (minutes; [`planned`]): setting up and aligning the
+/// interferometer and the optics on a new line, and the ISO 230-2 run itself (five
+/// bidirectional runs over about eleven targets with their dwells). Typical of a workshop
+/// laser calibration (Renishaw XL-80 and the like), not measured here: they rank candidate
+/// tests against each other, and a user with other figures reads the ranking accordingly.
+pub const PLANNED_SETUP_MINUTES: Real = 30.0;
+/// See [`PLANNED_SETUP_MINUTES`].
+pub const PLANNED_RUN_MINUTES: Real = 30.0;
+
+/// A planned laser line (no measurements), for identifiability and test design: `axis` over
+/// `targets` (m), `runs` bidirectional runs (each target approached up, then down), the other
+/// axes at `line` (SI), the reflector at `beam_offset` from the tool tip (tool frame, m), the
+/// interferometer on the workpiece and zeroed once, as ISO 230-2 and [`readings`] have it.
+pub fn planned(
+    machine: &Machine,
+    axis: Axis,
+    targets: &[Real],
+    runs: usize,
+    line: &AxisValues,
+    beam_offset: Vector,
+    sigma: Real,
+) -> Result<Readings, ReadingsError> {
+    let mut table = PositioningTable {
+        axis: Some(axis),
+        runs: (1..=runs).map(|r| r.to_string()).collect(),
+        sensors: Vec::new(),
+        has_direction: true,
+        readings: Vec::new(),
+        conditions: Default::default(),
+        columns_not_read: Vec::new(),
+    };
+    table.conditions.axes = machine
+        .axes()
+        .iter()
+        .map(|info| info.axis)
+        .filter(|&a| a != axis && a != Axis::S)
+        .map(|a| (a, line[a]))
+        .collect();
+    table.conditions.beam_offset = Some(beam_offset);
+    for run in 0..runs {
+        for approach in [Approach::Up, Approach::Down] {
+            let order: Vec<&Real> = match approach {
+                Approach::Up => targets.iter().collect(),
+                Approach::Down => targets.iter().rev().collect(),
+            };
+            for &target in order {
+                table.readings.push(super::table::PositioningReading {
+                    target,
+                    deviation: 0.0,
+                    approach,
+                    run,
+                    time: None,
+                    temperatures: Vec::new(),
+                });
+            }
+        }
+    }
+    let setup = Setup {
+        sigma,
+        ..Setup::default()
+    };
+    let mut readings = readings(&table, "planned laser line", machine, &setup)?;
+    readings.measured.clear();
+    Ok(readings)
+}

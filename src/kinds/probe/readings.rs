@@ -185,3 +185,59 @@ pub fn readings(
         model: Box::new(SpheresModel { features, starts }),
     })
 }
+
+/// Planning figures of a probing cycle on a calibration sphere (minutes; [`planned`]): placing
+/// and clamping the sphere and calling the cycle, and each rotary position probed (five
+/// touches and the moves between them). Typical of a KinematicsOpt or CYCLE996 measurement as
+/// their makers describe it (a few minutes for a whole cycle), not measured here: they rank
+/// candidate tests against each other.
+pub const PLANNED_SETUP_MINUTES: Real = 5.0;
+/// See [`PLANNED_SETUP_MINUTES`].
+pub const PLANNED_MINUTES_PER_POSITION: Real = 0.5;
+
+/// A planned probing cycle (no measurements), for identifiability and test design: a sphere at
+/// `sphere` (workpiece frame, m) probed at each of `positions` (their rotary angles; the
+/// linear entries are ignored), its centre read in axis coordinates as [`readings`] has it.
+pub fn planned(
+    machine: &Machine,
+    positions: &[AxisValues],
+    sphere: Vector,
+    sigma: Real,
+) -> Result<Readings, ReadingsError> {
+    use super::table::{RowKey, SphereRow};
+    let fail = |message: String| ReadingsError::new("planned probing cycle", message);
+    let mut table = SpheresTable::default();
+    for (k, position) in positions.iter().enumerate() {
+        let mut rotary = [None; 3];
+        for info in machine.rotary_axes() {
+            rotary[info.axis.coordinate()] = Some(position[info.axis]);
+        }
+        let frame = LinearFrame::at(machine, position).ok_or_else(|| {
+            fail(format!(
+                "position {}: the linear axes cannot reach every direction",
+                k + 1
+            ))
+        })?;
+        let axes = frame.axes_for(sphere);
+        if let Some(outside) = machine.outside_travel(&axes) {
+            return Err(fail(format!("position {}: {outside}", k + 1)));
+        }
+        table.spheres.push(SphereRow {
+            key: RowKey {
+                cycle: 1,
+                kind: CycleKind::Sphere,
+                feature: k + 1,
+                rotary,
+                calibrated_diameter: None,
+                calibrated_centre: None,
+            },
+            centre: Vector::new(axes[Axis::X], axes[Axis::Y], axes[Axis::Z]),
+            radius: 0.0,
+            form: 0.0,
+            points: 5,
+        });
+    }
+    let mut readings = readings(&table, "planned probing cycle", machine, sigma)?;
+    readings.measured.clear();
+    Ok(readings)
+}

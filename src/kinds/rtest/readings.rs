@@ -485,6 +485,14 @@ fn drift_progress(
     Ok(())
 }
 
+/// Planning figures of an R-test (minutes; [`planned`]): the nest in the spindle, the sphere
+/// on the table and the nest's calibration, and each static pose read (the move, the dwell and
+/// the reading: 15 s). Typical of a static R-test as ISO 10791-6 describes it, not measured
+/// here: they rank candidate tests against each other.
+pub const PLANNED_SETUP_MINUTES: Real = 20.0;
+/// See [`PLANNED_SETUP_MINUTES`].
+pub const PLANNED_MINUTES_PER_POSE: Real = 0.25;
+
 /// A planned R-test (no measurements): the poses of `tests` on `machine` with the sphere at
 /// `sphere` (workpiece frame, m), zeroed as `zero` says, for identifiability and test design.
 pub fn planned(

@@ -529,8 +529,14 @@ fn every_coefficient_within_four_u(
 /// `identify` on the R-test of one sphere, asked for C's component errors, names what would
 /// reveal them. By the derivation above, a circle at a second height separates the tilts from
 /// the radial and axial motions, so combinations of those get "the sphere 80 mm higher" as
-/// their remedy; order 1 of the angular motion against order 2 of the radial ones needs a
-/// second height and a second radius together, which no single added test gives.
+/// their remedy. Order 1 of the angular motion against order 2 of the radial ones needs a
+/// second height and a second radius together, which no single added R-test gives: ECC =
+/// a·sin C moves the sphere at radius r by a·r·sin C along its tangent (−sin C, cos C), that is
+/// by −a·r/2 along X (order 0) and a·r/2·(cos 2C, sin 2C) (order 2); an R-test's zero takes
+/// the constant, and the order-2 part is the radial order 2's. A probing cycle reads absolute
+/// axis positions, its unknown being the sphere's place on the table, which turns with C: the
+/// constant stays, and at a second radius it is not the first radius's, so one probing cycle
+/// with the sphere further out names the angular motion.
 #[test]
 fn identify_names_a_second_height_and_says_when_one_more_test_is_not_enough() {
     let dir = tempfile::tempdir().unwrap();
@@ -575,9 +581,10 @@ fn identify_names_a_second_height_and_says_when_one_more_test_is_not_enough() {
     assert!(tilt.contains("with the sphere 80 mm higher"), "{tilt}");
     let angular = remedy("ECC.harmonic[1].sin + 0.5 EXC.harmonic[2].cos");
     assert!(
-        angular.contains("no single added R-test sees it"),
+        angular.contains("cheapest: probing") && angular.contains("60 mm further out"),
         "{angular}"
     );
+    assert!(!angular.contains("R-test"), "{angular}");
 }
 
 /// `plan` with C's component errors plans beyond one sphere: by the derivation above no set of
@@ -587,9 +594,14 @@ fn identify_names_a_second_height_and_says_when_one_more_test_is_not_enough() {
 #[test]
 fn plan_takes_a_second_height_and_a_second_radius_for_c_components() {
     let machine = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/trunnion5.urdf");
-    let plan =
-        mtwin::app::identify::plan(&machine, SPEC, Vector::new(0.100, 0.0, 0.250), 0.2e-6, 1000)
-            .unwrap();
+    let plan = mtwin::app::identify::plan(
+        &machine,
+        SPEC,
+        Vector::new(0.100, 0.0, 0.250),
+        0.2e-6,
+        &mtwin::app::identify::Budget::Readings(1000),
+    )
+    .unwrap();
     let after = plan.identifiable_after.expect("identifiable");
     let taken = &plan.steps[..after];
     assert!(
