@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 pub mod candidates;
 pub mod checks;
+pub mod orders;
 pub mod provenance;
 pub mod select;
 
@@ -446,6 +447,10 @@ pub fn identify(request: &Request) -> Result<Identified, IdentifyError> {
         } else {
             ".\n"
         };
+    }
+    if let Some(by_order) = orders::by_order(&machine, &set, &sets) {
+        text += &by_order.text();
+        json["identifiability_by_order"] = by_order.to_json();
     }
     if !fit.identifiability.null_combinations.is_empty() {
         let site = candidates::Site {

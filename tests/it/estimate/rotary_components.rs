@@ -587,6 +587,37 @@ fn identify_names_a_second_height_and_says_when_one_more_test_is_not_enough() {
     assert!(!angular.contains("R-test"), "{angular}");
 }
 
+/// The report's verdicts order by order as the three spheres' tables add up, against the
+/// table derived by hand above: from one sphere only ECC's order 2 (which reaches order 3,
+/// where nothing else acts); with a second height every order but ECC's first and the radial
+/// second (EXC, EYC), which ECC's first imitates; with a second radius every one.
+#[test]
+fn the_report_says_what_each_sphere_adds_order_by_order() {
+    let (scenario, sets) = three_spheres_set_up(1, FIVE_SERIES, false, 0.0);
+    let machine = &scenario.twin.machine;
+    let set = ParameterSet::parse(SPEC, machine).unwrap();
+    let found = mtwin::app::identify::orders::by_order(machine, &set, &sets).unwrap();
+    let readings: Vec<usize> = found.columns.iter().map(|c| c.1).collect();
+    let per_table = sets[0].len();
+    assert_eq!(readings, [per_table, 2 * per_table, 3 * per_table]);
+    assert_eq!(found.rows.len(), 12, "{found:?}");
+    for (series, order, verdicts) in &found.rows {
+        let imitated = matches!(
+            (series.as_str(), order),
+            ("ECC", 1) | ("EXC", 2) | ("EYC", 2)
+        );
+        let alone = (series.as_str(), *order) == ("ECC", 2);
+        assert_eq!(
+            verdicts,
+            &[alone, !imitated, true],
+            "{series} order {order}: {}",
+            found.text()
+        );
+    }
+    let text = found.text();
+    assert!(text.starts_with("rotary components by order"), "{text}");
+}
+
 /// `plan` with C's component errors plans beyond one sphere: by the derivation above no set of
 /// tests at one sphere identifies them, and a second height and a second radius do, so the
 /// plan must reach all 28 coefficients, and only once it has taken a test with the sphere
