@@ -191,15 +191,15 @@ enum Command {
         /// The parameters, as for identify.
         #[arg(long, value_name = "SPEC")]
         params: String,
-        /// The sphere centre in the workpiece frame (mm).
+        /// The sphere centre of the R-tests and probing cycles, workpiece frame (mm); needed
+        /// unless --kinds leaves both out.
         #[arg(
             long,
             value_name = "X,Y,Z",
             value_delimiter = ',',
-            allow_negative_numbers = true,
-            required = true
+            allow_negative_numbers = true
         )]
-        sphere_mm: Vec<f64>,
+        sphere_mm: Option<Vec<f64>>,
         /// Standard uncertainty of each reading component (µm).
         #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
         sigma_um: f64,
@@ -551,10 +551,13 @@ fn execute(matches: clap::ArgMatches) -> Result<()> {
             if !(sigma_um.is_finite() && sigma_um > 0.0) {
                 bail!("--sigma-um {sigma_um}: expected a positive number of µm");
             }
-            if sphere_mm.len() != 3 || sphere_mm.iter().any(|v| !v.is_finite()) {
-                bail!("--sphere-mm: expected three numbers X,Y,Z (mm)");
-            }
-            let sphere = mtwin::math::Vector::new(sphere_mm[0], sphere_mm[1], sphere_mm[2]) * 1e-3;
+            let sphere = match sphere_mm {
+                Some(mm) if mm.len() == 3 && mm.iter().all(|v| v.is_finite()) => {
+                    Some(mtwin::math::Vector::new(mm[0], mm[1], mm[2]) * 1e-3)
+                }
+                Some(_) => bail!("--sphere-mm: expected three numbers X,Y,Z (mm)"),
+                None => None,
+            };
             let budget = match budget_min {
                 None => mtwin::app::identify::Budget::Readings(budget),
                 Some(minutes) if minutes.is_finite() && (1.0..=MAX_MINUTES).contains(&minutes) => {

@@ -36,11 +36,11 @@
 //! with the greedy additions it allows: moving a test onto a set-up already made frees the
 //! other set-up's time for more tests.
 //!
-//! The final set is listed in greedy order (each test the one gaining most per reading given
-//! those before it): [`Plan::identifiable_after`] gives the step at which identifiability was
-//! reached. After each step the predicted standard uncertainty of every parameter comes from
-//! [`identifiability::analyse`] of the stacked design (no prior), `None` while a parameter is
-//! unidentifiable.
+//! The final set is listed in greedy order (each test the one gaining most per reading, or per
+//! unit of cost, given those before it): [`Plan::identifiable_after`] gives the step at which
+//! identifiability was reached. After each step the predicted standard uncertainty of every
+//! parameter comes from [`identifiability::analyse`] of the stacked design (no prior), `None`
+//! while a parameter is unidentifiable.
 
 use super::identifiability::{self, Combination, Options, compress, significant, stack};
 use crate::math::Real;

@@ -620,6 +620,68 @@ fn count_flags_refuse_zero_and_negative_values_by_their_range() {
         assert_eq!(out.status.code(), Some(2), "{message}");
         assert!(message.contains(expected), "{message}");
     }
+    // A plan in minutes: a budget that is no number of minutes, a kind that is none, and
+    // R-tests without the sphere they are made about, each refused with what is wrong.
+    for (extra, expected) in [
+        (
+            &["--budget-min", "0", "--sphere-mm", "100,0,250"][..],
+            "--budget-min 0",
+        ),
+        (
+            &[
+                "--budget-min",
+                "60",
+                "--sphere-mm",
+                "100,0,250",
+                "--kinds",
+                "laser",
+            ][..],
+            "test kind \"laser\"",
+        ),
+        (&["--budget-min", "60"][..], "--sphere-mm X,Y,Z"),
+        (
+            &[
+                "--budget-min",
+                "60",
+                "--budget",
+                "30",
+                "--sphere-mm",
+                "100,0,250",
+            ][..],
+            "cannot be used with",
+        ),
+    ] {
+        let mut args = vec!["plan", "--machine", &machine, "--params", "location"];
+        args.extend_from_slice(extra);
+        let out = mtwin(&args);
+        let message = String::from_utf8_lossy(&out.stderr);
+        assert_ne!(out.status.code(), Some(0), "{extra:?}: {message}");
+        assert!(message.contains(expected), "{extra:?}: {message}");
+        assert!(out.stdout.is_empty(), "{extra:?}");
+    }
+    // Laser lines and ball-bar circles need no sphere.
+    let out = mtwin(&[
+        "plan",
+        "--machine",
+        &format!("{}/models/vmc3.urdf", env!("CARGO_MANIFEST_DIR")),
+        "--params",
+        "squareness",
+        "--budget-min",
+        "60",
+        "--kinds",
+        "ballbar,positioning",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        report.contains("every parameter identifiable after step 3"),
+        "{report}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -178,10 +178,22 @@ pub fn candidates(
                 add(name, "rtest", Setup::Rtest(*at), minutes, readings);
             }
             for test in tests.iter().filter(|_| kinds.contains(&"spheres")) {
-                let count = test.pose_count();
-                let positions: Vec<AxisValues> = (0..count)
-                    .map(|k| test.angles_at(machine, k as Real / (count - 1) as Real))
+                let poses = test.pose_count();
+                let mut positions: Vec<AxisValues> = (0..poses)
+                    .map(|k| test.angles_at(machine, k as Real / (poses - 1) as Real))
                     .collect();
+                // A full turn's last pose is its first: an R-test reads it again to close the
+                // circle, a probing cycle does not probe it twice.
+                let same = |a: &AxisValues, b: &AxisValues| {
+                    machine.rotary_axes().all(|info| {
+                        let turns = (a[info.axis] - b[info.axis]) / std::f64::consts::TAU;
+                        (turns - turns.round()).abs() < 1e-12
+                    })
+                };
+                if positions.len() > 1 && same(&positions[0], &positions[positions.len() - 1]) {
+                    positions.pop();
+                }
+                let count = positions.len();
                 let readings = probe::readings::planned(
                     machine,
                     &positions,

@@ -645,11 +645,12 @@ pub enum Budget {
 /// A test plan: from the candidate tests on `machine` ([`candidates::candidates`]; the R-tests
 /// and probing cycles with the sphere at `sphere`, m, each R-test reading with the standard
 /// uncertainty `sigma`, m), the tests that identify `params` best (D-optimal, greedy, then
-/// exchanges) within `budget`.
+/// exchanges) within `budget`. The sphere is needed when the kinds include R-tests or probing
+/// cycles.
 pub fn plan(
     machine_file: &Path,
     params: &str,
-    sphere: crate::math::Vector,
+    sphere: Option<crate::math::Vector>,
     sigma: Real,
     budget: &Budget,
 ) -> Result<crate::estimate::plan::Plan, IdentifyError> {
@@ -668,8 +669,13 @@ pub fn plan(
             kinds.iter().map(String::as_str).collect()
         }
     };
+    if sphere.is_none() && kinds.iter().any(|k| ["rtest", "spheres"].contains(k)) {
+        return Err(IdentifyError::Input(
+            "--sphere-mm X,Y,Z: where the sphere of the R-tests and probing cycles stands (workpiece frame, mm); or leave them out with --kinds".into(),
+        ));
+    }
     let site = candidates::Site {
-        sphere: Some(sphere),
+        sphere,
         rtest_sigma: sigma,
         free_sphere: false,
     };

@@ -628,7 +628,7 @@ fn plan_takes_a_second_height_and_a_second_radius_for_c_components() {
     let plan = mtwin::app::identify::plan(
         &machine,
         SPEC,
-        Vector::new(0.100, 0.0, 0.250),
+        Some(Vector::new(0.100, 0.0, 0.250)),
         0.2e-6,
         &mtwin::app::identify::Budget::Readings(1000),
     )
