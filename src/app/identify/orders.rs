@@ -90,25 +90,11 @@ impl ByOrder {
             );
             cells.push(row);
         }
-        let widths: Vec<usize> = (0..cells[0].len())
-            .map(|c| {
-                cells
-                    .iter()
-                    .map(|r| r[c].chars().count())
-                    .max()
-                    .unwrap_or(0)
-            })
-            .collect();
         let mut out = String::from(
             "rotary components by order, as the tables add up (yes: every coefficient of that order identifiable):\n",
         );
-        for row in &cells {
-            let line: Vec<String> = row
-                .iter()
-                .zip(&widths)
-                .map(|(cell, &w)| format!("{cell}{}", " ".repeat(w - cell.chars().count())))
-                .collect();
-            out += &format!("  {}\n", line.join("  ").trim_end());
+        for line in crate::estimate::plan::table(&cells).lines() {
+            out += &format!("  {line}\n");
         }
         out
     }
